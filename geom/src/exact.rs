@@ -1,0 +1,1 @@
+//! Exact point evaluator (in progress).
