@@ -3,9 +3,22 @@
 //! and visibility images.
 #![warn(missing_docs)]
 
+pub mod camera;
 pub mod exact;
+pub mod halfedge;
+pub mod image;
 pub mod light;
+pub mod mesh;
+pub mod raycast;
+pub mod reference;
 pub mod rng;
+pub mod scene;
 
+pub use camera::Camera;
+pub use halfedge::HalfEdgeMesh;
+pub use image::VisibilityImage;
 pub use light::RectLight;
+pub use mesh::TriangleMesh;
+pub use reference::{SurfacePoint, Tracer};
 pub use rng::Rng;
+pub use scene::{Scene, SceneError};

@@ -1,1 +1,291 @@
-fn main(){}
+//! `penumbra`: render visibility images, probe single pixels, compare images, and generate the
+//! fixtures.
+
+mod fixtures;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use penumbra_geom::image::{self, VisibilityImage};
+use penumbra_geom::reference::{self, Reference, Tracer};
+use penumbra_geom::{Rng, Scene};
+
+#[derive(Parser)]
+#[command(name = "penumbra", version, about = "Soft shadows from geometry, measured against a ray-cast reference")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Technique {
+    /// Ray-cast reference: N stratified-jittered light samples per pixel.
+    Reference,
+    /// Ray-cast hard shadow of a point light at the light's centre.
+    HardReference,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render the visibility image V of a scene to a one-channel (`V`) float EXR.
+    Render {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Technique.
+        #[arg(long, value_enum, default_value = "reference")]
+        technique: Technique,
+        /// Output EXR file.
+        #[arg(long)]
+        out: PathBuf,
+        /// Light samples per pixel for `reference`: a perfect square.
+        #[arg(long, default_value_t = 256)]
+        samples: usize,
+        /// Also write an 8-bit greyscale PNG.
+        #[arg(long)]
+        png: Option<PathBuf>,
+    },
+    /// Print the surface point seen through one pixel, its exact V and its reference V.
+    Probe {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Pixel as X,Y (column, row; row 0 the top).
+        #[arg(long)]
+        pixel: String,
+        /// Light samples for the reference value: a perfect square.
+        #[arg(long, default_value_t = 4096)]
+        samples: usize,
+    },
+    /// Compare image A against reference B: errors over all pixels and over B's penumbra.
+    Compare {
+        /// Image under test.
+        a: PathBuf,
+        /// Reference image.
+        b: PathBuf,
+        /// Write a heat map of |A - B| (black 0, red, yellow, white >= 0.1).
+        #[arg(long)]
+        heatmap: Option<PathBuf>,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Regenerate the fixture meshes and scenes.
+    GenFixtures {
+        /// Fixture folder.
+        #[arg(long, default_value = "fixtures")]
+        out: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render {
+            scene,
+            technique,
+            out,
+            samples,
+            png,
+        } => render(&scene, technique, &out, samples, png.as_deref()),
+        Command::Probe {
+            scene,
+            pixel,
+            samples,
+        } => probe(&scene, &pixel, samples),
+        Command::Compare {
+            a,
+            b,
+            heatmap,
+            json,
+        } => compare(&a, &b, heatmap.as_deref(), json),
+        Command::GenFixtures { out } => {
+            for f in fixtures::generate(&out)? {
+                println!("wrote {f}");
+            }
+            Ok(())
+        }
+    }
+}
+
+/// `n` where `samples = n * n`, or an error.
+fn samples_per_axis(samples: usize) -> Result<usize> {
+    let n = (samples as f64).sqrt().round() as usize;
+    if samples == 0 || n * n != samples {
+        bail!("--samples {samples} must be a positive perfect square (64, 256, 1024, ...)");
+    }
+    Ok(n)
+}
+
+/// The same file, whether or not it exists yet: compares canonical parent folders and names.
+fn same_file(a: &Path, b: &Path) -> bool {
+    let canon = |p: &Path| -> Option<PathBuf> {
+        let parent = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        Some(parent.canonicalize().ok()?.join(p.file_name()?))
+    };
+    match (canon(a), canon(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// Refuses outputs that would overwrite an input or each other.
+fn check_outputs(inputs: &[PathBuf], outputs: &[&Path]) -> Result<()> {
+    for (k, out) in outputs.iter().enumerate() {
+        if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
+            bail!(
+                "output {} is an input of this run ({}); refusing to overwrite it",
+                out.display(),
+                i.display()
+            );
+        }
+        if outputs[..k].iter().any(|o| same_file(o, out)) {
+            bail!("output {} is named twice", out.display());
+        }
+    }
+    Ok(())
+}
+
+fn load_scene(path: &Path) -> Result<Scene> {
+    Ok(Scene::load(path)?)
+}
+
+fn render(
+    scene_path: &Path,
+    technique: Technique,
+    out: &Path,
+    samples: usize,
+    png: Option<&Path>,
+) -> Result<()> {
+    let per_axis = samples_per_axis(samples)?;
+    let mut outputs = vec![out];
+    outputs.extend(png);
+    // Checked before and after loading: the scene names the meshes.
+    check_outputs(&[scene_path.to_path_buf()], &outputs)?;
+    let scene = load_scene(scene_path)?;
+    check_outputs(&scene.input_files(), &outputs)?;
+    let tracer = Tracer::new(&scene);
+    let reference = match technique {
+        Technique::Reference => Reference::Sampled { per_axis },
+        Technique::HardReference => Reference::Hard,
+    };
+    let bar = ProgressBar::new(scene.camera.height as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows, {elapsed} (eta {eta})")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("{technique:?}"));
+    let start = std::time::Instant::now();
+    let img = reference::render(&scene, &tracer, reference, &|rows| bar.set_position(rows));
+    bar.finish_and_clear();
+    img.write_exr(out)
+        .with_context(|| format!("writing {}", out.display()))?;
+    if let Some(png) = png {
+        if let Err(e) = img.write_png(png) {
+            let _ = std::fs::remove_file(out);
+            return Err(e).with_context(|| format!("writing {}", png.display()));
+        }
+    }
+    eprintln!(
+        "{}: {}x{} px, {} triangles, {:?}{}, {:.2} s -> {}",
+        scene_path.display(),
+        img.width,
+        img.height,
+        tracer.triangles.len(),
+        technique,
+        match reference {
+            Reference::Sampled { .. } => format!(" ({samples} samples)"),
+            Reference::Hard => String::new(),
+        },
+        start.elapsed().as_secs_f64(),
+        out.display()
+    );
+    Ok(())
+}
+
+fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
+    let (x, y) = s
+        .split_once(',')
+        .with_context(|| format!("--pixel {s:?}: expected X,Y"))?;
+    let x: u32 = x.trim().parse().with_context(|| format!("--pixel {s:?}: bad X"))?;
+    let y: u32 = y.trim().parse().with_context(|| format!("--pixel {s:?}: bad Y"))?;
+    let c = &scene.camera;
+    if x >= c.width || y >= c.height {
+        bail!("--pixel {x},{y} is outside the {}x{} image", c.width, c.height);
+    }
+    Ok((x, y))
+}
+
+fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()> {
+    let per_axis = samples_per_axis(samples)?;
+    let scene = load_scene(scene_path)?;
+    let (x, y) = parse_pixel(pixel, &scene)?;
+    let tracer = Tracer::new(&scene);
+    let dir = scene.camera.ray_dir(x, y);
+    match tracer.surface_point(scene.camera.eye, dir) {
+        None => println!("pixel {x},{y}: the ray hits nothing; V = 1"),
+        Some(p) => {
+            let exact = tracer.exact_visibility(&p);
+            let mut rng = Rng::stream(
+                reference::REFERENCE_SEED,
+                y as u64 * scene.camera.width as u64 + x as u64,
+            );
+            let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);
+            let q = p.position;
+            println!("pixel {x},{y}");
+            println!("P          = [{:.9}, {:.9}, {:.9}] (triangle {})", q.x, q.y, q.z, p.triangle);
+            println!("V exact    = {exact:.9}");
+            println!(
+                "V ref      = {sampled:.9} ({samples} samples, 1-sigma bound {:.4})",
+                (sampled * (1.0 - sampled) / samples as f64).sqrt()
+            );
+            println!("V hard     = {}", tracer.hard_visibility(&p));
+        }
+    }
+    Ok(())
+}
+
+fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) -> Result<()> {
+    if let Some(h) = heatmap {
+        check_outputs(&[a.to_path_buf(), b.to_path_buf()], &[h])?;
+    }
+    let ia = VisibilityImage::read_exr(a)?;
+    let ib = VisibilityImage::read_exr(b)?;
+    let c = image::compare(&ia, &ib)?;
+    if let Some(h) = heatmap {
+        let rgb = image::heatmap(&ia, &ib, 0.1);
+        image::write_png_bytes(h, ia.width, ia.height, image::PngColor::Rgb, &rgb)?;
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&c)?);
+    } else {
+        println!("{:<10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10}", "pixels", "count", "MAE", "RMSE", "p99", "max", ">0.05");
+        for (name, m) in [("all", c.all), ("penumbra", c.penumbra)] {
+            println!(
+                "{:<10} {:>8} {:>10.6} {:>10.6} {:>10.6} {:>10.6} {:>9.3}%",
+                name,
+                m.pixels,
+                m.mae,
+                m.rmse,
+                m.p99,
+                m.max,
+                100.0 * m.share_over
+            );
+        }
+    }
+    Ok(())
+}

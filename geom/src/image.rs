@@ -1,0 +1,347 @@
+//! Visibility images: one `f32` per pixel, row 0 the top, stored as an OpenEXR file with a single
+//! channel named `V`; an 8-bit greyscale PNG for people; and the metrics by which two images are
+//! compared.
+
+use std::path::{Path, PathBuf};
+
+/// Name of the one channel of a visibility EXR.
+pub const CHANNEL: &str = "V";
+
+/// Lower and upper bound of "penumbra" in the reference image for [`compare`]: pixels with
+/// `PENUMBRA.0 < V < PENUMBRA.1`.
+pub const PENUMBRA: (f32, f32) = (0.02, 0.98);
+
+/// Error threshold counted by [`Metrics::share_over`].
+pub const ERROR_THRESHOLD: f32 = 0.05;
+
+/// What can go wrong reading or writing images.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// I/O or encoding failure.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What failed.
+        message: String,
+    },
+    /// The EXR has no channel `V`.
+    #[error("{path}: no channel named `V` (found {found:?})")]
+    NoVChannel {
+        /// The file.
+        path: PathBuf,
+        /// The channels it has.
+        found: Vec<String>,
+    },
+    /// Two images of different sizes were compared.
+    #[error("image sizes differ: {a:?} vs {b:?}")]
+    SizeMismatch {
+        /// First size.
+        a: (u32, u32),
+        /// Second size.
+        b: (u32, u32),
+    },
+    /// A value is NaN or infinite.
+    #[error("pixel ({x}, {y}) is not finite")]
+    NonFinite {
+        /// Column.
+        x: u32,
+        /// Row.
+        y: u32,
+    },
+}
+
+/// A visibility image, row-major, row 0 the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VisibilityImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height` values.
+    pub data: Vec<f32>,
+}
+
+fn io_err(path: &Path, e: impl std::fmt::Display) -> ImageError {
+    ImageError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Writes through `write` into a hidden temporary file beside `path`, then renames it into
+/// place, so that a failed write leaves nothing behind.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), ImageError>,
+) -> Result<(), ImageError> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| io_err(path, "not a file path"))?;
+    let tmp = path.with_file_name(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| io_err(path, e)));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+impl VisibilityImage {
+    /// An image filled with `value`.
+    pub fn filled(width: u32, height: u32, value: f32) -> Self {
+        VisibilityImage {
+            width,
+            height,
+            data: vec![value; width as usize * height as usize],
+        }
+    }
+
+    /// Value at column `x`, row `y`.
+    pub fn get(&self, x: u32, y: u32) -> f32 {
+        self.data[y as usize * self.width as usize + x as usize]
+    }
+
+    /// The first non-finite pixel, if any.
+    pub fn check_finite(&self) -> Result<(), ImageError> {
+        match self.data.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(ImageError::NonFinite {
+                x: (i % self.width as usize) as u32,
+                y: (i / self.width as usize) as u32,
+            }),
+        }
+    }
+
+    /// Writes the image as an EXR with one `f32` channel `V` (atomically).
+    pub fn write_exr(&self, path: &Path) -> Result<(), ImageError> {
+        use exr::prelude::*;
+        self.check_finite()?;
+        write_atomically(path, |tmp| {
+            let channel = AnyChannel::new(CHANNEL, FlatSamples::F32(self.data.clone()));
+            let layer = Layer::new(
+                (self.width as usize, self.height as usize),
+                LayerAttributes::default(),
+                Encoding::FAST_LOSSLESS,
+                AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+            );
+            Image::from_layer(layer)
+                .write()
+                .to_file(tmp)
+                .map_err(|e| io_err(tmp, e))
+        })
+    }
+
+    /// Reads the `V` channel of an EXR file (its first layer holding one).
+    pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
+        use exr::prelude::*;
+        let image = read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .all_layers()
+            .all_attributes()
+            .from_file(path)
+            .map_err(|e| io_err(path, e))?;
+        let mut found = Vec::new();
+        for layer in &image.layer_data {
+            for ch in &layer.channel_data.list {
+                if ch.name.to_string() == CHANNEL {
+                    let size = layer.size;
+                    return Ok(VisibilityImage {
+                        width: size.width() as u32,
+                        height: size.height() as u32,
+                        data: ch.sample_data.values_as_f32().collect(),
+                    });
+                }
+                found.push(ch.name.to_string());
+            }
+        }
+        Err(ImageError::NoVChannel {
+            path: path.to_path_buf(),
+            found,
+        })
+    }
+
+    /// Writes V in `[0, 1]` as an 8-bit greyscale PNG (linear, atomically).
+    pub fn write_png(&self, path: &Path) -> Result<(), ImageError> {
+        let bytes: Vec<u8> = self
+            .data
+            .iter()
+            .map(|&v| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8)
+            .collect();
+        write_png_bytes(path, self.width, self.height, PngColor::Grey, &bytes)
+    }
+}
+
+/// Pixel layout of an 8-bit PNG.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PngColor {
+    /// One byte per pixel.
+    Grey,
+    /// Three bytes per pixel.
+    Rgb,
+}
+
+/// Writes 8-bit pixels as a PNG (atomically).
+pub fn write_png_bytes(
+    path: &Path,
+    width: u32,
+    height: u32,
+    color: PngColor,
+    bytes: &[u8],
+) -> Result<(), ImageError> {
+    let color = match color {
+        PngColor::Grey => png::ColorType::Grayscale,
+        PngColor::Rgb => png::ColorType::Rgb,
+    };
+    write_atomically(path, |tmp| {
+        let file = std::fs::File::create(tmp).map_err(|e| io_err(tmp, e))?;
+        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+        enc.set_color(color);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut w = enc.write_header().map_err(|e| io_err(tmp, e))?;
+        w.write_image_data(bytes).map_err(|e| io_err(tmp, e))?;
+        w.finish().map_err(|e| io_err(tmp, e))
+    })
+}
+
+/// Error statistics of one set of pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Metrics {
+    /// Number of pixels measured.
+    pub pixels: usize,
+    /// Mean absolute error.
+    pub mae: f64,
+    /// Root mean square error.
+    pub rmse: f64,
+    /// 99th percentile of the absolute error (nearest rank).
+    pub p99: f64,
+    /// Largest absolute error.
+    pub max: f64,
+    /// Share of pixels whose absolute error exceeds [`ERROR_THRESHOLD`].
+    pub share_over: f64,
+}
+
+impl Metrics {
+    /// Statistics of absolute errors.
+    pub fn of(mut errors: Vec<f64>) -> Self {
+        if errors.is_empty() {
+            return Metrics::default();
+        }
+        let n = errors.len();
+        let mae = errors.iter().sum::<f64>() / n as f64;
+        let rmse = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
+        let over = errors.iter().filter(|&&e| e > ERROR_THRESHOLD as f64).count();
+        errors.sort_by(f64::total_cmp);
+        let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n) - 1;
+        Metrics {
+            pixels: n,
+            mae,
+            rmse,
+            p99: errors[rank],
+            max: errors[n - 1],
+            share_over: over as f64 / n as f64,
+        }
+    }
+}
+
+/// The comparison of an image `a` against a reference `b`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Comparison {
+    /// Over all pixels.
+    pub all: Metrics,
+    /// Over the penumbra pixels of `b`, `0.02 < V_b < 0.98`.
+    pub penumbra: Metrics,
+}
+
+/// Compares `a` against the reference `b`: all pixels, and penumbra pixels of `b` alone.
+pub fn compare(a: &VisibilityImage, b: &VisibilityImage) -> Result<Comparison, ImageError> {
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(ImageError::SizeMismatch {
+            a: (a.width, a.height),
+            b: (b.width, b.height),
+        });
+    }
+    a.check_finite()?;
+    b.check_finite()?;
+    let mut all = Vec::with_capacity(a.data.len());
+    let mut pen = Vec::new();
+    for (&x, &y) in a.data.iter().zip(&b.data) {
+        let e = (x as f64 - y as f64).abs();
+        all.push(e);
+        if y > PENUMBRA.0 && y < PENUMBRA.1 {
+            pen.push(e);
+        }
+    }
+    Ok(Comparison {
+        all: Metrics::of(all),
+        penumbra: Metrics::of(pen),
+    })
+}
+
+/// An RGB heat map of `|a - b|`: black for no error, through red and yellow to white at an
+/// error of `full_scale` or more.
+pub fn heatmap(a: &VisibilityImage, b: &VisibilityImage, full_scale: f32) -> Vec<u8> {
+    a.data
+        .iter()
+        .zip(&b.data)
+        .flat_map(|(&x, &y)| {
+            let e = ((x - y).abs() / full_scale).clamp(0.0, 1.0) * 3.0;
+            let r = e.min(1.0);
+            let g = (e - 1.0).clamp(0.0, 1.0);
+            let b = (e - 2.0).clamp(0.0, 1.0);
+            [r, g, b].map(|c| (c * 255.0 + 0.5) as u8)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exr_round_trips_exactly_and_keeps_row_order() {
+        let mut img = VisibilityImage::filled(5, 3, 0.0);
+        for (i, v) in img.data.iter_mut().enumerate() {
+            *v = i as f32 / 14.0 + 1e-7;
+        }
+        let dir = std::env::temp_dir().join(format!("penumbra-img-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.exr");
+        img.write_exr(&p).unwrap();
+        let back = VisibilityImage::read_exr(&p).unwrap();
+        assert_eq!(back, img);
+        assert_eq!(back.get(4, 0), img.data[4]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn nan_image_is_refused_and_leaves_no_file() {
+        let mut img = VisibilityImage::filled(2, 2, 1.0);
+        img.data[3] = f32::NAN;
+        let dir = std::env::temp_dir().join(format!("penumbra-nan-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("n.exr");
+        assert!(matches!(img.write_exr(&p), Err(ImageError::NonFinite { x: 1, y: 1 })));
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn metrics_by_hand() {
+        let m = Metrics::of(vec![0.0, 0.1, 0.0, 0.02]);
+        assert!((m.mae - 0.03).abs() < 1e-12);
+        assert!((m.share_over - 0.25).abs() < 1e-12);
+        assert_eq!(m.p99, 0.1);
+        let a = VisibilityImage { width: 2, height: 1, data: vec![0.5, 1.0] };
+        let b = VisibilityImage { width: 2, height: 1, data: vec![0.4, 1.0] };
+        let c = compare(&a, &b).unwrap();
+        assert_eq!(c.penumbra.pixels, 1);
+        assert!((c.penumbra.mae - 0.1).abs() < 1e-6);
+        assert!((c.all.mae - 0.05).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,342 @@
+//! Triangle meshes loaded from Wavefront OBJ (through `tobj`), welded by exact position.
+//!
+//! Welding makes adjacency real: two corners with bit-identical coordinates (with `-0.0` read as
+//! `0.0`) become one vertex, whatever the OBJ's own indices say. Zero-area triangles (repeated
+//! vertices after welding, or collinear corners) are dropped and counted, never fatal.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DVec3};
+use thiserror::Error;
+
+/// What can be wrong with a mesh file. Every variant names the file, and the line where there is
+/// one (1-based).
+#[derive(Debug, Error)]
+pub enum MeshError {
+    /// The file could not be read.
+    #[error("{path}: cannot read mesh: {source}")]
+    Io {
+        /// The mesh file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The OBJ text is malformed.
+    #[error("{path}:{line}: malformed OBJ: {message}")]
+    Parse {
+        /// The mesh file.
+        path: PathBuf,
+        /// 1-based line of the offending statement (0 when it could not be located).
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("{path}:{line}: vertex {index} has a non-finite coordinate")]
+    NonFiniteVertex {
+        /// The mesh file.
+        path: PathBuf,
+        /// 1-based line of the `v` statement.
+        line: usize,
+        /// 0-based vertex index in the file.
+        index: usize,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("{path}: triangle {triangle} refers to vertex {index}, but the mesh has {count}")]
+    BadIndex {
+        /// The mesh file (or mesh name for meshes built in memory).
+        path: PathBuf,
+        /// 0-based triangle index.
+        triangle: usize,
+        /// The offending vertex index.
+        index: usize,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// The file holds no triangle at all.
+    #[error("{path}: mesh has no triangles")]
+    Empty {
+        /// The mesh file.
+        path: PathBuf,
+    },
+}
+
+/// An indexed triangle mesh with welded vertices.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    /// Vertex positions, unique.
+    pub positions: Vec<DVec3>,
+    /// Counter-clockwise (as authored) vertex index triples.
+    pub triangles: Vec<[u32; 3]>,
+    /// How many zero-area triangles were dropped while building.
+    pub dropped_degenerate: usize,
+}
+
+/// The key under which a position is welded: its bits, with `-0.0` mapped to `0.0`.
+fn weld_key(p: DVec3) -> [u64; 3] {
+    let k = |x: f64| if x == 0.0 { 0u64 } else { x.to_bits() };
+    [k(p.x), k(p.y), k(p.z)]
+}
+
+impl TriangleMesh {
+    /// Builds a welded mesh from raw positions and triangles. Non-finite positions and
+    /// out-of-range indices are errors naming `name`; degenerate triangles are dropped and
+    /// counted.
+    pub fn from_raw(
+        name: &Path,
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+    ) -> Result<Self, MeshError> {
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFiniteVertex {
+                path: name.to_path_buf(),
+                line: 0,
+                index,
+            });
+        }
+        let mut mesh = TriangleMesh::default();
+        let mut remap = Vec::with_capacity(positions.len());
+        let mut seen: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+        for &p in positions {
+            let p = DVec3::new(p.x + 0.0, p.y + 0.0, p.z + 0.0); // -0 -> +0
+            let id = *seen.entry(weld_key(p)).or_insert_with(|| {
+                mesh.positions.push(p);
+                (mesh.positions.len() - 1) as u32
+            });
+            remap.push(id);
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            let mut w = [0u32; 3];
+            for k in 0..3 {
+                let i = tri[k] as usize;
+                if i >= positions.len() {
+                    return Err(MeshError::BadIndex {
+                        path: name.to_path_buf(),
+                        triangle: t,
+                        index: i,
+                        count: positions.len(),
+                    });
+                }
+                w[k] = remap[i];
+            }
+            let [a, b, c] = w.map(|i| mesh.positions[i as usize]);
+            if (b - a).cross(c - a) == DVec3::ZERO {
+                mesh.dropped_degenerate += 1;
+            } else {
+                mesh.triangles.push(w);
+            }
+        }
+        Ok(mesh)
+    }
+
+    /// Loads every object of an OBJ file, triangulated, into one welded mesh.
+    ///
+    /// Materials are ignored (a missing `.mtl` is not an error). Errors name the file and, where
+    /// the statement can be located, its line.
+    pub fn load_obj(path: &Path) -> Result<Self, MeshError> {
+        let text = std::fs::read_to_string(path).map_err(|source| MeshError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        // Our own scan first: it knows line numbers, which tobj's errors do not carry.
+        scan_obj(path, &text)?;
+        let opts = tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ..Default::default()
+        };
+        let (models, _materials) = tobj::load_obj_buf(&mut text.as_bytes(), &opts, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|e| MeshError::Parse {
+            path: path.to_path_buf(),
+            line: 0,
+            message: e.to_string(),
+        })?;
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for m in &models {
+            let base = positions.len() as u32;
+            positions.extend(
+                m.mesh
+                    .positions
+                    .chunks_exact(3)
+                    .map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)),
+            );
+            triangles.extend(
+                m.mesh
+                    .indices
+                    .chunks_exact(3)
+                    .map(|c| [base + c[0], base + c[1], base + c[2]]),
+            );
+        }
+        if triangles.is_empty() {
+            return Err(MeshError::Empty {
+                path: path.to_path_buf(),
+            });
+        }
+        TriangleMesh::from_raw(path, &positions, &triangles)
+    }
+
+    /// The mesh with `m` applied to every position (triangles and welding unchanged).
+    pub fn transformed(&self, m: &DMat4) -> TriangleMesh {
+        TriangleMesh {
+            positions: self.positions.iter().map(|&p| m.transform_point3(p)).collect(),
+            triangles: self.triangles.clone(),
+            dropped_degenerate: self.dropped_degenerate,
+        }
+    }
+
+    /// The three corners of triangle `t`.
+    pub fn triangle(&self, t: usize) -> [DVec3; 3] {
+        self.triangles[t].map(|i| self.positions[i as usize])
+    }
+
+    /// Writes the mesh as OBJ text (one object, 1-based indices), full `f64` precision.
+    pub fn to_obj_string(&self, comment: &str) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        for line in comment.lines() {
+            let _ = writeln!(s, "# {line}");
+        }
+        for p in &self.positions {
+            let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
+        }
+        for t in &self.triangles {
+            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        s
+    }
+}
+
+/// Checks the statements penumbra relies on (`v` and `f`), so that errors carry a line number:
+/// `v` needs three (or four) numbers, all finite; `f` needs at least three vertex references,
+/// each a non-zero integer (negative ones relative) naming a vertex defined before it.
+fn scan_obj(path: &Path, text: &str) -> Result<(), MeshError> {
+    let parse_err = |line: usize, message: String| MeshError::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    };
+    let mut vertices = 0usize;
+    for (n, raw) in text.lines().enumerate() {
+        let line = n + 1;
+        let stmt = raw.split('#').next().unwrap_or("");
+        let mut words = stmt.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let nums: Vec<&str> = words.collect();
+                if nums.len() != 3 && nums.len() != 4 && nums.len() != 6 && nums.len() != 7 {
+                    return Err(parse_err(
+                        line,
+                        format!("`v` needs 3 coordinates, found {}", nums.len()),
+                    ));
+                }
+                for w in &nums[..3] {
+                    let x: f64 = w
+                        .parse()
+                        .map_err(|_| parse_err(line, format!("`{w}` is not a number")))?;
+                    if !x.is_finite() {
+                        return Err(MeshError::NonFiniteVertex {
+                            path: path.to_path_buf(),
+                            line,
+                            index: vertices,
+                        });
+                    }
+                }
+                vertices += 1;
+            }
+            Some("f") => {
+                let refs: Vec<&str> = words.collect();
+                if refs.len() < 3 {
+                    return Err(parse_err(
+                        line,
+                        format!("a face needs at least 3 vertices, found {}", refs.len()),
+                    ));
+                }
+                for r in refs {
+                    let first = r.split('/').next().unwrap_or("");
+                    let i: i64 = first
+                        .parse()
+                        .map_err(|_| parse_err(line, format!("`{r}` is not a vertex index")))?;
+                    let ok = (i > 0 && i as usize <= vertices)
+                        || (i < 0 && (i.unsigned_abs() as usize) <= vertices);
+                    if !ok {
+                        return Err(parse_err(
+                            line,
+                            format!(
+                                "vertex index {i} out of range ({vertices} vertices defined so far)"
+                            ),
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load_str(text: &str) -> Result<TriangleMesh, MeshError> {
+        let dir = std::env::temp_dir().join(format!("penumbra-mesh-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(format!("{:x}.obj", text.len() * 31 + text.bytes().map(|b| b as usize).sum::<usize>()));
+        std::fs::write(&p, text).unwrap();
+        let r = TriangleMesh::load_obj(&p);
+        let _ = std::fs::remove_file(&p);
+        r
+    }
+
+    #[test]
+    fn welds_split_vertices_and_negative_zero() {
+        let m = load_str(
+            "o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no b\nv -0 0 0\nv 0 1 0\nv -1 0 0\nf 4 5 6\n",
+        )
+        .unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.triangles.len(), 2);
+        assert_eq!(m.triangles[0][0], m.triangles[1][0]);
+    }
+
+    #[test]
+    fn triangulates_quads_and_drops_degenerates() {
+        let m = load_str("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 1 2 5\n").unwrap();
+        assert_eq!(m.triangles.len(), 2);
+        assert_eq!(m.dropped_degenerate, 1);
+    }
+
+    #[test]
+    fn nan_vertex_names_line_and_index() {
+        let e = load_str("v 0 0 0\nv 1 0 0\n# c\nv nan 1 0\nf 1 2 3\n").unwrap_err();
+        match e {
+            MeshError::NonFiniteVertex { line, index, .. } => assert_eq!((line, index), (4, 2)),
+            other => panic!("unexpected {other}"),
+        }
+    }
+
+    #[test]
+    fn malformed_statements_name_their_line() {
+        for (text, want) in [
+            ("v 0 0 0\nv 1 zero 0\n", 2),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", 4),
+            ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3),
+            ("v 0 0\n", 1),
+        ] {
+            match load_str(text).unwrap_err() {
+                MeshError::Parse { line, .. } => assert_eq!(line, want, "{text}"),
+                other => panic!("unexpected {other}"),
+            }
+        }
+    }
+
+    #[test]
+    fn bad_index_in_memory_is_an_error() {
+        let e = TriangleMesh::from_raw(Path::new("mem"), &[DVec3::ZERO; 3], &[[0, 1, 3]]);
+        assert!(matches!(e, Err(MeshError::BadIndex { index: 3, .. })));
+    }
+}

@@ -1,0 +1,194 @@
+//! The ray-cast visibility reference: the truth every technique is measured against.
+//!
+//! For a camera pixel, P is the first hit of its ray (all triangles, both sides). Then
+//! `V(P) = (1/N) Σ_k vis(P, L_k)` over `N = n x n` stratified-jittered points `L_k` of the light
+//! rectangle (one uniform point per cell of an `n x n` grid over `[-1, 1]^2`), drawn from a
+//! per-pixel stream of a fixed seed, so that an image does not depend on thread scheduling.
+//! `vis` is 1 when the open segment from P to `L_k` meets no triangle other than the one P lies
+//! on. `V = 1` where the ray hits nothing; `V = 0` where P is not strictly on the emitting side.
+//!
+//! The hard reference uses the single point `L = light centre`: the hard shadow of a point light
+//! there, which shadow volumes must reproduce.
+
+use glam::{DVec2, DVec3, Vec3A};
+use rayon::prelude::*;
+
+use crate::exact::exact_visibility;
+use crate::image::VisibilityImage;
+use crate::light::RectLight;
+use crate::raycast::SceneBvh;
+use crate::rng::Rng;
+use crate::scene::Scene;
+
+/// Seed of the reference's light samples.
+pub const REFERENCE_SEED: u64 = 0x5EED_0F_5AD0;
+
+/// Shadow rays start this far from P, relative to the scene's extent: P carries the `f32`
+/// rounding of the hit (about 1e-7 of its coordinates), two orders of magnitude below.
+pub const SHADOW_EPSILON: f64 = 1e-5;
+
+/// The surface point seen through a pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// World position, snapped onto the plane of its triangle in `f64`.
+    pub position: DVec3,
+    /// Index of the triangle it lies on (into [`Scene::triangles`]).
+    pub triangle: u32,
+}
+
+/// A scene ready for visibility queries: its triangles, their BVH and its scale.
+pub struct Tracer {
+    /// World-space triangles.
+    pub triangles: Vec<[DVec3; 3]>,
+    /// Their hierarchy.
+    pub bvh: SceneBvh,
+    /// The light.
+    pub light: RectLight,
+    /// Shadow-ray start offset in world units.
+    pub epsilon: f64,
+}
+
+impl Tracer {
+    /// Builds the BVH of a scene.
+    pub fn new(scene: &Scene) -> Self {
+        let triangles = scene.triangles();
+        let bvh = SceneBvh::build(&triangles);
+        let mut lo = scene.light.center.min(scene.camera.eye);
+        let mut hi = scene.light.center.max(scene.camera.eye);
+        for t in &triangles {
+            for v in t {
+                lo = lo.min(*v);
+                hi = hi.max(*v);
+            }
+        }
+        for c in scene.light.corners() {
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let extent = (hi - lo).length().max(1e-30);
+        Tracer {
+            triangles,
+            bvh,
+            light: scene.light,
+            epsilon: SHADOW_EPSILON * extent,
+        }
+    }
+
+    /// First surface hit by the ray `origin + t * dir` (`dir` unit).
+    pub fn surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
+        let hit = self.bvh.closest_hit(origin, dir, f64::MAX)?;
+        let p = origin + dir * hit.t;
+        let [a, b, c] = self.triangles[hit.triangle as usize];
+        let n = (b - a).cross(c - a).normalize_or_zero();
+        Some(SurfacePoint {
+            position: p - n * (p - a).dot(n),
+            triangle: hit.triangle,
+        })
+    }
+
+    /// Whether the light point `l` is visible from the surface point `p`.
+    #[inline]
+    pub fn sees(&self, p: &SurfacePoint, l: DVec3) -> bool {
+        let d = l - p.position;
+        let dist = d.length();
+        if dist <= self.epsilon {
+            return true;
+        }
+        let dir = d / dist;
+        let o: Vec3A = p.position.as_vec3().into();
+        !self.bvh.occluded(
+            o,
+            dir.as_vec3().into(),
+            self.epsilon as f32,
+            (dist - self.epsilon) as f32,
+            p.triangle,
+        )
+    }
+
+    /// Sampled visibility at `p` from `n x n` stratified-jittered light points drawn from `rng`.
+    pub fn sampled_visibility(&self, p: &SurfacePoint, n: usize, rng: &mut Rng) -> f64 {
+        if !self.light.is_lit_side(p.position) {
+            return 0.0;
+        }
+        let mut seen = 0usize;
+        let cell = 2.0 / n as f64;
+        for j in 0..n {
+            for i in 0..n {
+                let u = -1.0 + (i as f64 + rng.next_f64()) * cell;
+                let v = -1.0 + (j as f64 + rng.next_f64()) * cell;
+                if self.sees(p, self.light.point(DVec2::new(u, v))) {
+                    seen += 1;
+                }
+            }
+        }
+        seen as f64 / (n * n) as f64
+    }
+
+    /// Hard visibility at `p`: 1 when the light's centre is visible, else 0.
+    pub fn hard_visibility(&self, p: &SurfacePoint) -> f64 {
+        if self.light.is_lit_side(p.position) && self.sees(p, self.light.center) {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// Exact visibility at `p` (see [`crate::exact`]).
+    pub fn exact_visibility(&self, p: &SurfacePoint) -> f64 {
+        exact_visibility(
+            p.position,
+            &self.light,
+            &self.triangles,
+            Some(p.triangle as usize),
+        )
+        .visibility
+    }
+}
+
+/// Which reference to render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reference {
+    /// `n x n` stratified-jittered light samples per pixel.
+    Sampled {
+        /// Samples per axis, `n`.
+        per_axis: usize,
+    },
+    /// One sample at the light's centre.
+    Hard,
+}
+
+/// Visibility of every camera pixel of `scene` by ray casting. `progress` is called with the
+/// number of rows finished so far, from any thread.
+pub fn render(
+    scene: &Scene,
+    tracer: &Tracer,
+    reference: Reference,
+    progress: &(dyn Fn(u64) + Sync),
+) -> VisibilityImage {
+    let cam = &scene.camera;
+    let (w, h) = (cam.width, cam.height);
+    let mut img = VisibilityImage::filled(w, h, 1.0);
+    let done = std::sync::atomic::AtomicU64::new(0);
+    img.data
+        .par_chunks_mut(w as usize)
+        .enumerate()
+        .for_each(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                let dir = cam.ray_dir(i as u32, j as u32);
+                let Some(p) = tracer.surface_point(cam.eye, dir) else {
+                    continue;
+                };
+                *out = match reference {
+                    Reference::Hard => tracer.hard_visibility(&p),
+                    Reference::Sampled { per_axis } => {
+                        let pixel = j as u64 * w as u64 + i as u64;
+                        let mut rng = Rng::stream(REFERENCE_SEED, pixel);
+                        tracer.sampled_visibility(&p, per_axis, &mut rng)
+                    }
+                } as f32;
+            }
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(n);
+        });
+    img
+}

@@ -1,0 +1,383 @@
+//! Scene files: the public TOML contract (see `docs/scene-format.md`).
+//!
+//! ```toml
+//! [camera]
+//! eye = [x, y, z]
+//! target = [x, y, z]
+//! up = [0, 1, 0]
+//! fov_y_deg = 45.0
+//! width = 640
+//! height = 480
+//!
+//! [light]                   # rectangular area light, emitting on the side its normal points to
+//! center = [x, y, z]
+//! normal = [0, -1, 0]       # unit
+//! tangent = [1, 0, 0]       # unit, orthogonal to normal
+//! size = [w, h]             # along tangent, along cross(normal, tangent)
+//!
+//! [[mesh]]                  # any number
+//! obj = "meshes/foo.obj"    # relative to the scene file
+//! scale = 1.0               # optional: number or [sx, sy, sz]
+//! rotate_axis_angle = [ax, ay, az, degrees]   # optional
+//! translate = [x, y, z]     # optional; world = translate * rotate * scale
+//! ```
+//!
+//! Unknown keys are rejected with the key's name and line. Every error names the scene file and
+//! the line of the offending value.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DQuat, DVec2, DVec3};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::camera::{Camera, CameraError};
+use crate::light::RectLight;
+use crate::mesh::{MeshError, TriangleMesh};
+
+/// Tolerance on the unit length and orthogonality of the light's normal and tangent.
+pub const UNIT_TOLERANCE: f64 = 1e-4;
+
+/// What can be wrong with a scene file.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("{path}: cannot read scene: {source}")]
+    Io {
+        /// The scene file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// Not valid TOML, an unknown key, a missing key or a value of the wrong type.
+    #[error("{path}:{line}: {message}")]
+    Syntax {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line (0 when the parser gave no position).
+        line: usize,
+        /// The parser's message, naming the key.
+        message: String,
+    },
+    /// Well-formed but meaningless: zero-size light, empty image, `eye == target`, ...
+    #[error("{path}:{line}: {message}")]
+    Invalid {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line of the offending value.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A mesh of the scene failed to load.
+    #[error("{path}:{line}: mesh {mesh}: {source}")]
+    Mesh {
+        /// The scene file.
+        path: PathBuf,
+        /// Line of the mesh's `obj` key.
+        line: usize,
+        /// 0-based index of the `[[mesh]]` entry.
+        mesh: usize,
+        /// The mesh error, naming the OBJ file and its line.
+        source: MeshError,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    camera: Spanned<CameraDesc>,
+    light: Spanned<LightDesc>,
+    #[serde(default)]
+    mesh: Vec<Spanned<MeshDesc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraDesc {
+    eye: Spanned<[f64; 3]>,
+    target: Spanned<[f64; 3]>,
+    up: Spanned<[f64; 3]>,
+    fov_y_deg: Spanned<f64>,
+    width: Spanned<u32>,
+    height: Spanned<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightDesc {
+    center: Spanned<[f64; 3]>,
+    normal: Spanned<[f64; 3]>,
+    tangent: Spanned<[f64; 3]>,
+    size: Spanned<[f64; 2]>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+enum ScaleDesc {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshDesc {
+    obj: Spanned<String>,
+    scale: Option<Spanned<ScaleDesc>>,
+    rotate_axis_angle: Option<Spanned<[f64; 4]>>,
+    translate: Option<Spanned<[f64; 3]>>,
+}
+
+/// One mesh of a scene, in world space.
+#[derive(Clone, Debug)]
+pub struct SceneMesh {
+    /// The OBJ file it came from.
+    pub source: PathBuf,
+    /// `translate * rotate * scale`.
+    pub transform: DMat4,
+    /// The welded mesh with world-space positions.
+    pub mesh: TriangleMesh,
+}
+
+/// A loaded scene: camera, light and world-space meshes.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene file.
+    pub path: PathBuf,
+    /// The camera.
+    pub camera: Camera,
+    /// The light.
+    pub light: RectLight,
+    /// The meshes, in file order.
+    pub meshes: Vec<SceneMesh>,
+}
+
+/// 1-based line of byte offset `at` in `text`.
+fn line_of(text: &str, at: usize) -> usize {
+    text.as_bytes()[..at.min(text.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+impl Scene {
+    /// Loads and validates a scene file and every mesh it names.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Scene::from_toml(&text, path)
+    }
+
+    /// Parses scene text as if read from `path` (OBJ paths are relative to its folder).
+    pub fn from_toml(text: &str, path: &Path) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text).map_err(|e| SceneError::Syntax {
+            path: path.to_path_buf(),
+            line: e.span().map_or(0, |s| line_of(text, s.start)),
+            message: e.message().trim().to_string(),
+        })?;
+        let invalid = |span: std::ops::Range<usize>, message: String| SceneError::Invalid {
+            path: path.to_path_buf(),
+            line: line_of(text, span.start),
+            message,
+        };
+        let finite3 = |v: &Spanned<[f64; 3]>, key: &str| -> Result<DVec3, SceneError> {
+            let d = DVec3::from(*v.get_ref());
+            if d.is_finite() {
+                Ok(d)
+            } else {
+                Err(invalid(v.span(), format!("{key} = {:?} is not finite", v.get_ref())))
+            }
+        };
+
+        let c = file.camera.get_ref();
+        let eye = finite3(&c.eye, "camera.eye")?;
+        let target = finite3(&c.target, "camera.target")?;
+        let up = finite3(&c.up, "camera.up")?;
+        let camera = Camera::look_at(
+            eye,
+            target,
+            up,
+            *c.fov_y_deg.get_ref(),
+            *c.width.get_ref(),
+            *c.height.get_ref(),
+        )
+        .map_err(|e| {
+            let span = match e {
+                CameraError::EyeIsTarget => c.target.span(),
+                CameraError::UpParallel { .. } => c.up.span(),
+                CameraError::EmptyImage { width: 0, .. } => c.width.span(),
+                CameraError::EmptyImage { .. } => c.height.span(),
+                CameraError::BadFov(_) => c.fov_y_deg.span(),
+            };
+            invalid(span, format!("camera: {e}"))
+        })?;
+
+        let l = file.light.get_ref();
+        let center = finite3(&l.center, "light.center")?;
+        let normal = finite3(&l.normal, "light.normal")?;
+        let tangent = finite3(&l.tangent, "light.tangent")?;
+        if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
+            return Err(invalid(
+                l.normal.span(),
+                format!("light.normal {normal} is not unit length (|n| = {})", normal.length()),
+            ));
+        }
+        if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
+            return Err(invalid(
+                l.tangent.span(),
+                format!("light.tangent {tangent} is not unit length (|t| = {})", tangent.length()),
+            ));
+        }
+        if normal.dot(tangent).abs() > UNIT_TOLERANCE {
+            return Err(invalid(
+                l.tangent.span(),
+                format!("light.tangent {tangent} is not orthogonal to light.normal {normal}"),
+            ));
+        }
+        let size = DVec2::from(*l.size.get_ref());
+        if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
+            return Err(invalid(
+                l.size.span(),
+                format!("light.size {size} must be two positive finite lengths"),
+            ));
+        }
+        // Remove the tolerated rounding so that the light frame is exactly orthonormal.
+        let n = normal.normalize();
+        let t = (tangent - n * n.dot(tangent)).normalize();
+        let light = RectLight::new(center, n, t, size);
+
+        let base = path.parent().unwrap_or(Path::new("."));
+        let mut meshes = Vec::with_capacity(file.mesh.len());
+        for (index, m) in file.mesh.iter().enumerate() {
+            let m = m.get_ref();
+            let transform = mesh_transform(m).map_err(|(span, msg)| invalid(span, msg))?;
+            let source = base.join(m.obj.get_ref());
+            let mesh = TriangleMesh::load_obj(&source).map_err(|e| SceneError::Mesh {
+                path: path.to_path_buf(),
+                line: line_of(text, m.obj.span().start),
+                mesh: index,
+                source: e,
+            })?;
+            meshes.push(SceneMesh {
+                mesh: mesh.transformed(&transform),
+                source,
+                transform,
+            });
+        }
+        Ok(Scene {
+            path: path.to_path_buf(),
+            camera,
+            light,
+            meshes,
+        })
+    }
+
+    /// Every world-space triangle of every mesh, meshes in order.
+    pub fn triangles(&self) -> Vec<[DVec3; 3]> {
+        self.meshes
+            .iter()
+            .flat_map(|m| (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t)))
+            .collect()
+    }
+
+    /// Total number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
+    }
+
+    /// The files this scene was read from: the scene file and every OBJ.
+    pub fn input_files(&self) -> Vec<PathBuf> {
+        std::iter::once(self.path.clone())
+            .chain(self.meshes.iter().map(|m| m.source.clone()))
+            .collect()
+    }
+
+    /// The scene with every position moved by the rigid or similarity transform `m`, camera
+    /// and light included (for invariance tests).
+    pub fn transformed(&self, m: &DMat4) -> Scene {
+        let dir = |v: DVec3| m.transform_vector3(v).normalize();
+        let c = &self.camera;
+        let camera = Camera::look_at(
+            m.transform_point3(c.eye),
+            m.transform_point3(c.eye + c.forward),
+            dir(c.true_up),
+            c.fov_y_deg,
+            c.width,
+            c.height,
+        )
+        .expect("a similarity transform keeps the camera frame valid");
+        let l = &self.light;
+        let scale = m.transform_vector3(l.tangent).length();
+        let light = RectLight::new(
+            m.transform_point3(l.center),
+            dir(l.normal),
+            dir(l.tangent),
+            l.size * scale,
+        );
+        Scene {
+            path: self.path.clone(),
+            camera,
+            light,
+            meshes: self
+                .meshes
+                .iter()
+                .map(|s| SceneMesh {
+                    source: s.source.clone(),
+                    transform: *m * s.transform,
+                    mesh: s.mesh.transformed(m),
+                })
+                .collect(),
+        }
+    }
+}
+
+type SpanError = (std::ops::Range<usize>, String);
+
+fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
+    let scale = match m.scale.as_ref() {
+        None => DVec3::ONE,
+        Some(s) => {
+            let v = match *s.get_ref() {
+                ScaleDesc::Uniform(k) => DVec3::splat(k),
+                ScaleDesc::PerAxis(a) => DVec3::from(a),
+            };
+            if !v.is_finite() || v.x == 0.0 || v.y == 0.0 || v.z == 0.0 {
+                return Err((s.span(), format!("scale {v} must be finite and non-zero")));
+            }
+            v
+        }
+    };
+    let rotation = match m.rotate_axis_angle.as_ref() {
+        None => DQuat::IDENTITY,
+        Some(r) => {
+            let [x, y, z, deg] = *r.get_ref();
+            let axis = DVec3::new(x, y, z);
+            match axis.try_normalize() {
+                Some(a) if deg.is_finite() => DQuat::from_axis_angle(a, deg.to_radians()),
+                _ => {
+                    return Err((
+                        r.span(),
+                        format!(
+                            "rotate_axis_angle {:?} needs a non-zero finite axis and a finite angle",
+                            r.get_ref()
+                        ),
+                    ));
+                }
+            }
+        }
+    };
+    let translate = match m.translate.as_ref() {
+        None => DVec3::ZERO,
+        Some(t) => {
+            let v = DVec3::from(*t.get_ref());
+            if !v.is_finite() {
+                return Err((t.span(), format!("translate {v} is not finite")));
+            }
+            v
+        }
+    };
+    Ok(DMat4::from_scale_rotation_translation(scale, rotation, translate))
+}
