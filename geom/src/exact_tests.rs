@@ -806,3 +806,80 @@ fn stress_spheres_over_plane() {
         println!("{p}: exact {v:.5} ray {s:.5}");
     }
 }
+
+#[test]
+#[ignore = "temporary stress"]
+fn stress_lattice_triangles() {
+    let mut rng = Rng::new(SEED);
+    let mut worst: f64 = 0.0;
+    for case in 0..3000 {
+        let count = 2 + rng.below(60);
+        let step = [0.25, 0.125, 0.5, 0.1][case % 4];
+        let m = (2.4 / step) as usize;
+        let polys: Vec<Vec<DVec2>> = (0..count)
+            .map(|_| {
+                (0..3)
+                    .map(|_| {
+                        DVec2::new(
+                            -1.2 + step * rng.below(m + 1) as f64,
+                            -1.2 + step * rng.below(m + 1) as f64,
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        let a = union_area(&polys);
+        let mut rev = polys.clone();
+        rev.reverse();
+        let b = union_area(&rev);
+        let sw: Vec<Vec<DVec2>> = polys
+            .iter()
+            .map(|p| p.iter().map(|v| DVec2::new(-v.y, v.x)).collect())
+            .collect();
+        let c = union_area(&sw);
+        // Monte Carlo estimate.
+        let mut hits = 0;
+        let ns = 4000;
+        for _ in 0..ns {
+            let q = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+            if polys
+                .iter()
+                .any(|p| p.len() >= 3 && super::contains(p, q))
+            {
+                hits += 1;
+            }
+        }
+        let mc = 4.0 * hits as f64 / ns as f64;
+        worst = worst.max((a - b).abs()).max((a - c).abs());
+        assert!((a - b).abs() < 1e-9 && (a - c).abs() < 1e-9, "case {case}: {a} {b} {c}");
+        assert!((a - mc).abs() < 0.15, "case {case}: {a} vs mc {mc}");
+    }
+    println!("worst order/rotation discrepancy {worst:e}");
+}
+
+#[test]
+#[ignore = "temporary stress"]
+fn stress_random_soup() {
+    let mut rng = Rng::new(SEED);
+    let light = light_facing_down(5.0, DVec2::ZERO, DVec2::new(2.0, 2.0));
+    for case in 0..200 {
+        let tris: Vec<[DVec3; 3]> = (0..200)
+            .map(|_| {
+                let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-1.0, 6.0), rng.range(-2.0, 2.0));
+                [0; 3].map(|_| {
+                    c + DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0))
+                })
+            })
+            .collect();
+        for _ in 0..5 {
+            let p = DVec3::new(rng.range(-2.0, 2.0), rng.range(-0.5, 4.9), rng.range(-2.0, 2.0));
+            let v = exact_visibility(p, &light, &tris, None);
+            assert!((0.0..=1.0).contains(&v.visibility));
+            if case % 40 == 0 {
+                let s = ray_cast_visibility(p, &light, &tris, 64, &mut rng);
+                println!("exact {:.5} ray {s:.5}", v.visibility);
+                assert!((v.visibility - s).abs() < 5e-3);
+            }
+        }
+    }
+}

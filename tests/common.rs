@@ -1,0 +1,33 @@
+//! Helpers shared by the workspace tests.
+
+use std::path::PathBuf;
+
+use penumbra::geom::Scene;
+
+/// Path of a fixture scene by name.
+pub fn scene_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures/scenes")
+        .join(format!("{name}.toml"))
+}
+
+/// Loads a fixture scene, panicking with the loader's message.
+pub fn load(name: &str) -> Scene {
+    Scene::load(&scene_path(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Every fixture scene's name, from the folder (so a new fixture is tested without a list to
+/// keep up to date). Fails if the folder is empty.
+pub fn fixture_names() -> Vec<String> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.unwrap().path();
+            (p.extension()? == "toml").then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
+        })
+        .collect();
+    names.sort();
+    assert!(names.len() >= 7, "expected the seven fixtures, found {names:?}");
+    names
+}

@@ -1,0 +1,38 @@
+//! Every fixture loads, and every mesh's half-edge structure is valid and of the expected kind.
+
+use penumbra::geom::HalfEdgeMesh;
+use penumbra::geom::halfedge::EdgeKind;
+
+use crate::common::{fixture_names, load};
+
+#[test]
+fn every_fixture_loads_with_valid_half_edges() {
+    for name in fixture_names() {
+        let scene = load(&name);
+        assert!(scene.triangle_count() > 0, "{name}");
+        for m in &scene.meshes {
+            let h = HalfEdgeMesh::build(&m.mesh);
+            h.validate().unwrap_or_else(|e| panic!("{name}: {}: {e}", m.source.display()));
+            assert!(!h.has_inconsistent_orientation(), "{name}: {}", m.source.display());
+            let file = m.source.file_name().unwrap().to_string_lossy();
+            match &*file {
+                "sphere.obj" => assert!(h.is_closed(), "{name}: sphere must be closed"),
+                "quad.obj" => assert_eq!(h.edge_counts(), [4, 1, 0, 0]),
+                "book.obj" => assert_eq!(h.edge_counts()[3], 1, "one edge with three faces"),
+                other => panic!("unexpected fixture mesh {other}"),
+            }
+        }
+    }
+}
+
+#[test]
+fn sphere_has_760_triangles_and_spheres_9x9_has_81() {
+    let s = load("spheres-9x9");
+    let spheres: Vec<_> = s
+        .meshes
+        .iter()
+        .filter(|m| m.source.ends_with("sphere.obj"))
+        .collect();
+    assert_eq!(spheres.len(), 81);
+    assert!(spheres.iter().all(|m| m.mesh.triangles.len() == 760));
+}

@@ -1,0 +1,6 @@
+//! Workspace-level tests, compiled as one binary through this module tree.
+
+mod common;
+mod fixtures;
+mod quad_closed_form;
+mod reference_vs_exact;
