@@ -883,3 +883,51 @@ fn stress_random_soup() {
         }
     }
 }
+
+#[test]
+#[ignore = "temporary stress"]
+fn stress_count_panics() {
+    std::panic::set_hook(Box::new(|_| {}));
+    let mut rng = Rng::new(SEED);
+    let light = light_facing_down(5.0, DVec2::ZERO, DVec2::new(2.0, 2.0));
+    let (mut fails, mut total) = (0, 0);
+    let mut dumped = false;
+    for _case in 0..300 {
+        let tris: Vec<[DVec3; 3]> = (0..200)
+            .map(|_| {
+                let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-1.0, 6.0), rng.range(-2.0, 2.0));
+                [0; 3].map(|_| {
+                    c + DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0))
+                })
+            })
+            .collect();
+        for _ in 0..5 {
+            let p = DVec3::new(rng.range(-2.0, 2.0), rng.range(-0.5, 4.9), rng.range(-2.0, 2.0));
+            total += 1;
+            let r = std::panic::catch_unwind(|| exact_visibility(p, &light, &tris, None));
+            if r.is_err() {
+                fails += 1;
+                if !dumped {
+                    dumped = true;
+                    let pl = light.to_light_space(p);
+                    let polys: Vec<Vec<DVec2>> = tris
+                        .iter()
+                        .filter_map(|t| project_triangle(pl, t.map(|v| light.to_light_space(v))))
+                        .collect();
+                    let s: Vec<String> = polys
+                        .iter()
+                        .map(|q| {
+                            q.iter()
+                                .map(|v| format!("{:?} {:?}", v.x, v.y))
+                                .collect::<Vec<_>>()
+                                .join(" ")
+                        })
+                        .collect();
+                    std::fs::write("/tmp/fail_polys.txt", s.join("\n")).unwrap();
+                }
+            }
+        }
+    }
+    let _ = std::panic::take_hook();
+    println!("soup: {fails} panics out of {total}");
+}

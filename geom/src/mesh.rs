@@ -15,12 +15,12 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum MeshError {
     /// The file could not be read.
-    #[error("{path}: cannot read mesh: {source}")]
+    #[error("{path}: cannot read mesh: {error}")]
     Io {
         /// The mesh file.
         path: PathBuf,
         /// The underlying error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The OBJ text is malformed.
     #[error("{path}:{line}: malformed OBJ: {message}")]
@@ -135,9 +135,9 @@ impl TriangleMesh {
     /// Materials are ignored (a missing `.mtl` is not an error). Errors name the file and, where
     /// the statement can be located, its line.
     pub fn load_obj(path: &Path) -> Result<Self, MeshError> {
-        let text = std::fs::read_to_string(path).map_err(|source| MeshError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| MeshError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         // Our own scan first: it knows line numbers, which tobj's errors do not carry.
         scan_obj(path, &text)?;

@@ -42,12 +42,12 @@ pub const UNIT_TOLERANCE: f64 = 1e-4;
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The scene file could not be read.
-    #[error("{path}: cannot read scene: {source}")]
+    #[error("{path}: cannot read scene: {error}")]
     Io {
         /// The scene file.
         path: PathBuf,
         /// The underlying error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// Not valid TOML, an unknown key, a missing key or a value of the wrong type.
     #[error("{path}:{line}: {message}")]
@@ -70,7 +70,7 @@ pub enum SceneError {
         message: String,
     },
     /// A mesh of the scene failed to load.
-    #[error("{path}:{line}: mesh {mesh}: {source}")]
+    #[error("{path}:{line}: mesh {mesh}: {error}")]
     Mesh {
         /// The scene file.
         path: PathBuf,
@@ -79,7 +79,7 @@ pub enum SceneError {
         /// 0-based index of the `[[mesh]]` entry.
         mesh: usize,
         /// The mesh error, naming the OBJ file and its line.
-        source: MeshError,
+        error: MeshError,
     },
 }
 
@@ -164,9 +164,9 @@ fn line_of(text: &str, at: usize) -> usize {
 impl Scene {
     /// Loads and validates a scene file and every mesh it names.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         Scene::from_toml(&text, path)
     }
@@ -259,7 +259,7 @@ impl Scene {
                 path: path.to_path_buf(),
                 line: line_of(text, m.obj.span().start),
                 mesh: index,
-                source: e,
+                error: e,
             })?;
             meshes.push(SceneMesh {
                 mesh: mesh.transformed(&transform),

@@ -1,0 +1,291 @@
+//! The `penumbra` command end to end: renders that read back, and every kind of bad input
+//! answered by a clear error, a non-zero exit and no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn penumbra() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+}
+
+fn fixtures() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+}
+
+/// A fresh folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("penumbra-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const GOOD_SCENE: &str = r#"
+[camera]
+eye = [0.0, 3.0, 4.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y_deg = 45.0
+width = 24
+height = 16
+
+[light]
+center = [0.0, 4.0, 0.0]
+normal = [0.0, -1.0, 0.0]
+tangent = [1.0, 0.0, 0.0]
+size = [1.0, 1.0]
+
+[[mesh]]
+obj = "m.obj"
+scale = 4.0
+
+[[mesh]]
+obj = "m.obj"
+translate = [0.0, 1.0, 0.0]
+"#;
+
+const GOOD_OBJ: &str = "v -0.5 0 -0.5\nv -0.5 0 0.5\nv 0.5 0 0.5\nv 0.5 0 -0.5\nf 1 2 3 4\n";
+
+/// Writes `scene` and `obj` into a scratch folder, renders, and returns the folder and output.
+fn render_case(name: &str, scene: &str, obj: &str) -> (PathBuf, Output) {
+    let d = scratch(name);
+    std::fs::write(d.join("s.toml"), scene).unwrap();
+    std::fs::write(d.join("m.obj"), obj).unwrap();
+    let out = penumbra()
+        .arg("render")
+        .arg(d.join("s.toml"))
+        .args(["--samples", "4", "--out"])
+        .arg(d.join("v.exr"))
+        .arg("--png")
+        .arg(d.join("v.png"))
+        .output()
+        .unwrap();
+    (d, out)
+}
+
+fn files_in(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Asserts a failed run whose message contains every piece of `want`, and that only the inputs
+/// remain in the folder.
+fn assert_refused(name: &str, scene: &str, obj: &str, want: &[&str]) {
+    let (d, out) = render_case(name, scene, obj);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{name}: should fail");
+    assert!(!err.contains("panicked"), "{name}: panicked: {err}");
+    for w in want {
+        assert!(err.contains(w), "{name}: error should mention {w:?}: {err}");
+    }
+    assert_eq!(files_in(&d), ["m.obj", "s.toml"], "{name}: left output behind");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn renders_a_small_scene_to_exr_and_png() {
+    let (d, out) = render_case("good", GOOD_SCENE, GOOD_OBJ);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(files_in(&d), ["m.obj", "s.toml", "v.exr", "v.png"]);
+    let img = penumbra_geom::VisibilityImage::read_exr(&d.join("v.exr")).unwrap();
+    assert_eq!((img.width, img.height), (24, 16));
+    assert!(img.data.iter().all(|v| (0.0..=1.0).contains(v)));
+    assert!(img.data.contains(&0.0), "the quad shadows the ground's centre");
+    assert!(img.data.contains(&1.0));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn malformed_toml() {
+    let s = GOOD_SCENE.replace("fov_y_deg = 45.0", "fov_y_deg = = 45.0");
+    assert_refused("toml", &s, GOOD_OBJ, &["s.toml:6", "extra `=`"]);
+}
+
+#[test]
+fn unknown_key_names_key_and_line() {
+    let s = GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1.0, 1.0]\ncolour = 3");
+    assert_refused("key", &s, GOOD_OBJ, &["s.toml:15", "colour"]);
+}
+
+#[test]
+fn missing_obj() {
+    let s = GOOD_SCENE.replace("obj = \"m.obj\"\nscale", "obj = \"nothere.obj\"\nscale");
+    assert_refused("missing", &s, GOOD_OBJ, &["s.toml:17", "nothere.obj", "mesh 0"]);
+}
+
+#[test]
+fn malformed_obj() {
+    let obj = GOOD_OBJ.replace("v 0.5 0 0.5", "v 0.5 zero 0.5");
+    assert_refused("badobj", GOOD_SCENE, &obj, &["m.obj:3", "zero"]);
+    let obj = GOOD_OBJ.replace("f 1 2 3 4", "f 1 2 7");
+    assert_refused("badindex", GOOD_SCENE, &obj, &["m.obj:5", "7"]);
+}
+
+#[test]
+fn nan_vertex() {
+    let obj = GOOD_OBJ.replace("v -0.5 0 0.5", "v -0.5 NaN 0.5");
+    assert_refused("nan", GOOD_SCENE, &obj, &["m.obj:2", "vertex 1", "non-finite"]);
+}
+
+#[test]
+fn zero_size_light() {
+    let s = GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1.0, 0.0]");
+    assert_refused("light", &s, GOOD_OBJ, &["s.toml:14", "light.size"]);
+}
+
+#[test]
+fn zero_image_size() {
+    let s = GOOD_SCENE.replace("height = 16", "height = 0");
+    assert_refused("size", &s, GOOD_OBJ, &["s.toml:8", "empty"]);
+}
+
+#[test]
+fn eye_equal_to_target() {
+    let s = GOOD_SCENE.replace("eye = [0.0, 3.0, 4.0]", "eye = [0.0, 0.0, 0.0]");
+    assert_refused("eye", &s, GOOD_OBJ, &["s.toml:4", "eye and target coincide"]);
+}
+
+#[test]
+fn up_parallel_to_view() {
+    let s = GOOD_SCENE.replace("eye = [0.0, 3.0, 4.0]", "eye = [0.0, 3.0, 0.0]");
+    assert_refused("up", &s, GOOD_OBJ, &["s.toml:5", "parallel"]);
+}
+
+#[test]
+fn light_frame_must_be_orthonormal() {
+    let s = GOOD_SCENE.replace("tangent = [1.0, 0.0, 0.0]", "tangent = [0.0, 1.0, 0.0]");
+    assert_refused("ortho", &s, GOOD_OBJ, &["s.toml:13", "orthogonal"]);
+}
+
+#[test]
+fn out_equal_to_an_input() {
+    let d = scratch("outin");
+    std::fs::write(d.join("s.toml"), GOOD_SCENE).unwrap();
+    std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
+    for target in ["s.toml", "m.obj"] {
+        let out = penumbra()
+            .arg("render")
+            .arg(d.join("s.toml"))
+            .arg("--out")
+            .arg(d.join(".").join(target))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("input"), "{target}: {err}");
+        assert_eq!(std::fs::read_to_string(d.join("s.toml")).unwrap(), GOOD_SCENE);
+        assert_eq!(std::fs::read_to_string(d.join("m.obj")).unwrap(), GOOD_OBJ);
+    }
+    assert_eq!(files_in(&d), ["m.obj", "s.toml"]);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn samples_must_be_a_perfect_square() {
+    let d = scratch("samples");
+    let out = penumbra()
+        .arg("render")
+        .arg(fixtures().join("scenes/quad-over-plane.toml"))
+        .args(["--samples", "200", "--out"])
+        .arg(d.join("v.exr"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("perfect square"));
+    assert!(files_in(&d).is_empty());
+}
+
+#[test]
+fn hard_reference_is_binary_and_compare_reports_metrics() {
+    let d = scratch("compare");
+    let scene = fixtures().join("scenes/sphere-over-plane.toml");
+    for (tech, file, extra) in [
+        ("hard-reference", "h.exr", vec![]),
+        ("reference", "r.exr", vec!["--samples", "16"]),
+    ] {
+        let out = penumbra()
+            .arg("render")
+            .arg(&scene)
+            .args(["--technique", tech])
+            .args(extra)
+            .arg("--out")
+            .arg(d.join(file))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    let hard = penumbra_geom::VisibilityImage::read_exr(&d.join("h.exr")).unwrap();
+    assert!(hard.data.iter().all(|&v| v == 0.0 || v == 1.0));
+    let out = penumbra()
+        .arg("compare")
+        .arg(d.join("h.exr"))
+        .arg(d.join("r.exr"))
+        .arg("--json")
+        .arg("--heatmap")
+        .arg(d.join("heat.png"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let pen = &v["penumbra"];
+    assert!(pen["pixels"].as_u64().unwrap() > 100);
+    // A hard shadow is wrong by about half in the penumbra.
+    assert!(pen["mae"].as_f64().unwrap() > 0.1);
+    assert!(v["all"]["mae"].as_f64().unwrap() < pen["mae"].as_f64().unwrap());
+    assert!(d.join("heat.png").exists());
+    // Comparing with itself is exact.
+    let out = penumbra()
+        .arg("compare")
+        .arg(d.join("r.exr"))
+        .arg(d.join("r.exr"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("0.000000"), "{text}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn probe_prints_point_and_both_values() {
+    let out = penumbra()
+        .arg("probe")
+        .arg(fixtures().join("scenes/quad-over-plane.toml"))
+        .args(["--pixel", "160,200", "--samples", "64"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for w in ["P ", "V exact", "V ref"] {
+        assert!(text.contains(w), "{text}");
+    }
+    let out = penumbra()
+        .arg("probe")
+        .arg(fixtures().join("scenes/quad-over-plane.toml"))
+        .args(["--pixel", "999,0"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("outside"));
+}
+
+#[test]
+fn committed_fixtures_are_what_the_generator_writes() {
+    let d = scratch("gen");
+    let out = penumbra().arg("gen-fixtures").arg("--out").arg(&d).output().unwrap();
+    assert!(out.status.success());
+    for sub in ["meshes", "scenes"] {
+        let names = files_in(&d.join(sub));
+        assert_eq!(names, files_in(&fixtures().join(sub)), "{sub}");
+        for n in names {
+            assert!(
+                std::fs::read(d.join(sub).join(&n)).unwrap()
+                    == std::fs::read(fixtures().join(sub).join(&n)).unwrap(),
+                "fixtures/{sub}/{n} differs from the generator's output: run `penumbra gen-fixtures`"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
