@@ -24,10 +24,14 @@ pub fn fixture_names() -> Vec<String> {
         .unwrap()
         .filter_map(|e| {
             let p = e.unwrap().path();
-            (p.extension()? == "toml").then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
+            (p.extension()? == "toml")
+                .then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
         })
         .collect();
     names.sort();
-    assert!(names.len() >= 7, "expected the seven fixtures, found {names:?}");
+    assert!(
+        names.len() >= 7,
+        "expected the seven fixtures, found {names:?}"
+    );
     names
 }

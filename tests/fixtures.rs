@@ -12,8 +12,13 @@ fn every_fixture_loads_with_valid_half_edges() {
         assert!(scene.triangle_count() > 0, "{name}");
         for m in &scene.meshes {
             let h = HalfEdgeMesh::build(&m.mesh);
-            h.validate().unwrap_or_else(|e| panic!("{name}: {}: {e}", m.source.display()));
-            assert!(!h.has_inconsistent_orientation(), "{name}: {}", m.source.display());
+            h.validate()
+                .unwrap_or_else(|e| panic!("{name}: {}: {e}", m.source.display()));
+            assert!(
+                !h.has_inconsistent_orientation(),
+                "{name}: {}",
+                m.source.display()
+            );
             let file = m.source.file_name().unwrap().to_string_lossy();
             match &*file {
                 "sphere.obj" => assert!(h.is_closed(), "{name}: sphere must be closed"),

@@ -70,10 +70,18 @@ fn exact_evaluator_matches_the_closed_form_at_1000_points() {
             penumbra += 1;
         }
         worst = worst.max((got - want).abs());
-        assert!((got - want).abs() <= 1e-5, "at {p}: exact {got}, closed form {want}");
+        assert!(
+            (got - want).abs() <= 1e-5,
+            "at {p}: exact {got}, closed form {want}"
+        );
     }
-    println!("exact vs closed form: max |error| {worst:.3e} over 1000 points, {penumbra} in penumbra");
-    assert!(penumbra > 300, "too few penumbra points ({penumbra}) to mean anything");
+    println!(
+        "exact vs closed form: max |error| {worst:.3e} over 1000 points, {penumbra} in penumbra"
+    );
+    assert!(
+        penumbra > 300,
+        "too few penumbra points ({penumbra}) to mean anything"
+    );
 }
 
 #[test]
@@ -81,14 +89,23 @@ fn reference_1024_is_within_2e_3_of_the_closed_form() {
     let scene = load("quad-over-plane");
     check_fixture_is_what_the_closed_form_assumes(&scene);
     let tracer = Tracer::new(&scene);
-    let img = reference::render(&scene, &tracer, Reference::Sampled { per_axis: 32 }, &|_| {});
+    let img = reference::render(
+        &scene,
+        &tracer,
+        Reference::Sampled { per_axis: 32 },
+        &|_| {},
+    );
     let cam = &scene.camera;
     let mut truth = VisibilityImage::filled(cam.width, cam.height, 1.0);
     for j in 0..cam.height {
         for i in 0..cam.width {
             if let Some(p) = tracer.surface_point(cam.eye, cam.ray_dir(i, j)) {
                 // Points on top of the quad see the whole light.
-                let v = if p.position.y >= QUAD_Y - 1e-9 { 1.0 } else { closed_form(&scene, p.position) };
+                let v = if p.position.y >= QUAD_Y - 1e-9 {
+                    1.0
+                } else {
+                    closed_form(&scene, p.position)
+                };
                 truth.data[(j * cam.width + i) as usize] = v as f32;
             }
         }
@@ -99,7 +116,8 @@ fn reference_1024_is_within_2e_3_of_the_closed_form() {
     let (mut plain_mc, mut count) = (0.0, 0);
     for &v in &truth.data {
         if v > 0.02 && v < 0.98 {
-            plain_mc += (v as f64 * (1.0 - v as f64) / 1024.0).sqrt() * (2.0 / std::f64::consts::PI).sqrt();
+            plain_mc +=
+                (v as f64 * (1.0 - v as f64) / 1024.0).sqrt() * (2.0 / std::f64::consts::PI).sqrt();
             count += 1;
         }
     }
@@ -109,7 +127,14 @@ fn reference_1024_is_within_2e_3_of_the_closed_form() {
          (plain Monte Carlo would give {plain_mc:.2e})",
         c.all.mae, c.all.p99, c.penumbra.pixels, c.penumbra.mae
     );
-    assert!(c.penumbra.pixels > 2000, "the fixture must show a real penumbra");
+    assert!(
+        c.penumbra.pixels > 2000,
+        "the fixture must show a real penumbra"
+    );
     assert!(c.all.mae <= 2e-3, "MAE {}", c.all.mae);
-    assert!(c.penumbra.mae <= plain_mc, "penumbra MAE {} above plain Monte Carlo's {plain_mc}", c.penumbra.mae);
+    assert!(
+        c.penumbra.mae <= plain_mc,
+        "penumbra MAE {} above plain Monte Carlo's {plain_mc}",
+        c.penumbra.mae
+    );
 }

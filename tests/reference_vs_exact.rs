@@ -12,8 +12,8 @@
 //! must also stay within 5 standard errors of zero, which catches a bias far smaller than any
 //! single-pixel bound.
 
-use penumbra::geom::reference::{REFERENCE_SEED, Tracer};
 use penumbra::geom::Rng;
+use penumbra::geom::reference::{REFERENCE_SEED, Tracer};
 use rayon::prelude::*;
 
 use crate::common::{fixture_names, load};
@@ -32,7 +32,10 @@ fn exact_and_4096_sample_reference_agree_on_every_fixture() {
         let mut rng = Rng::new(0xF1A7 ^ name.len() as u64);
         let mut points = Vec::new();
         while points.len() < PIXELS {
-            let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
+            let (i, j) = (
+                rng.below(cam.width as usize) as u32,
+                rng.below(cam.height as usize) as u32,
+            );
             if let Some(p) = tracer.surface_point(cam.eye, cam.ray_dir(i, j)) {
                 points.push((i, j, p));
             }
@@ -51,7 +54,10 @@ fn exact_and_4096_sample_reference_agree_on_every_fixture() {
         let mut worst_sigmas: f64 = 0.0;
         let mut penumbra = 0;
         for (k, &(exact, sampled)) in results.iter().enumerate() {
-            assert!(exact.is_finite() && (0.0..=1.0).contains(&exact), "{name}: exact V {exact}");
+            assert!(
+                exact.is_finite() && (0.0..=1.0).contains(&exact),
+                "{name}: exact V {exact}"
+            );
             let sigma = (exact * (1.0 - exact) / n).sqrt();
             let (i, j, p) = &points[k];
             assert!(

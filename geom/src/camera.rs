@@ -127,7 +127,10 @@ mod tests {
     #[test]
     fn undefined_frames_are_errors() {
         let e = DVec3::new(0., 1., 0.);
-        assert_eq!(Camera::look_at(e, e, DVec3::Y, 45., 4, 4), Err(CameraError::EyeIsTarget));
+        assert_eq!(
+            Camera::look_at(e, e, DVec3::Y, 45., 4, 4),
+            Err(CameraError::EyeIsTarget)
+        );
         assert!(matches!(
             Camera::look_at(e, DVec3::ZERO, DVec3::Y, 45., 4, 4),
             Err(CameraError::UpParallel { .. })

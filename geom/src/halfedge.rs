@@ -80,7 +80,8 @@ impl HalfEdgeMesh {
     pub fn build(mesh: &TriangleMesh) -> Self {
         let mut half_edges = Vec::with_capacity(mesh.triangles.len() * 3);
         let mut edges: Vec<Edge> = Vec::new();
-        let mut edge_of: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.triangles.len() * 2);
+        let mut edge_of: HashMap<(u32, u32), u32> =
+            HashMap::with_capacity(mesh.triangles.len() * 2);
         for (f, tri) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
@@ -286,13 +287,23 @@ mod tests {
     #[test]
     fn three_faces_on_one_edge_are_non_manifold() {
         let m = mesh(
-            &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., -1., 0.], [0., 0., 1.]],
+            &[
+                [0., 0., 0.],
+                [1., 0., 0.],
+                [0., 1., 0.],
+                [0., -1., 0.],
+                [0., 0., 1.],
+            ],
             &[[0, 1, 2], [1, 0, 3], [0, 1, 4]],
         );
         let h = HalfEdgeMesh::build(&m);
         h.validate().unwrap();
         assert_eq!(h.edge_counts()[3], 1);
-        let e = h.edges.iter().find(|e| e.kind == EdgeKind::NonManifold).unwrap();
+        let e = h
+            .edges
+            .iter()
+            .find(|e| e.kind == EdgeKind::NonManifold)
+            .unwrap();
         assert_eq!(e.vertices, [0, 1]);
         assert_eq!(e.half_edges.len(), 3);
     }

@@ -83,7 +83,8 @@ pub fn write_atomically(
         name.to_string_lossy(),
         std::process::id()
     ));
-    let result = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| io_err(path, e)));
+    let result =
+        write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| io_err(path, e)));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
@@ -235,7 +236,10 @@ impl Metrics {
         let n = errors.len();
         let mae = errors.iter().sum::<f64>() / n as f64;
         let rmse = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
-        let over = errors.iter().filter(|&&e| e > ERROR_THRESHOLD as f64).count();
+        let over = errors
+            .iter()
+            .filter(|&&e| e > ERROR_THRESHOLD as f64)
+            .count();
         errors.sort_by(f64::total_cmp);
         let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n) - 1;
         Metrics {
@@ -326,7 +330,10 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("penumbra-nan-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("n.exr");
-        assert!(matches!(img.write_exr(&p), Err(ImageError::NonFinite { x: 1, y: 1 })));
+        assert!(matches!(
+            img.write_exr(&p),
+            Err(ImageError::NonFinite { x: 1, y: 1 })
+        ));
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -337,8 +344,16 @@ mod tests {
         assert!((m.mae - 0.03).abs() < 1e-12);
         assert!((m.share_over - 0.25).abs() < 1e-12);
         assert_eq!(m.p99, 0.1);
-        let a = VisibilityImage { width: 2, height: 1, data: vec![0.5, 1.0] };
-        let b = VisibilityImage { width: 2, height: 1, data: vec![0.4, 1.0] };
+        let a = VisibilityImage {
+            width: 2,
+            height: 1,
+            data: vec![0.5, 1.0],
+        };
+        let b = VisibilityImage {
+            width: 2,
+            height: 1,
+            data: vec![0.4, 1.0],
+        };
         let c = compare(&a, &b).unwrap();
         assert_eq!(c.penumbra.pixels, 1);
         assert!((c.penumbra.mae - 0.1).abs() < 1e-6);

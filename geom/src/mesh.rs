@@ -182,7 +182,11 @@ impl TriangleMesh {
     /// The mesh with `m` applied to every position (triangles and welding unchanged).
     pub fn transformed(&self, m: &DMat4) -> TriangleMesh {
         TriangleMesh {
-            positions: self.positions.iter().map(|&p| m.transform_point3(p)).collect(),
+            positions: self
+                .positions
+                .iter()
+                .map(|&p| m.transform_point3(p))
+                .collect(),
             triangles: self.triangles.clone(),
             dropped_degenerate: self.dropped_degenerate,
         }
@@ -285,7 +289,10 @@ mod tests {
     fn load_str(text: &str) -> Result<TriangleMesh, MeshError> {
         let dir = std::env::temp_dir().join(format!("penumbra-mesh-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(format!("{:x}.obj", text.len() * 31 + text.bytes().map(|b| b as usize).sum::<usize>()));
+        let p = dir.join(format!(
+            "{:x}.obj",
+            text.len() * 31 + text.bytes().map(|b| b as usize).sum::<usize>()
+        ));
         std::fs::write(&p, text).unwrap();
         let r = TriangleMesh::load_obj(&p);
         let _ = std::fs::remove_file(&p);
@@ -305,7 +312,8 @@ mod tests {
 
     #[test]
     fn triangulates_quads_and_drops_degenerates() {
-        let m = load_str("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 1 2 5\n").unwrap();
+        let m =
+            load_str("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 1 2 5\n").unwrap();
         assert_eq!(m.triangles.len(), 2);
         assert_eq!(m.dropped_degenerate, 1);
     }

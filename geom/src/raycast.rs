@@ -87,7 +87,11 @@ impl WatertightRay {
         let bz = sz * b[kz];
         let cz = sz * c[kz];
         let t = (u * az + w_ * bz + w * cz) / det;
-        if t > tmin && t < tmax { t } else { f32::INFINITY }
+        if t > tmin && t < tmax {
+            t
+        } else {
+            f32::INFINITY
+        }
     }
 }
 
@@ -143,7 +147,9 @@ impl SceneBvh {
         let wt = WatertightRay::new(o, d);
         let ray = Ray::new(o, d, 0.0, tmax as f32);
         let mut hit = obvhs::ray::RayHit::none();
-        if bvh.ray_traverse(ray, &mut hit, |r, id| wt.intersect(&self.tris[id], 0.0, r.tmax)) {
+        if bvh.ray_traverse(ray, &mut hit, |r, id| {
+            wt.intersect(&self.tris[id], 0.0, r.tmax)
+        }) {
             Some(Hit {
                 t: hit.t as f64,
                 triangle: self.ids[hit.primitive_id as usize],
@@ -214,7 +220,9 @@ mod tests {
         assert!(!bvh.occluded(o, up, 0.0, 0.5, u32::MAX));
         assert!(bvh.occluded(o, up, 1.5, 10.0, u32::MAX));
         assert!(!bvh.occluded(o, up, 2.5, 10.0, u32::MAX));
-        let hit = bvh.closest_hit(DVec3::new(0.1, -1.0, 0.2), DVec3::Y, 10.0).unwrap();
+        let hit = bvh
+            .closest_hit(DVec3::new(0.1, -1.0, 0.2), DVec3::Y, 10.0)
+            .unwrap();
         assert!((hit.t - 1.0).abs() < 1e-6);
         assert!(hit.triangle < 2);
         // Excluding the triangle hit at t = 1 alone still finds the quad above.

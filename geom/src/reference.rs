@@ -21,7 +21,7 @@ use crate::rng::Rng;
 use crate::scene::Scene;
 
 /// Seed of the reference's light samples.
-pub const REFERENCE_SEED: u64 = 0x5EED_0F_5AD0;
+pub const REFERENCE_SEED: u64 = 0x005E_ED0F_5AD0;
 
 /// Shadow rays start this far from P, relative to the scene's extent: P carries the `f32`
 /// rounding of the hit (about 1e-7 of its coordinates), two orders of magnitude below.

@@ -188,7 +188,10 @@ impl Scene {
             if d.is_finite() {
                 Ok(d)
             } else {
-                Err(invalid(v.span(), format!("{key} = {:?} is not finite", v.get_ref())))
+                Err(invalid(
+                    v.span(),
+                    format!("{key} = {:?} is not finite", v.get_ref()),
+                ))
             }
         };
 
@@ -222,13 +225,19 @@ impl Scene {
         if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
             return Err(invalid(
                 l.normal.span(),
-                format!("light.normal {normal} is not unit length (|n| = {})", normal.length()),
+                format!(
+                    "light.normal {normal} is not unit length (|n| = {})",
+                    normal.length()
+                ),
             ));
         }
         if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
             return Err(invalid(
                 l.tangent.span(),
-                format!("light.tangent {tangent} is not unit length (|t| = {})", tangent.length()),
+                format!(
+                    "light.tangent {tangent} is not unit length (|t| = {})",
+                    tangent.length()
+                ),
             ));
         }
         if normal.dot(tangent).abs() > UNIT_TOLERANCE {
@@ -379,5 +388,7 @@ fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
             v
         }
     };
-    Ok(DMat4::from_scale_rotation_translation(scale, rotation, translate))
+    Ok(DMat4::from_scale_rotation_translation(
+        scale, rotation, translate,
+    ))
 }

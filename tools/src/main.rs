@@ -14,7 +14,11 @@ use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::{Rng, Scene};
 
 #[derive(Parser)]
-#[command(name = "penumbra", version, about = "Soft shadows from geometry, measured against a ray-cast reference")]
+#[command(
+    name = "penumbra",
+    version,
+    about = "Soft shadows from geometry, measured against a ray-cast reference"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -177,6 +181,12 @@ fn render(
     check_outputs(&[scene_path.to_path_buf()], &outputs)?;
     let scene = load_scene(scene_path)?;
     check_outputs(&scene.input_files(), &outputs)?;
+    for o in &outputs {
+        if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("creating the folder of {}", o.display()))?;
+        }
+    }
     let tracer = Tracer::new(&scene);
     let reference = match technique {
         Technique::Reference => Reference::Sampled { per_axis },
@@ -221,11 +231,21 @@ fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
     let (x, y) = s
         .split_once(',')
         .with_context(|| format!("--pixel {s:?}: expected X,Y"))?;
-    let x: u32 = x.trim().parse().with_context(|| format!("--pixel {s:?}: bad X"))?;
-    let y: u32 = y.trim().parse().with_context(|| format!("--pixel {s:?}: bad Y"))?;
+    let x: u32 = x
+        .trim()
+        .parse()
+        .with_context(|| format!("--pixel {s:?}: bad X"))?;
+    let y: u32 = y
+        .trim()
+        .parse()
+        .with_context(|| format!("--pixel {s:?}: bad Y"))?;
     let c = &scene.camera;
     if x >= c.width || y >= c.height {
-        bail!("--pixel {x},{y} is outside the {}x{} image", c.width, c.height);
+        bail!(
+            "--pixel {x},{y} is outside the {}x{} image",
+            c.width,
+            c.height
+        );
     }
     Ok((x, y))
 }
@@ -247,7 +267,10 @@ fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()> {
             let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);
             let q = p.position;
             println!("pixel {x},{y}");
-            println!("P          = [{:.9}, {:.9}, {:.9}] (triangle {})", q.x, q.y, q.z, p.triangle);
+            println!(
+                "P          = [{:.9}, {:.9}, {:.9}] (triangle {})",
+                q.x, q.y, q.z, p.triangle
+            );
             println!("V exact    = {exact:.9}");
             println!(
                 "V ref      = {sampled:.9} ({samples} samples, 1-sigma bound {:.4})",
@@ -273,7 +296,10 @@ fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) -> Result<()>
     if json {
         println!("{}", serde_json::to_string_pretty(&c)?);
     } else {
-        println!("{:<10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10}", "pixels", "count", "MAE", "RMSE", "p99", "max", ">0.05");
+        println!(
+            "{:<10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10}",
+            "pixels", "count", "MAE", "RMSE", "p99", "max", ">0.05"
+        );
         for (name, m) in [("all", c.all), ("penumbra", c.penumbra)] {
             println!(
                 "{:<10} {:>8} {:>10.6} {:>10.6} {:>10.6} {:>10.6} {:>9.3}%",

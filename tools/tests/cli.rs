@@ -82,19 +82,30 @@ fn assert_refused(name: &str, scene: &str, obj: &str, want: &[&str]) {
     for w in want {
         assert!(err.contains(w), "{name}: error should mention {w:?}: {err}");
     }
-    assert_eq!(files_in(&d), ["m.obj", "s.toml"], "{name}: left output behind");
+    assert_eq!(
+        files_in(&d),
+        ["m.obj", "s.toml"],
+        "{name}: left output behind"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 
 #[test]
 fn renders_a_small_scene_to_exr_and_png() {
     let (d, out) = render_case("good", GOOD_SCENE, GOOD_OBJ);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(files_in(&d), ["m.obj", "s.toml", "v.exr", "v.png"]);
     let img = penumbra_geom::VisibilityImage::read_exr(&d.join("v.exr")).unwrap();
     assert_eq!((img.width, img.height), (24, 16));
     assert!(img.data.iter().all(|v| (0.0..=1.0).contains(v)));
-    assert!(img.data.contains(&0.0), "the quad shadows the ground's centre");
+    assert!(
+        img.data.contains(&0.0),
+        "the quad shadows the ground's centre"
+    );
     assert!(img.data.contains(&1.0));
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -114,7 +125,12 @@ fn unknown_key_names_key_and_line() {
 #[test]
 fn missing_obj() {
     let s = GOOD_SCENE.replace("obj = \"m.obj\"\nscale", "obj = \"nothere.obj\"\nscale");
-    assert_refused("missing", &s, GOOD_OBJ, &["s.toml:17", "nothere.obj", "mesh 0"]);
+    assert_refused(
+        "missing",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:17", "nothere.obj", "mesh 0"],
+    );
 }
 
 #[test]
@@ -128,7 +144,12 @@ fn malformed_obj() {
 #[test]
 fn nan_vertex() {
     let obj = GOOD_OBJ.replace("v -0.5 0 0.5", "v -0.5 NaN 0.5");
-    assert_refused("nan", GOOD_SCENE, &obj, &["m.obj:2", "vertex 1", "non-finite"]);
+    assert_refused(
+        "nan",
+        GOOD_SCENE,
+        &obj,
+        &["m.obj:2", "vertex 1", "non-finite"],
+    );
 }
 
 #[test]
@@ -146,7 +167,12 @@ fn zero_image_size() {
 #[test]
 fn eye_equal_to_target() {
     let s = GOOD_SCENE.replace("eye = [0.0, 3.0, 4.0]", "eye = [0.0, 0.0, 0.0]");
-    assert_refused("eye", &s, GOOD_OBJ, &["s.toml:4", "eye and target coincide"]);
+    assert_refused(
+        "eye",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:4", "eye and target coincide"],
+    );
 }
 
 #[test]
@@ -175,8 +201,14 @@ fn out_equal_to_an_input() {
             .output()
             .unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success() && err.contains("input"), "{target}: {err}");
-        assert_eq!(std::fs::read_to_string(d.join("s.toml")).unwrap(), GOOD_SCENE);
+        assert!(
+            !out.status.success() && err.contains("input"),
+            "{target}: {err}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(d.join("s.toml")).unwrap(),
+            GOOD_SCENE
+        );
         assert_eq!(std::fs::read_to_string(d.join("m.obj")).unwrap(), GOOD_OBJ);
     }
     assert_eq!(files_in(&d), ["m.obj", "s.toml"]);
@@ -215,7 +247,11 @@ fn hard_reference_is_binary_and_compare_reports_metrics() {
             .arg(d.join(file))
             .output()
             .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
     let hard = penumbra_geom::VisibilityImage::read_exr(&d.join("h.exr")).unwrap();
     assert!(hard.data.iter().all(|&v| v == 0.0 || v == 1.0));
@@ -228,7 +264,11 @@ fn hard_reference_is_binary_and_compare_reports_metrics() {
         .arg(d.join("heat.png"))
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let pen = &v["penumbra"];
     assert!(pen["pixels"].as_u64().unwrap() > 100);
@@ -257,7 +297,11 @@ fn probe_prints_point_and_both_values() {
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for w in ["P ", "V exact", "V ref"] {
         assert!(text.contains(w), "{text}");
     }
@@ -274,7 +318,12 @@ fn probe_prints_point_and_both_values() {
 #[test]
 fn committed_fixtures_are_what_the_generator_writes() {
     let d = scratch("gen");
-    let out = penumbra().arg("gen-fixtures").arg("--out").arg(&d).output().unwrap();
+    let out = penumbra()
+        .arg("gen-fixtures")
+        .arg("--out")
+        .arg(&d)
+        .output()
+        .unwrap();
     assert!(out.status.success());
     for sub in ["meshes", "scenes"] {
         let names = files_in(&d.join(sub));
