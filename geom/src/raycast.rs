@@ -178,6 +178,33 @@ impl SceneBvh {
     }
 }
 
+impl SceneBvh {
+    /// Calls `f` with the index of every triangle but `exclude` that the ray
+    /// `origin + t * dir` crosses for `t` in `(tmin, tmax)`, in no particular order (a triangle
+    /// may be reported more than once when spatial splits put it in several leaves).
+    pub fn for_each_hit(
+        &self,
+        origin: Vec3A,
+        dir: Vec3A,
+        tmin: f32,
+        tmax: f32,
+        exclude: u32,
+        mut f: impl FnMut(u32),
+    ) {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return;
+        };
+        let wt = WatertightRay::new(origin, dir);
+        let ray = Ray::new(origin, dir, tmin, tmax);
+        bvh.ray_traverse_anyhit(ray, |_, id| {
+            let t = self.ids[id];
+            if t != exclude && wt.intersect(&self.tris[id], tmin, tmax) < tmax {
+                f(t);
+            }
+        });
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

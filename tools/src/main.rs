@@ -12,6 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use penumbra_geom::image::{self, VisibilityImage};
 use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::{Rng, Scene};
+use penumbra_volumes::{CpuRenderer, Technique as VolumeTechnique};
 
 #[derive(Parser)]
 #[command(
@@ -30,6 +31,18 @@ enum Technique {
     Reference,
     /// Ray-cast hard shadow of a point light at the light's centre.
     HardReference,
+    /// Hard shadow of the light's centre by shadow volumes (the stencil answer).
+    Hard,
+    /// Additive penumbra wedges (Akenine-Möller & Assarsson 2002).
+    Wedges,
+    /// Penumbra-wedges blending (Forest, Barthe & Paulin 2006).
+    WedgesBlend,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Backend {
+    /// The CPU evaluation of the `volumes` crate.
+    Cpu,
 }
 
 #[derive(Subcommand)]
@@ -50,6 +63,9 @@ enum Command {
         /// Also write an 8-bit greyscale PNG.
         #[arg(long)]
         png: Option<PathBuf>,
+        /// Where the volume techniques run (the references always run on the CPU).
+        #[arg(long, value_enum, default_value = "cpu")]
+        backend: Backend,
     },
     /// Print the surface point seen through one pixel, its exact V and its reference V.
     Probe {
@@ -101,6 +117,7 @@ fn run(cli: Cli) -> Result<()> {
             out,
             samples,
             png,
+            backend: Backend::Cpu,
         } => render(&scene, technique, &out, samples, png.as_deref()),
         Command::Probe {
             scene,
@@ -187,11 +204,6 @@ fn render(
                 .with_context(|| format!("creating the folder of {}", o.display()))?;
         }
     }
-    let tracer = Tracer::new(&scene);
-    let reference = match technique {
-        Technique::Reference => Reference::Sampled { per_axis },
-        Technique::HardReference => Reference::Hard,
-    };
     let bar = ProgressBar::new(scene.camera.height as u64);
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows, {elapsed} (eta {eta})")
@@ -200,8 +212,32 @@ fn render(
     );
     bar.set_message(format!("{technique:?}"));
     let start = std::time::Instant::now();
-    let img = reference::render(&scene, &tracer, reference, &|rows| bar.set_position(rows));
+    let progress = |rows| bar.set_position(rows);
+    let (img, triangles, detail) = match technique {
+        Technique::Reference | Technique::HardReference => {
+            let tracer = Tracer::new(&scene);
+            let (reference, detail) = match technique {
+                Technique::Reference => (Reference::Sampled { per_axis }, format!(" ({samples} samples)")),
+                _ => (Reference::Hard, String::new()),
+            };
+            let img = reference::render(&scene, &tracer, reference, &progress);
+            (img, tracer.triangles.len(), detail)
+        }
+        Technique::Hard | Technique::Wedges | Technique::WedgesBlend => {
+            let r = CpuRenderer::new(&scene);
+            let t = match technique {
+                Technique::Hard => VolumeTechnique::Hard,
+                Technique::Wedges => VolumeTechnique::Wedges,
+                _ => VolumeTechnique::WedgesBlend,
+            };
+            let img = r.render(&scene, t, &progress);
+            let detail = format!(" (cpu, {} wedges)", r.volumes.wedges.len());
+            (img, r.tracer.triangles.len(), detail)
+        }
+    };
     bar.finish_and_clear();
+    img.check_finite()
+        .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
     img.write_exr(out)
         .with_context(|| format!("writing {}", out.display()))?;
     if let Some(png) = png {
@@ -215,12 +251,9 @@ fn render(
         scene_path.display(),
         img.width,
         img.height,
-        tracer.triangles.len(),
+        triangles,
         technique,
-        match reference {
-            Reference::Sampled { .. } => format!(" ({samples} samples)"),
-            Reference::Hard => String::new(),
-        },
+        detail,
         start.elapsed().as_secs_f64(),
         out.display()
     );

@@ -1,6 +1,14 @@
 //! Silhouettes, shadow volumes and penumbra wedges, evaluated on the CPU (Forest, Barthe &
-//! Paulin, "Realistic Soft Shadows by Penumbra-Wedges Blending", 2006). Filled by the volumes
-//! issue; for now it only re-exports the geometry it builds on.
+//! Paulin, "Realistic Soft Shadows by Penumbra-Wedges Blending", 2006): the oracle that the wgpu
+//! back end must reproduce, and the renderer on machines without a GPU.
 #![warn(missing_docs)]
 
+pub mod blend;
+pub mod clip;
+pub mod render;
+pub mod shadow_volume;
+pub mod silhouette;
+pub mod wedge;
+
 pub use penumbra_geom as geom;
+pub use render::{CpuRenderer, Technique, Volumes};

@@ -1,0 +1,145 @@
+//! 2-D convex clipping in light space, where the light is the square `[-1, 1]^2` and its centre
+//! the origin, and the light's four radial parts (seed 004, section 3.1, Figure 6).
+
+use glam::DVec2;
+
+/// 2-D cross product `a.x b.y - a.y b.x`.
+#[inline]
+pub fn cross(a: DVec2, b: DVec2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// Keeps the part of the convex polygon `poly` where `f(x) >= 0`, `f` affine (Sutherland &
+/// Hodgman 1974, one plane at a time).
+pub fn clip_halfplane(poly: &[DVec2], f: impl Fn(DVec2) -> f64) -> Vec<DVec2> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (fa, fb) = (f(a), f(b));
+        if fa >= 0.0 {
+            out.push(a);
+        }
+        if (fa >= 0.0) != (fb >= 0.0) {
+            let t = fa / (fa - fb);
+            out.push(a + (b - a) * t);
+        }
+    }
+    out
+}
+
+/// Keeps the part of the segment `a b` where the affine `f >= 0`.
+pub fn clip_segment(a: DVec2, b: DVec2, f: impl Fn(DVec2) -> f64) -> Option<(DVec2, DVec2)> {
+    let (fa, fb) = (f(a), f(b));
+    match (fa >= 0.0, fb >= 0.0) {
+        (true, true) => Some((a, b)),
+        (false, false) => None,
+        (true, false) => Some((a, a + (b - a) * (fa / (fa - fb)))),
+        (false, true) => Some((a + (b - a) * (fa / (fa - fb)), b)),
+    }
+}
+
+/// Signed area (shoelace), positive counter-clockwise.
+pub fn area(poly: &[DVec2]) -> f64 {
+    let mut s = 0.0;
+    for i in 0..poly.len() {
+        s += cross(poly[i], poly[(i + 1) % poly.len()]);
+    }
+    0.5 * s
+}
+
+/// An axis-aligned rectangle in light space; empty when `min > max` on an axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    /// Lower-left corner.
+    pub min: DVec2,
+    /// Upper-right corner.
+    pub max: DVec2,
+}
+
+impl Rect {
+    /// The empty rectangle (identity of [`Rect::union`]).
+    pub const EMPTY: Rect = Rect {
+        min: DVec2::splat(f64::INFINITY),
+        max: DVec2::splat(f64::NEG_INFINITY),
+    };
+
+    /// Bounding rectangle of points.
+    pub fn of(points: &[DVec2]) -> Rect {
+        points.iter().fold(Rect::EMPTY, |r, &p| Rect {
+            min: r.min.min(p),
+            max: r.max.max(p),
+        })
+    }
+
+    /// Whether it holds no point.
+    pub fn is_empty(&self) -> bool {
+        !(self.min.x <= self.max.x && self.min.y <= self.max.y)
+    }
+
+    /// Area, 0 when empty.
+    pub fn area(&self) -> f64 {
+        if self.is_empty() {
+            0.0
+        } else {
+            (self.max.x - self.min.x) * (self.max.y - self.min.y)
+        }
+    }
+
+    /// Smallest rectangle holding both.
+    pub fn union(&self, o: &Rect) -> Rect {
+        Rect {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    /// Intersection (possibly empty).
+    pub fn intersection(&self, o: &Rect) -> Rect {
+        Rect {
+            min: self.min.max(o.min),
+            max: self.max.min(o.max),
+        }
+    }
+}
+
+/// The four radial parts of the light: the triangles from the centre to each side of the square,
+/// counter-clockwise from the right (+x) side. Each has area 1, a quarter of the square.
+pub const RADIAL_PARTS: [[DVec2; 3]; 4] = [
+    [DVec2::ZERO, DVec2::new(1.0, -1.0), DVec2::new(1.0, 1.0)],
+    [DVec2::ZERO, DVec2::new(1.0, 1.0), DVec2::new(-1.0, 1.0)],
+    [DVec2::ZERO, DVec2::new(-1.0, 1.0), DVec2::new(-1.0, -1.0)],
+    [DVec2::ZERO, DVec2::new(-1.0, -1.0), DVec2::new(1.0, -1.0)],
+];
+
+/// Area of one radial part.
+pub const PART_AREA: f64 = 1.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radial_parts_tile_the_square() {
+        let total: f64 = RADIAL_PARTS.iter().map(|t| area(t)).sum();
+        assert!((total - 4.0).abs() < 1e-15);
+        assert!(RADIAL_PARTS.iter().all(|t| (area(t) - PART_AREA).abs() < 1e-15));
+    }
+
+    #[test]
+    fn clipping_a_square_by_a_diagonal_halves_it() {
+        let sq = [DVec2::new(-1., -1.), DVec2::new(1., -1.), DVec2::new(1., 1.), DVec2::new(-1., 1.)];
+        let half = clip_halfplane(&sq, |p| p.x - p.y);
+        assert!((area(&half) - 2.0).abs() < 1e-15);
+        assert!(clip_halfplane(&sq, |p| p.x - 5.0).is_empty());
+    }
+
+    #[test]
+    fn rect_algebra() {
+        let a = Rect::of(&[DVec2::new(0., 0.), DVec2::new(2., 1.)]);
+        let b = Rect::of(&[DVec2::new(1., 0.5), DVec2::new(3., 3.)]);
+        assert_eq!(a.intersection(&b).area(), 0.5);
+        assert_eq!(a.union(&b).area(), 9.0);
+        assert!(Rect::EMPTY.is_empty() && Rect::EMPTY.area() == 0.0);
+        assert_eq!(Rect::EMPTY.union(&a), a);
+    }
+}

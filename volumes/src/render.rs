@@ -1,0 +1,466 @@
+//! The CPU renderer of the volume techniques: the oracle for the GPU back end and the fallback
+//! without one.
+//!
+//! Per pixel: the surface point P by ray casting; the hard shadow from the light's centre per
+//! occluder; the wedges containing P, found through a uniform grid over the wedges' bounding
+//! boxes; then
+//!
+//! - `hard`: `V = 0` where the centre is hidden (the stencil answer), else 1;
+//! - `wedges` (Akenine-Möller & Assarsson): every edge's integral added into one sum on top of
+//!   the stencil count `n` (the number of occluders hiding the centre),
+//!   `V = 1 - clamp(4·n + Σ_e s_e m_e |R_e|, 0, 4) / 4`. Counting rather than clamping the
+//!   stencil keeps each occluder's inner half-wedges subtracting from its own hard shadow;
+//!   overlapping occluders are still counted twice, which is what blending corrects;
+//! - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per occluder, its hard
+//!   shadow plus its own edges' integrals per radial part, blended into the final buffer in
+//!   occluder order with seed 004's function.
+//!
+//! The hard shadow is the shadow volumes' winding number. Counted along the ray from P towards
+//! the light's centre, no side quad is crossed (each lies in a plane through the centre) and the
+//! dark caps behind the light cancel the light caps there, so the count is the number of caster
+//! triangles crossed between P and the centre: one BVH query. The tests check this number against
+//! the z-fail count of the actual volume geometry along the view ray
+//! ([`ShadowVolume::winding_number`]).
+//!
+//! The blending unit is the occluder (a scene mesh): the loops of one mesh are signed parts of one
+//! region (a hole's loop subtracts from its outer loop's area), so they share one buffer. For the
+//! fixtures each occluder has one loop, as seed 004's spheres do.
+
+use glam::{DVec2, DVec3, Vec3A};
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, SurfacePoint, Tracer};
+use rayon::prelude::*;
+
+use crate::blend::{Part, VBuffer};
+use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
+use crate::shadow_volume::ShadowVolume;
+use crate::silhouette::Silhouette;
+use crate::wedge::Wedge;
+
+/// A volume technique.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Technique {
+    /// Hard shadow of the light's centre from the volumes.
+    Hard,
+    /// Additive penumbra wedges.
+    Wedges,
+    /// Seed 004's penumbra-wedges blending.
+    WedgesBlend,
+}
+
+/// One scene mesh with its half-edges, silhouette and shadow volume.
+pub struct Occluder {
+    /// Half-edge structure (world space).
+    pub mesh: HalfEdgeMesh,
+    /// Its silhouette from the light's centre.
+    pub silhouette: Silhouette,
+    /// Its closed shadow volume.
+    pub volume: ShadowVolume,
+    /// Index of its first triangle in [`Scene::triangles`].
+    pub first_triangle: u32,
+}
+
+/// Silhouettes, volumes and wedges of a whole scene.
+pub struct Volumes {
+    /// The light.
+    pub light: RectLight,
+    /// One per scene mesh.
+    pub occluders: Vec<Occluder>,
+    /// One per silhouette edge, in light space.
+    pub wedges: Vec<Wedge>,
+}
+
+impl Volumes {
+    /// Builds every silhouette, volume and wedge of `scene`.
+    pub fn build(scene: &Scene) -> Self {
+        let c = scene.light.center;
+        let mut first = 0u32;
+        let mut wedges = Vec::new();
+        let occluders: Vec<Occluder> = scene
+            .meshes
+            .iter()
+            .enumerate()
+            .map(|(oi, m)| {
+                let mesh = HalfEdgeMesh::build(&m.mesh);
+                let silhouette = Silhouette::build(&mesh, c);
+                let volume = ShadowVolume::build(&mesh, &silhouette, c);
+                for (li, lp) in silhouette.loops.iter().enumerate() {
+                    for &ei in lp {
+                        let e = silhouette.edges[ei as usize];
+                        wedges.push(Wedge {
+                            from: scene.light.to_light_space(mesh.positions[e.from as usize]),
+                            to: scene.light.to_light_space(mesh.positions[e.to as usize]),
+                            multiplicity: e.multiplicity,
+                            occluder: oi as u32,
+                            silhouette_loop: li as u32,
+                        });
+                    }
+                }
+                let o = Occluder {
+                    mesh,
+                    silhouette,
+                    volume,
+                    first_triangle: first,
+                };
+                first += m.mesh.triangles.len() as u32;
+                o
+            })
+            .collect();
+        Volumes {
+            light: scene.light,
+            occluders,
+            wedges,
+        }
+    }
+}
+
+/// A uniform grid over the scene's bounding box listing, per cell, the wedges whose bounding
+/// box meets it.
+pub struct WedgeGrid {
+    lo: DVec3,
+    cell: DVec3,
+    dims: [usize; 3],
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// Upper bound on grid cells.
+const GRID_CELLS: f64 = 48.0 * 48.0 * 48.0;
+
+impl WedgeGrid {
+    /// Bins `wedges` (light space) over the light-space box `[lo, hi]` holding every receiver;
+    /// `diag` is the world-space diameter of the receivers' region.
+    pub fn build(wedges: &[Wedge], lo: DVec3, hi: DVec3, diag: f64) -> Self {
+        let ext = (hi - lo).max(DVec3::splat(1e-9));
+        let k = (GRID_CELLS / (ext.x * ext.y * ext.z)).cbrt();
+        let dims = [0, 1, 2].map(|a| ((ext[a] * k).ceil() as usize).clamp(1, 256));
+        let cell = DVec3::new(
+            ext.x / dims[0] as f64,
+            ext.y / dims[1] as f64,
+            ext.z / dims[2] as f64,
+        );
+        let boxes: Vec<Option<([usize; 3], [usize; 3])>> = wedges
+            .iter()
+            .map(|w| {
+                let (blo, bhi) = wedge_bounds(w, diag);
+                let (blo, bhi) = (blo.max(lo), bhi.min(hi));
+                if blo.x > bhi.x || blo.y > bhi.y || blo.z > bhi.z {
+                    return None;
+                }
+                let idx = |p: DVec3, a: usize| (((p[a] - lo[a]) / cell[a]) as usize).min(dims[a] - 1);
+                Some(([0, 1, 2].map(|a| idx(blo, a)), [0, 1, 2].map(|a| idx(bhi, a))))
+            })
+            .collect();
+        let n = dims[0] * dims[1] * dims[2];
+        let mut count = vec![0u32; n + 1];
+        let flat = |x: usize, y: usize, z: usize| (z * dims[1] + y) * dims[0] + x;
+        let each = |b: &([usize; 3], [usize; 3]), f: &mut dyn FnMut(usize)| {
+            for z in b.0[2]..=b.1[2] {
+                for y in b.0[1]..=b.1[1] {
+                    for x in b.0[0]..=b.1[0] {
+                        f(flat(x, y, z));
+                    }
+                }
+            }
+        };
+        for b in boxes.iter().flatten() {
+            each(b, &mut |c| count[c + 1] += 1);
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; count[n] as usize];
+        for (wi, b) in boxes.iter().enumerate() {
+            if let Some(b) = b {
+                each(b, &mut |c| {
+                    items[fill[c] as usize] = wi as u32;
+                    fill[c] += 1;
+                });
+            }
+        }
+        WedgeGrid {
+            lo,
+            cell,
+            dims,
+            start: count,
+            items,
+        }
+    }
+
+    /// Candidate wedges for the light-space point `p` (a superset of those containing it).
+    pub fn candidates(&self, p: DVec3) -> &[u32] {
+        let mut c = [0usize; 3];
+        for a in 0..3 {
+            let f = (p[a] - self.lo[a]) / self.cell[a];
+            if !(f >= 0.0 && f < self.dims[a] as f64 + 1e-9) {
+                return &[];
+            }
+            c[a] = (f as usize).min(self.dims[a] - 1);
+        }
+        let i = (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0];
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// Total number of (cell, wedge) entries.
+    pub fn entries(&self) -> usize {
+        self.items.len()
+    }
+}
+
+/// A light-space box holding every point of `w`'s wedge within distance `diag` of its edge: the
+/// wedge is `{ s + t (s - l) : s on the edge, l on the light, t >= 0 }`, and a point of it within
+/// `diag` of the edge has `t <= diag / |s - l| <= diag / min(z_s)`; the points with that `t` at
+/// the edge's ends and the light's corners bound it (the expression is bilinear in `s` and `l`).
+pub fn wedge_bounds(w: &Wedge, diag: f64) -> (DVec3, DVec3) {
+    let zmin = w.from.z.min(w.to.z);
+    if !(zmin > 0.0) {
+        return (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY));
+    }
+    let t = diag / zmin;
+    let mut lo = w.from.min(w.to);
+    let mut hi = w.from.max(w.to);
+    for s in [w.from, w.to] {
+        for l in RADIAL_PARTS.iter().map(|p| p[1]) {
+            // The bound on t holds in world lengths (z is one); light space is an affine image
+            // of world space, so the same t bounds the light-space point.
+            let q = s + (s - l.extend(0.0)) * t;
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+    }
+    (lo, hi)
+}
+
+/// Everything the CPU needs to render the volume techniques of one scene.
+pub struct CpuRenderer {
+    /// Ray casting and references.
+    pub tracer: Tracer,
+    /// Silhouettes, volumes, wedges.
+    pub volumes: Volumes,
+    /// Wedge lookup.
+    pub grid: WedgeGrid,
+    /// Occluder of each scene triangle.
+    triangle_occluder: Vec<u32>,
+}
+
+/// Hard-shadow parts: each radial part fully occluded, bounded by its own triangle.
+fn full_parts() -> [Part; 4] {
+    RADIAL_PARTS.map(|t| Part {
+        area: PART_AREA,
+        rect: Rect::of(&t),
+    })
+}
+
+#[derive(Clone, Copy)]
+struct Accum {
+    occluder: u32,
+    hard: bool,
+    area: [f64; 4],
+    rect: [Rect; 4],
+    inner_rect: [Rect; 4],
+    inner_cover: [f64; 4],
+}
+
+impl Accum {
+    fn new(occluder: u32) -> Self {
+        Accum {
+            occluder,
+            hard: false,
+            area: [0.0; 4],
+            rect: [Rect::EMPTY; 4],
+            inner_rect: [Rect::EMPTY; 4],
+            inner_cover: [0.0; 4],
+        }
+    }
+
+    /// The occluder's silhouette visibility buffer.
+    fn buffer(&self) -> VBuffer {
+        let full = full_parts();
+        let mut b = VBuffer::default();
+        for k in 0..4 {
+            let area = (if self.hard { PART_AREA } else { 0.0 } + self.area[k]).clamp(0.0, PART_AREA);
+            if area <= 0.0 {
+                continue;
+            }
+            // Seed 004, Figure 10: in hard shadow the occluded region reaches the part's border
+            // unless the inner half-wedges cover the whole border, in which case it ends at them.
+            let hard_rect = if !self.hard {
+                Rect::EMPTY
+            } else if self.inner_cover[k] >= 2.0 * (1.0 - 1e-9) {
+                self.inner_rect[k]
+            } else {
+                full[k].rect
+            };
+            b.parts[k] = Part {
+                area,
+                rect: self.rect[k].union(&hard_rect).intersection(&full[k].rect),
+            };
+        }
+        b
+    }
+}
+
+impl CpuRenderer {
+    /// Builds the BVH, the volumes and the wedge grid of `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        let tracer = Tracer::new(scene);
+        let volumes = Volumes::build(scene);
+        let light = scene.light;
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        let mut wlo = DVec3::splat(f64::INFINITY);
+        let mut whi = DVec3::splat(f64::NEG_INFINITY);
+        for t in &tracer.triangles {
+            for v in t {
+                let l = light.to_light_space(*v);
+                lo = lo.min(l);
+                hi = hi.max(l);
+                wlo = wlo.min(*v);
+                whi = whi.max(*v);
+            }
+        }
+        let diag = if wlo.x <= whi.x { (whi - wlo).length() } else { 1.0 };
+        if !(lo.x <= hi.x) {
+            lo = DVec3::ZERO;
+            hi = DVec3::ONE;
+        }
+        let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
+        let grid = WedgeGrid::build(&volumes.wedges, lo - pad, hi + pad, diag * 1.01);
+        let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
+        for (oi, o) in volumes.occluders.iter().enumerate() {
+            triangle_occluder.extend(std::iter::repeat_n(oi as u32, o.mesh.faces.len()));
+        }
+        CpuRenderer {
+            tracer,
+            volumes,
+            grid,
+            triangle_occluder,
+        }
+    }
+
+    /// The occluders that hide the light's centre from `p` (the per-occluder stencil counts'
+    /// non-zero set), sorted.
+    pub fn hard_occluders(&self, p: &SurfacePoint) -> Vec<u32> {
+        let c = self.tracer.light.center;
+        let d = c - p.position;
+        let dist = d.length();
+        let eps = self.tracer.epsilon;
+        let mut out = Vec::new();
+        if dist > 2.0 * eps {
+            let dir = d / dist;
+            let o: Vec3A = p.position.as_vec3().into();
+            self.tracer.bvh.for_each_hit(
+                o,
+                dir.as_vec3().into(),
+                eps as f32,
+                (dist - eps) as f32,
+                p.triangle,
+                |t| out.push(self.triangle_occluder[t as usize]),
+            );
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// The wedges containing the world point `p`.
+    pub fn wedges_containing(&self, p: DVec3) -> Vec<u32> {
+        let l = self.volumes.light.to_light_space(p);
+        self.grid
+            .candidates(l)
+            .iter()
+            .copied()
+            .filter(|&w| self.volumes.wedges[w as usize].contains(l))
+            .collect()
+    }
+
+    /// Visibility of the surface point `p` by `technique`.
+    pub fn visibility(&self, p: &SurfacePoint, technique: Technique) -> f64 {
+        let light = &self.volumes.light;
+        if !light.is_lit_side(p.position) {
+            return 0.0;
+        }
+        let hard = self.hard_occluders(p);
+        if technique == Technique::Hard {
+            return if hard.is_empty() { 1.0 } else { 0.0 };
+        }
+        let pl = light.to_light_space(p.position);
+        let mut acc: Vec<Accum> = hard
+            .iter()
+            .map(|&o| Accum {
+                hard: true,
+                ..Accum::new(o)
+            })
+            .collect();
+        for &wi in self.grid.candidates(pl) {
+            let w = &self.volumes.wedges[wi as usize];
+            let Some(int) = w.integral(pl) else {
+                continue;
+            };
+            let a = match acc.iter().position(|a| a.occluder == w.occluder) {
+                Some(i) => &mut acc[i],
+                None => {
+                    acc.push(Accum::new(w.occluder));
+                    acc.last_mut().expect("just pushed")
+                }
+            };
+            for k in 0..4 {
+                a.area[k] += int.sign * int.area[k];
+                if int.sign > 0.0 {
+                    if int.area[k] > 0.0 {
+                        a.rect[k] = a.rect[k].union(&int.beyond[k]);
+                    }
+                } else {
+                    a.inner_rect[k] = a.inner_rect[k].union(&int.near[k]);
+                    a.inner_cover[k] += int.cover[k];
+                }
+            }
+        }
+        let occlusion = match technique {
+            Technique::Hard => unreachable!("handled above"),
+            Technique::Wedges => {
+                // The stencil count: one full light per occluder hiding the centre.
+                let base = 4.0 * PART_AREA * hard.len() as f64;
+                let sum: f64 = acc.iter().flat_map(|a| a.area).sum();
+                ((base + sum) / (4.0 * PART_AREA)).clamp(0.0, 1.0)
+            }
+            Technique::WedgesBlend => {
+                acc.sort_by_key(|a| a.occluder);
+                let mut fin = VBuffer::default();
+                for a in &acc {
+                    fin.blend(&a.buffer());
+                }
+                fin.occlusion()
+            }
+        };
+        1.0 - occlusion
+    }
+
+    /// Renders the whole image; `progress` gets the number of finished rows.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        technique: Technique,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> VisibilityImage {
+        let cam = &scene.camera;
+        let w = cam.width as usize;
+        let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
+        let done = std::sync::atomic::AtomicU64::new(0);
+        img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                if let Some(p) = self.tracer.surface_point(cam.eye, cam.ray_dir(i as u32, j as u32)) {
+                    *out = self.visibility(&p, technique) as f32;
+                }
+            }
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+        });
+        img
+    }
+}
+
+/// Light-space point of a world point (re-exported convenience for tests).
+pub fn light_uv(light: &RectLight, p: DVec3) -> DVec2 {
+    light.to_light_space(p).truncate()
+}

@@ -1,0 +1,181 @@
+//! Penumbra wedges (Akenine-Möller & Assarsson 2002, "Approximate soft shadows on arbitrary
+//! surfaces using penumbra wedges"; Assarsson & Akenine-Möller 2003) and the per-edge wedge
+//! integral, in light space (the light is `[-1, 1]^2` at `z = 0`, its centre the origin).
+//!
+//! # The wedge integral
+//!
+//! For a receiver P, let `N(P, x)` be the number of caster triangles that the segment from P to
+//! the light point `x` crosses. Moving `x` from the centre `c` along a straight line, `N` only
+//! changes where the segment sweeps over a silhouette edge as seen from P. With the silhouette
+//! taken from `c` (the method's one approximation), for every `x` of the light
+//!
+//! ```text
+//! N(P, x) = N(P, c) + Σ_e s_e(P) · m_e · [segment c-x crosses the projection of e from P]
+//! ```
+//!
+//! where `m_e` is the edge's multiplicity and `s_e(P) = +1` when P lies on the outer side of the
+//! plane through the edge and `c` (the side away from the edge's caster triangles: the edge's
+//! outer half-wedge), `-1` on the inner side. Integrating over one radial part `T_k` of the light
+//! (seed 004, section 3.1) gives the occluded area of the part,
+//!
+//! ```text
+//! A_k = |T_k| · [N(P, c) > 0] + Σ_e s_e(P) · m_e · |R_e ∩ T_k|,
+//! R_e = { x in L : segment c-x crosses the projected, clipped edge }
+//! ```
+//!
+//! `R_e` is the region of the light behind the projected edge as seen from the centre: the light
+//! square clipped by the two sides of the cone from `c` over the edge and by the edge's line.
+//! The first term is the hard shadow (the stencil count from the centre); the sum adds the outer
+//! half-wedges' areas and subtracts the inner ones', exactly as seed 004 states. The edge is
+//! first clipped to the local near plane (the plane through P parallel to the light: only the
+//! part between P and the light plane can be projected, seed 004 section 4.2, Figure 9), then
+//! projected from P onto the light plane, `X' = P + (X - P) · z_P / (z_P - z_X)`.
+//!
+//! For a single planar occluder, whose silhouette is the same from every light point, this is
+//! exact.
+
+use glam::{DVec2, DVec3};
+
+use crate::clip::{RADIAL_PARTS, Rect, area, clip_halfplane, clip_segment, cross};
+use crate::silhouette::orient3d;
+
+/// Fraction of `z_P` kept between the clipped edge and the local near plane, so that no
+/// projected coordinate grows beyond about `1e9`.
+pub const NEAR_PLANE_MARGIN: f64 = 1e-9;
+
+/// One penumbra wedge: a silhouette edge in light space with its multiplicity and occluder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wedge {
+    /// Edge start in light space (casters run `from -> to`).
+    pub from: DVec3,
+    /// Edge end in light space.
+    pub to: DVec3,
+    /// Multiplicity `m >= 1`.
+    pub multiplicity: u32,
+    /// Index of the occluder (scene mesh) the edge belongs to: the unit that is blended.
+    pub occluder: u32,
+    /// Index of the silhouette loop within the occluder.
+    pub silhouette_loop: u32,
+}
+
+/// What one wedge contributes at one receiver point, per radial part.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeIntegral {
+    /// `+1` for the outer half-wedge (added), `-1` for the inner one (subtracted).
+    pub sign: f64,
+    /// `m · |R_e ∩ T_k|`, unsigned.
+    pub area: [f64; 4],
+    /// Bounding rectangle of `R_e ∩ T_k` (the occluded side of an outer half-wedge).
+    pub beyond: [Rect; 4],
+    /// Bounding rectangle of the part of the cone over the edge between `c` and the edge (the
+    /// occluded side of an inner half-wedge).
+    pub near: [Rect; 4],
+    /// Length of the part's outer side (the light's border, length 2) inside the cone over the
+    /// edge: where the inner half-wedges of a loop cover the whole side, the occluded region of
+    /// a part in hard shadow ends at the edges (seed 004, Figure 10).
+    pub cover: [f64; 4],
+}
+
+impl Wedge {
+    /// The edge clipped to the local near plane of `p` and projected from `p` onto the light
+    /// plane, or `None` when nothing of it lies in front of `p` or `p` is not on the emitting
+    /// side.
+    pub fn project(&self, p: DVec3) -> Option<(DVec2, DVec2)> {
+        if !(p.z > 0.0) || !p.is_finite() {
+            return None;
+        }
+        let limit = p.z * (1.0 - NEAR_PLANE_MARGIN);
+        let (mut a, mut b) = (self.from, self.to);
+        match (a.z <= limit, b.z <= limit) {
+            (false, false) => return None,
+            (true, false) => b = a + (b - a) * ((limit - a.z) / (b.z - a.z)),
+            (false, true) => a = b + (a - b) * ((limit - b.z) / (a.z - b.z)),
+            (true, true) => {}
+        }
+        let proj = |x: DVec3| {
+            let k = p.z / (p.z - x.z);
+            DVec2::new(p.x + (x.x - p.x) * k, p.y + (x.y - p.y) * k)
+        };
+        let (a, b) = (proj(a), proj(b));
+        (a.is_finite() && b.is_finite()).then_some((a, b))
+    }
+
+    /// Whether `p` lies in the wedge: the projected, clipped edge meets the light square, so the
+    /// edge hides or reveals some of the light from `p`.
+    pub fn contains(&self, p: DVec3) -> bool {
+        self.project(p)
+            .is_some_and(|(a, b)| segment_meets_square(a, b))
+    }
+
+    /// The wedge integral at `p` (light space), or `None` when the edge does not touch the light
+    /// as seen from `p` (`p` outside the wedge).
+    pub fn integral(&self, p: DVec3) -> Option<EdgeIntegral> {
+        let (a, b) = self.project(p)?;
+        let s0 = cross(a, b);
+        if s0 == 0.0 {
+            return None;
+        }
+        let s0 = s0.signum();
+        // Outer when p is away from the casters: the casters (facing the light) lie on the
+        // negative side of the plane (from, to, c).
+        let side = orient3d(self.from, self.to, DVec3::ZERO, p);
+        if side == 0.0 {
+            return None;
+        }
+        let m = self.multiplicity as f64;
+        let mut out = EdgeIntegral {
+            sign: side.signum(),
+            area: [0.0; 4],
+            beyond: [Rect::EMPTY; 4],
+            near: [Rect::EMPTY; 4],
+            cover: [0.0; 4],
+        };
+        let mut any = false;
+        for (k, part) in RADIAL_PARTS.iter().enumerate() {
+            let cone = clip_halfplane(part, |x| s0 * cross(a, x));
+            let cone = clip_halfplane(&cone, |x| s0 * cross(x, b));
+            if cone.len() < 3 {
+                continue;
+            }
+            if let Some((p0, p1)) = clip_segment(part[1], part[2], |x| s0 * cross(a, x))
+                .and_then(|(p0, p1)| clip_segment(p0, p1, |x| s0 * cross(x, b)))
+            {
+                out.cover[k] = (p1 - p0).length();
+            }
+            let beyond = clip_halfplane(&cone, |x| -s0 * cross(b - a, x - a));
+            let near = clip_halfplane(&cone, |x| s0 * cross(b - a, x - a));
+            let r = area(&beyond).abs();
+            if r > 0.0 {
+                out.area[k] = m * r;
+                out.beyond[k] = Rect::of(&beyond);
+                any = true;
+            }
+            if near.len() >= 3 {
+                out.near[k] = Rect::of(&near);
+                any = true;
+            }
+        }
+        any.then_some(out)
+    }
+}
+
+/// Whether the segment `a b` meets the square `[-1, 1]^2` (Liang & Barsky 1984).
+pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [(-d.x, a.x + 1.0), (d.x, 1.0 - a.x), (-d.y, a.y + 1.0), (d.y, 1.0 - a.y)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    t0 <= t1
+}
