@@ -1,7 +1,6 @@
 //! Every fixture loads, and every mesh's half-edge structure is valid and of the expected kind.
 
 use penumbra::geom::HalfEdgeMesh;
-use penumbra::geom::halfedge::EdgeKind;
 
 use crate::common::{fixture_names, load};
 

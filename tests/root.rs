@@ -4,3 +4,4 @@ mod common;
 mod fixtures;
 mod quad_closed_form;
 mod reference_vs_exact;
+mod volumes;

@@ -185,7 +185,7 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
 
     // spheres-9x9: seed 004, Figure 1.
     let mut s = SceneText::new(
-        "81 spheres of 760 triangles in a 9x9 grid over a plane, as in seed 004's Figure 1.",
+        "81 spheres of 760 triangles in a 9x9 grid over a plane, as in seed 004's Figure 1, on\ntwo heights in a checkerboard so that their penumbrae overlap.",
         [0.0, 11.0, 12.0],
         [0.0, 0.0, 0.5],
         &format!("center = [0.0, 9.0, 0.0]\n{DOWN_LIGHT}\nsize = [3.0, 3.0]\n"),
@@ -195,7 +195,8 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
         for gx in 0..9 {
             let x = (gx as f64 - 4.0) * 1.1;
             let z = (gz as f64 - 4.0) * 1.1;
-            s.mesh("sphere.obj", "0.4", None, [x, 1.2, z]);
+            let y = if (gx + gz) % 2 == 0 { 1.2 } else { 2.0 };
+            s.mesh("sphere.obj", "0.4", None, [x, y, z]);
         }
     }
     write(scenes.join("spheres-9x9.toml"), s.0)?;

@@ -128,9 +128,8 @@ pub struct WedgeGrid {
 const GRID_CELLS: f64 = 48.0 * 48.0 * 48.0;
 
 impl WedgeGrid {
-    /// Bins `wedges` (light space) over the light-space box `[lo, hi]` holding every receiver;
-    /// `diag` is the world-space diameter of the receivers' region.
-    pub fn build(wedges: &[Wedge], lo: DVec3, hi: DVec3, diag: f64) -> Self {
+    /// Bins `wedges` (light space) over the light-space box `[lo, hi]` holding every receiver.
+    pub fn build(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> Self {
         let ext = (hi - lo).max(DVec3::splat(1e-9));
         let k = (GRID_CELLS / (ext.x * ext.y * ext.z)).cbrt();
         let dims = [0, 1, 2].map(|a| ((ext[a] * k).ceil() as usize).clamp(1, 256));
@@ -142,7 +141,7 @@ impl WedgeGrid {
         let boxes: Vec<Option<([usize; 3], [usize; 3])>> = wedges
             .iter()
             .map(|w| {
-                let (blo, bhi) = wedge_bounds(w, diag);
+                let (blo, bhi) = wedge_bounds(w, hi.z);
                 let (blo, bhi) = (blo.max(lo), bhi.min(hi));
                 if blo.x > bhi.x || blo.y > bhi.y || blo.z > bhi.z {
                     return None;
@@ -188,18 +187,19 @@ impl WedgeGrid {
         }
     }
 
-    /// Candidate wedges for the light-space point `p` (a superset of those containing it).
-    pub fn candidates(&self, p: DVec3) -> &[u32] {
+    /// Candidate wedges for the light-space point `p` (a superset of those containing it), or
+    /// `None` when `p` lies outside the grid (then every wedge is a candidate).
+    pub fn candidates(&self, p: DVec3) -> Option<&[u32]> {
         let mut c = [0usize; 3];
         for a in 0..3 {
             let f = (p[a] - self.lo[a]) / self.cell[a];
             if !(f >= 0.0 && f < self.dims[a] as f64 + 1e-9) {
-                return &[];
+                return None;
             }
             c[a] = (f as usize).min(self.dims[a] - 1);
         }
         let i = (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0];
-        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+        Some(&self.items[self.start[i] as usize..self.start[i + 1] as usize])
     }
 
     /// Total number of (cell, wedge) entries.
@@ -208,22 +208,21 @@ impl WedgeGrid {
     }
 }
 
-/// A light-space box holding every point of `w`'s wedge within distance `diag` of its edge: the
-/// wedge is `{ s + t (s - l) : s on the edge, l on the light, t >= 0 }`, and a point of it within
-/// `diag` of the edge has `t <= diag / |s - l| <= diag / min(z_s)`; the points with that `t` at
-/// the edge's ends and the light's corners bound it (the expression is bilinear in `s` and `l`).
-pub fn wedge_bounds(w: &Wedge, diag: f64) -> (DVec3, DVec3) {
+/// A light-space box holding every point of `w`'s wedge at light-space depth `z <= zmax`: the
+/// wedge is `{ s + t (s - l) : s on the edge, l on the light, t >= 0 }` (light space is an affine
+/// image of world space), whose depth is `z_s (1 + t)`, so `t <= zmax / z_s - 1`. That bound is
+/// convex along the edge, hence at most its value `T` at an end, and the points `s + T (s - l)`
+/// for the edge's ends and the light's corners bound the rest (the map is bilinear in `s`, `l`).
+pub fn wedge_bounds(w: &Wedge, zmax: f64) -> (DVec3, DVec3) {
     let zmin = w.from.z.min(w.to.z);
     if !(zmin > 0.0) {
         return (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY));
     }
-    let t = diag / zmin;
+    let t = (zmax / zmin - 1.0).max(0.0);
     let mut lo = w.from.min(w.to);
     let mut hi = w.from.max(w.to);
     for s in [w.from, w.to] {
         for l in RADIAL_PARTS.iter().map(|p| p[1]) {
-            // The bound on t holds in world lengths (z is one); light space is an affine image
-            // of world space, so the same t bounds the light-space point.
             let q = s + (s - l.extend(0.0)) * t;
             lo = lo.min(q);
             hi = hi.max(q);
@@ -309,24 +308,19 @@ impl CpuRenderer {
         let light = scene.light;
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        let mut wlo = DVec3::splat(f64::INFINITY);
-        let mut whi = DVec3::splat(f64::NEG_INFINITY);
         for t in &tracer.triangles {
             for v in t {
                 let l = light.to_light_space(*v);
                 lo = lo.min(l);
                 hi = hi.max(l);
-                wlo = wlo.min(*v);
-                whi = whi.max(*v);
             }
         }
-        let diag = if wlo.x <= whi.x { (whi - wlo).length() } else { 1.0 };
         if !(lo.x <= hi.x) {
             lo = DVec3::ZERO;
             hi = DVec3::ONE;
         }
         let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
-        let grid = WedgeGrid::build(&volumes.wedges, lo - pad, hi + pad, diag * 1.01);
+        let grid = WedgeGrid::build(&volumes.wedges, lo - pad, hi + pad);
         let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
         for (oi, o) in volumes.occluders.iter().enumerate() {
             triangle_occluder.extend(std::iter::repeat_n(oi as u32, o.mesh.faces.len()));
@@ -364,13 +358,19 @@ impl CpuRenderer {
         out
     }
 
+    /// Indices of the wedges that may contain the light-space point `pl`: the grid's cell, or
+    /// every wedge for points outside the scene's box.
+    fn candidates(&self, pl: DVec3) -> Box<dyn Iterator<Item = u32> + '_> {
+        match self.grid.candidates(pl) {
+            Some(c) => Box::new(c.iter().copied()),
+            None => Box::new(0..self.volumes.wedges.len() as u32),
+        }
+    }
+
     /// The wedges containing the world point `p`.
     pub fn wedges_containing(&self, p: DVec3) -> Vec<u32> {
         let l = self.volumes.light.to_light_space(p);
-        self.grid
-            .candidates(l)
-            .iter()
-            .copied()
+        self.candidates(l)
             .filter(|&w| self.volumes.wedges[w as usize].contains(l))
             .collect()
     }
@@ -393,7 +393,7 @@ impl CpuRenderer {
                 ..Accum::new(o)
             })
             .collect();
-        for &wi in self.grid.candidates(pl) {
+        for wi in self.candidates(pl) {
             let w = &self.volumes.wedges[wi as usize];
             let Some(int) = w.integral(pl) else {
                 continue;

@@ -1,0 +1,231 @@
+//! Acceptance of the volumes crate over the fixtures: hard shadows, closed volumes, wedge
+//! conservativeness, exactness for planar occluders, blending, invariance and robustness.
+
+use glam::{DMat4, DQuat, DVec2, DVec3};
+use penumbra::geom::camera::Camera;
+use penumbra::geom::reference::{self, Reference, Tracer};
+use penumbra::geom::scene::SceneMesh;
+use penumbra::geom::{Rng, Scene, SurfacePoint, TriangleMesh};
+use penumbra::volumes::{CpuRenderer, Technique};
+use rayon::prelude::*;
+
+use crate::common::{fixture_names, load};
+
+/// Not on any triangle: nothing is excluded.
+const IN_THE_AIR: u32 = u32::MAX;
+
+#[test]
+fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
+    for name in fixture_names() {
+        let scene = load(&name);
+        let r = CpuRenderer::new(&scene);
+        let hard = r.render(&scene, Technique::Hard, &|_| {});
+        let tracer = Tracer::new(&scene);
+        let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
+        let differ = hard.data.iter().zip(&want.data).filter(|(a, b)| a != b).count();
+        let share = differ as f64 / hard.data.len() as f64;
+        println!("{name:>18}: hard differs from the hard reference on {differ} pixels ({:.4}%)", 100.0 * share);
+        assert!(share <= 1e-3, "{name}: {differ} pixels differ");
+    }
+}
+
+#[test]
+fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
+    for name in fixture_names() {
+        let scene = load(&name);
+        let r = CpuRenderer::new(&scene);
+        for (oi, o) in r.volumes.occluders.iter().enumerate() {
+            o.volume
+                .check_closed()
+                .unwrap_or_else(|e| panic!("{name}: occluder {oi}: {e}"));
+        }
+        // The z-fail count of each occluder's actual volume geometry (sides, caps, dark caps at
+        // infinity) along the view ray must equal the per-occluder centre-ray count used by the
+        // renderer, away from volume boundaries.
+        let cam = scene.camera;
+        let c = scene.light.center;
+        let mut rng = Rng::new(99);
+        let (mut checked, mut shadowed) = (0, 0);
+        while checked < 150 {
+            let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
+            let dir = cam.ray_dir(i, j);
+            let Some(p) = r.tracer.surface_point(cam.eye, dir) else { continue };
+            if !scene.light.is_lit_side(p.position) {
+                continue;
+            }
+            let hard = r.hard_occluders(&p);
+            // P is not occluded by its own triangle: count from just on the light's side of it.
+            let q = p.position + (c - p.position).normalize() * r.tracer.epsilon * 10.0;
+            for (oi, o) in r.volumes.occluders.iter().enumerate() {
+                let w = o.volume.winding_number(q, dir);
+                let fast = hard.contains(&(oi as u32));
+                assert_eq!(w != 0, fast, "{name}: pixel {i},{j}, occluder {oi}: winding {w}");
+                assert!(w >= 0, "{name}: negative winding {w}");
+            }
+            shadowed += usize::from(!hard.is_empty());
+            checked += 1;
+        }
+        assert!(shadowed > 0 || name == "quad-over-plane", "{name}: no shadowed sample");
+    }
+}
+
+/// Random points strictly between the ground and the lowest occluder.
+fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
+    (0..n)
+        .map(|_| DVec3::new(rng.range(-half, half), rng.range(0.01, y_max), rng.range(-half, half)))
+        .collect()
+}
+
+#[test]
+fn wedges_cover_every_penumbra_point_of_the_planar_fixtures() {
+    for (name, y_max) in [("quad-over-plane", 0.95), ("overlapping-quads", 0.95)] {
+        let scene = load(name);
+        let r = CpuRenderer::new(&scene);
+        let mut rng = Rng::new(2000);
+        let (mut found, mut tries) = (0, 0);
+        while found < 2000 {
+            tries += 1;
+            assert!(tries < 200_000, "{name}: too few penumbra points");
+            let p = air_points(&mut rng, 1, 3.5, y_max)[0];
+            let v = r.tracer.exact_visibility(&SurfacePoint { position: p, triangle: IN_THE_AIR });
+            if v <= 1e-9 || v >= 1.0 - 1e-9 {
+                continue;
+            }
+            found += 1;
+            assert!(!r.wedges_containing(p).is_empty(), "{name}: {p} (V = {v}) is in no wedge");
+        }
+    }
+}
+
+fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
+    let mesh = TriangleMesh::from_raw(std::path::Path::new("occluder"), polygon, tris).unwrap();
+    Scene {
+        path: "memory".into(),
+        camera: Camera::look_at(DVec3::new(0., 5., 5.), DVec3::ZERO, DVec3::Y, 45., 8, 8).unwrap(),
+        light: penumbra::geom::RectLight::new(
+            DVec3::new(0.0, 5.0, 0.0),
+            DVec3::NEG_Y,
+            DVec3::X,
+            DVec2::new(2.5, 1.5),
+        ),
+        meshes: vec![SceneMesh {
+            source: "occluder".into(),
+            transform: DMat4::IDENTITY,
+            mesh,
+        }],
+    }
+}
+
+#[test]
+fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
+    let quad = (
+        vec![DVec3::new(-1., 0., -0.7), DVec3::new(1., 0., -0.7), DVec3::new(1., 0., 0.7), DVec3::new(-1., 0., 0.7)],
+        vec![[0, 1, 2], [0, 2, 3]],
+    );
+    // An L: concave, six corners, four triangles.
+    let l_shape = (
+        vec![
+            DVec3::new(-1., 0., -1.),
+            DVec3::new(1., 0., -1.),
+            DVec3::new(1., 0., -0.3),
+            DVec3::new(-0.3, 0., -0.3),
+            DVec3::new(-0.3, 0., 1.),
+            DVec3::new(-1., 0., 1.),
+        ],
+        vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]],
+    );
+    let mut rng = Rng::new(4);
+    for (shape, (pts, tris)) in [("quad", quad), ("L", l_shape)] {
+        let mut worst: f64 = 0.0;
+        let mut penumbra = 0;
+        for case in 0..10 {
+            // A random tilt up to 50 degrees about a random horizontal axis, at height 2.
+            let axis = DVec3::new(rng.range(-1., 1.), 0.0, rng.range(-1., 1.)).normalize();
+            let rot = DQuat::from_axis_angle(axis, rng.range(-50f64, 50.).to_radians());
+            let moved: Vec<DVec3> = pts.iter().map(|&p| rot * p + DVec3::new(0., 2.2, 0.)).collect();
+            let scene = single_occluder_scene(&moved, &tris);
+            let lowest = moved.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+            let r = CpuRenderer::new(&scene);
+            for p in air_points(&mut rng, 100, 3.0, lowest - 0.05) {
+                let sp = SurfacePoint { position: p, triangle: IN_THE_AIR };
+                let exact = r.tracer.exact_visibility(&sp);
+                let got = r.visibility(&sp, Technique::Wedges);
+                if exact > 0.0 && exact < 1.0 {
+                    penumbra += 1;
+                }
+                worst = worst.max((got - exact).abs());
+                assert!((got - exact).abs() <= 1e-4, "{shape}, case {case}, at {p}: wedges {got}, exact {exact}");
+            }
+        }
+        println!("{shape}: wedges vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra)");
+        assert!(penumbra > 150, "{shape}: too few penumbra points");
+    }
+}
+
+/// Mean absolute error of `wedges` and `wedges-blend` against the exact evaluator at penumbra
+/// points seen by the camera.
+fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
+    let scene = load(name);
+    let r = CpuRenderer::new(&scene);
+    let cam = scene.camera;
+    let mut rng = Rng::new(31);
+    let mut candidates = Vec::new();
+    while candidates.len() < points * 6 {
+        let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
+        if let Some(p) = r.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) {
+            candidates.push(p);
+        }
+    }
+    let rows: Vec<(f64, f64, f64)> = candidates
+        .par_iter()
+        .map(|p| {
+            (
+                r.tracer.exact_visibility(p),
+                r.visibility(p, Technique::Wedges),
+                r.visibility(p, Technique::WedgesBlend),
+            )
+        })
+        .collect();
+    let pen: Vec<_> = rows.into_iter().filter(|r| r.0 > 0.02 && r.0 < 0.98).take(points).collect();
+    let n = pen.len() as f64;
+    let mae = |f: fn(&(f64, f64, f64)) -> f64| pen.iter().map(|r| (f(r) - r.0).abs()).sum::<f64>() / n;
+    (mae(|r| r.1), mae(|r| r.2), pen.len())
+}
+
+#[test]
+fn blending_beats_additive_wedges_where_penumbrae_overlap() {
+    for name in ["overlapping-quads", "spheres-9x9"] {
+        let (w, b, n) = overlap_errors(name, 600);
+        println!("{name:>18}: penumbra MAE against exact over {n} points: wedges {w:.5}, wedges-blend {b:.5}");
+        assert!(n >= 300, "{name}: only {n} penumbra points");
+        assert!(b < w, "{name}: blending ({b}) is not better than additive wedges ({w})");
+    }
+}
+
+#[test]
+fn a_rigid_motion_of_scene_and_light_changes_no_pixel() {
+    for name in ["overlapping-quads", "tilted-light", "spheres-9x9"] {
+        let scene = load(name);
+        let m = DMat4::from_rotation_translation(
+            DQuat::from_axis_angle(DVec3::new(0.3, 1.0, -0.5).normalize(), 0.7),
+            DVec3::new(3.0, -2.0, 5.5),
+        );
+        let moved = scene.transformed(&m);
+        let (a, b) = (CpuRenderer::new(&scene), CpuRenderer::new(&moved));
+        let cam = scene.camera;
+        let mut rng = Rng::new(17);
+        let mut worst: f64 = 0.0;
+        let mut n = 0;
+        while n < 200 {
+            let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
+            let Some(p) = a.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else { continue };
+            let q = SurfacePoint { position: m.transform_point3(p.position), triangle: p.triangle };
+            let va = a.visibility(&p, Technique::WedgesBlend);
+            let vb = b.visibility(&q, Technique::WedgesBlend);
+            worst = worst.max((va - vb).abs());
+            assert!((va - vb).abs() <= 1e-4, "{name}: pixel {i},{j}: {va} vs {vb}");
+            n += 1;
+        }
+        println!("{name:>18}: invariance, max |dV| {worst:.2e} over 200 points");
+    }
+}
