@@ -91,6 +91,15 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Print the volume geometry of a scene: per mesh, its edges by kind, silhouette edges,
+    /// loops, wedges and shadow-volume triangles.
+    Geometry {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Print JSON (the format of `fixtures/expected/*.json`).
+        #[arg(long)]
+        json: bool,
+    },
     /// Regenerate the fixture meshes and scenes.
     GenFixtures {
         /// Fixture folder.
@@ -130,6 +139,7 @@ fn run(cli: Cli) -> Result<()> {
             heatmap,
             json,
         } => compare(&a, &b, heatmap.as_deref(), json),
+        Command::Geometry { scene, json } => geometry(&scene, json),
         Command::GenFixtures { out } => {
             for f in fixtures::generate(&out)? {
                 println!("wrote {f}");
@@ -345,6 +355,27 @@ fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) -> Result<()>
                 100.0 * m.share_over
             );
         }
+    }
+    Ok(())
+}
+
+/// Volume geometry counts of a scene, as `fixtures/expected/*.json` records them.
+fn geometry(scene_path: &Path, json: bool) -> Result<()> {
+    let scene = load_scene(scene_path)?;
+    let v = penumbra_volumes::Volumes::build(&scene);
+    let g = penumbra_volumes::render::GeometryCounts::of(&v);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&g)?);
+    } else {
+        println!(
+            "{}: {} silhouette edges (multiplicity summed: {}), {} loops, {} wedges, {} volume triangles",
+            scene_path.display(),
+            g.silhouette_edges,
+            g.silhouette_multiplicity,
+            g.loops,
+            g.wedges,
+            g.volume_triangles
+        );
     }
     Ok(())
 }

@@ -114,6 +114,38 @@ impl Volumes {
     }
 }
 
+/// The counts that `fixtures/expected/*.json` pins per scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct GeometryCounts {
+    /// Silhouette edges (each counted once whatever its multiplicity).
+    pub silhouette_edges: usize,
+    /// Sum of the silhouette edges' multiplicities.
+    pub silhouette_multiplicity: usize,
+    /// Silhouette loops over all meshes.
+    pub loops: usize,
+    /// Penumbra wedges (one per silhouette edge).
+    pub wedges: usize,
+    /// Triangles of all shadow volumes (light caps, dark caps, sides).
+    pub volume_triangles: usize,
+}
+
+impl GeometryCounts {
+    /// Counts the geometry of `v`.
+    pub fn of(v: &Volumes) -> Self {
+        let sil = v.occluders.iter().map(|o| &o.silhouette);
+        GeometryCounts {
+            silhouette_edges: sil.clone().map(|s| s.edges.len()).sum(),
+            silhouette_multiplicity: sil
+                .clone()
+                .flat_map(|s| s.edges.iter().map(|e| e.multiplicity as usize))
+                .sum(),
+            loops: sil.map(|s| s.loops.len()).sum(),
+            wedges: v.wedges.len(),
+            volume_triangles: v.occluders.iter().map(|o| o.volume.triangles.len()).sum(),
+        }
+    }
+}
+
 /// A uniform grid over the scene's bounding box listing, per cell, the wedges whose bounding
 /// box meets it.
 pub struct WedgeGrid {
