@@ -100,6 +100,19 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Render every scene of a folder with the reference and with each technique, and print a
+    /// Markdown table of their errors against the reference (the table of docs/accuracy.md).
+    Accuracy {
+        /// Folder of scene files.
+        #[arg(long, default_value = "fixtures/scenes")]
+        scenes: PathBuf,
+        /// Reference light samples per pixel: a perfect square.
+        #[arg(long, default_value_t = 1024)]
+        samples: usize,
+        /// Techniques to measure.
+        #[arg(long, value_enum, value_delimiter = ',', default_value = "hard,wedges,wedges-blend")]
+        techniques: Vec<Technique>,
+    },
     /// Regenerate the fixture meshes and scenes.
     GenFixtures {
         /// Fixture folder.
@@ -140,6 +153,11 @@ fn run(cli: Cli) -> Result<()> {
             json,
         } => compare(&a, &b, heatmap.as_deref(), json),
         Command::Geometry { scene, json } => geometry(&scene, json),
+        Command::Accuracy {
+            scenes,
+            samples,
+            techniques,
+        } => accuracy(&scenes, samples, &techniques),
         Command::GenFixtures { out } => {
             for f in fixtures::generate(&out)? {
                 println!("wrote {f}");
@@ -223,28 +241,7 @@ fn render(
     bar.set_message(format!("{technique:?}"));
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(rows);
-    let (img, triangles, detail) = match technique {
-        Technique::Reference | Technique::HardReference => {
-            let tracer = Tracer::new(&scene);
-            let (reference, detail) = match technique {
-                Technique::Reference => (Reference::Sampled { per_axis }, format!(" ({samples} samples)")),
-                _ => (Reference::Hard, String::new()),
-            };
-            let img = reference::render(&scene, &tracer, reference, &progress);
-            (img, tracer.triangles.len(), detail)
-        }
-        Technique::Hard | Technique::Wedges | Technique::WedgesBlend => {
-            let r = CpuRenderer::new(&scene);
-            let t = match technique {
-                Technique::Hard => VolumeTechnique::Hard,
-                Technique::Wedges => VolumeTechnique::Wedges,
-                _ => VolumeTechnique::WedgesBlend,
-            };
-            let img = r.render(&scene, t, &progress);
-            let detail = format!(" (cpu, {} wedges)", r.volumes.wedges.len());
-            (img, r.tracer.triangles.len(), detail)
-        }
-    };
+    let (img, triangles, detail) = render_image(&scene, technique, per_axis, &progress);
     bar.finish_and_clear();
     img.check_finite()
         .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
@@ -268,6 +265,38 @@ fn render(
         out.display()
     );
     Ok(())
+}
+
+/// Renders `scene` with `technique`: the image, the triangle count and a note for the log.
+fn render_image(
+    scene: &Scene,
+    technique: Technique,
+    per_axis: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> (VisibilityImage, usize, String) {
+    let samples = per_axis * per_axis;
+    match technique {
+        Technique::Reference | Technique::HardReference => {
+            let tracer = Tracer::new(scene);
+            let (reference, detail) = match technique {
+                Technique::Reference => (Reference::Sampled { per_axis }, format!(" ({samples} samples)")),
+                _ => (Reference::Hard, String::new()),
+            };
+            let img = reference::render(scene, &tracer, reference, progress);
+            (img, tracer.triangles.len(), detail)
+        }
+        Technique::Hard | Technique::Wedges | Technique::WedgesBlend => {
+            let r = CpuRenderer::new(scene);
+            let t = match technique {
+                Technique::Hard => VolumeTechnique::Hard,
+                Technique::Wedges => VolumeTechnique::Wedges,
+                _ => VolumeTechnique::WedgesBlend,
+            };
+            let img = r.render(scene, t, progress);
+            let detail = format!(" (cpu, {} wedges)", r.volumes.wedges.len());
+            (img, r.tracer.triangles.len(), detail)
+        }
+    }
 }
 
 fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
@@ -376,6 +405,44 @@ fn geometry(scene_path: &Path, json: bool) -> Result<()> {
             g.wedges,
             g.volume_triangles
         );
+    }
+    Ok(())
+}
+
+fn accuracy(dir: &Path, samples: usize, techniques: &[Technique]) -> Result<()> {
+    let per_axis = samples_per_axis(samples)?;
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    scenes.sort();
+    if scenes.is_empty() {
+        bail!("{}: no scene files", dir.display());
+    }
+    println!("Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98).\n");
+    println!("| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for path in scenes {
+        let scene = load_scene(&path)?;
+        let name = path.file_stem().unwrap_or_default().to_string_lossy().into_owned();
+        let (truth, _, _) = render_image(&scene, Technique::Reference, per_axis, &|_| {});
+        for &t in techniques {
+            let start = std::time::Instant::now();
+            let (img, _, _) = render_image(&scene, t, per_axis, &|_| {});
+            let secs = start.elapsed().as_secs_f64();
+            let c = image::compare(&img, &truth)?;
+            println!(
+                "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {secs:.2} |",
+                t.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default(),
+                c.all.mae,
+                c.all.p99,
+                100.0 * c.all.share_over,
+                c.penumbra.pixels,
+                c.penumbra.mae,
+                c.penumbra.p99
+            );
+        }
     }
     Ok(())
 }

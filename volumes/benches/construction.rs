@@ -1,0 +1,120 @@
+//! Silhouette + shadow volume + wedge construction on closed meshes of about 10k, 100k and 1M
+//! triangles, against the memory-bandwidth floor: copying the same input bytes (positions,
+//! faces, half-edges and edge lists) once.
+//!
+//! `cargo bench -p penumbra-volumes --bench construction`; the ratio is printed after each size.
+
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Instant;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::{DVec2, DVec3};
+use penumbra_geom::{HalfEdgeMesh, RectLight, TriangleMesh};
+use penumbra_volumes::shadow_volume::ShadowVolume;
+use penumbra_volumes::silhouette::Silhouette;
+use penumbra_volumes::wedge::Wedge;
+
+/// A closed UV sphere with `2 * slices * (stacks - 1)` triangles, bumped so that its
+/// silhouette is long and ragged like a real model's.
+fn sphere(stacks: u32, slices: u32) -> TriangleMesh {
+    let mut p = vec![DVec3::Y];
+    for i in 1..stacks {
+        let th = std::f64::consts::PI * i as f64 / stacks as f64;
+        for k in 0..slices {
+            let ph = std::f64::consts::TAU * k as f64 / slices as f64;
+            let r = 1.0 + 0.05 * ((7.0 * ph).sin() * (5.0 * th).cos());
+            p.push(r * DVec3::new(th.sin() * ph.cos(), th.cos(), -th.sin() * ph.sin()));
+        }
+    }
+    p.push(DVec3::NEG_Y);
+    let ring = |i: u32, k: u32| 1 + (i - 1) * slices + k % slices;
+    let s = p.len() as u32 - 1;
+    let mut t = Vec::new();
+    for k in 0..slices {
+        t.push([0, ring(1, k), ring(1, k + 1)]);
+        t.push([s, ring(stacks - 1, k + 1), ring(stacks - 1, k)]);
+    }
+    for i in 1..stacks - 1 {
+        for k in 0..slices {
+            let (a, b, c, d) = (ring(i, k), ring(i, k + 1), ring(i + 1, k), ring(i + 1, k + 1));
+            t.push([a, c, d]);
+            t.push([a, d, b]);
+        }
+    }
+    TriangleMesh::from_raw(Path::new("bench"), &p, &t).expect("valid sphere")
+}
+
+/// Builds what a frame needs when the light moves: silhouette, volume and wedges.
+fn construct(mesh: &HalfEdgeMesh, light: &RectLight) -> (usize, usize) {
+    let sil = Silhouette::build(mesh, light.center);
+    let vol = ShadowVolume::build(mesh, &sil, light.center);
+    let wedges: Vec<Wedge> = sil
+        .edges
+        .iter()
+        .map(|e| Wedge {
+            from: light.to_light_space(mesh.positions[e.from as usize]),
+            to: light.to_light_space(mesh.positions[e.to as usize]),
+            multiplicity: e.multiplicity,
+            occluder: 0,
+            silhouette_loop: 0,
+        })
+        .collect();
+    (vol.triangles.len(), wedges.len())
+}
+
+/// Bytes of the structure the construction reads.
+fn input_bytes(m: &HalfEdgeMesh) -> usize {
+    m.positions.len() * 24
+        + m.faces.len() * 12
+        + m.half_edges.len() * std::mem::size_of::<penumbra_geom::halfedge::HalfEdge>()
+        + m.edges.iter().map(|e| 12 + 4 * e.half_edges.len()).sum::<usize>()
+}
+
+fn bench(c: &mut Criterion) {
+    let light = RectLight::new(DVec3::new(0.3, 6.0, 0.2), DVec3::NEG_Y, DVec3::X, DVec2::new(2.0, 2.0));
+    let mut g = c.benchmark_group("construction");
+    g.sample_size(10);
+    for (label, stacks, slices) in [("10k", 50u32, 100u32), ("100k", 224, 224), ("1M", 708, 708)] {
+        let mesh = HalfEdgeMesh::build(&sphere(stacks, slices));
+        let bytes = input_bytes(&mesh);
+        let input = vec![1u8; bytes];
+        let mut copy = vec![0u8; bytes];
+        let (vt, w) = construct(&mesh, &light);
+        println!(
+            "{label}: {} triangles, {} silhouette edges, {vt} volume triangles, {:.1} MB of input",
+            mesh.faces.len(),
+            w,
+            bytes as f64 / 1e6
+        );
+        g.bench_function(format!("{label} triangles: silhouette + volume + wedges"), |b| {
+            b.iter(|| construct(black_box(&mesh), black_box(&light)))
+        });
+        g.bench_function(format!("{label} triangles: copy of the input bytes"), |b| {
+            b.iter(|| {
+                copy.copy_from_slice(black_box(&input));
+                black_box(&copy);
+            })
+        });
+        // The ratio from a quick direct measurement (criterion prints the careful numbers).
+        let time = |f: &mut dyn FnMut()| {
+            let t = Instant::now();
+            for _ in 0..5 {
+                f();
+            }
+            t.elapsed().as_secs_f64() / 5.0
+        };
+        let tc = time(&mut || {
+            black_box(construct(&mesh, &light));
+        });
+        let tf = time(&mut || {
+            copy.copy_from_slice(&input);
+            black_box(&copy);
+        });
+        println!("{label}: construction {:.2} ms, copy {:.2} ms, ratio {:.1}x", tc * 1e3, tf * 1e3, tc / tf);
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
