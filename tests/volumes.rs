@@ -308,3 +308,39 @@ fn share_of_penumbra_points_outside_every_wedge() {
         }
     }
 }
+
+#[test]
+fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
+    let scene = load("spheres-9x9");
+    let r = CpuRenderer::new(&scene);
+    let mut rng = Rng::new(77);
+    let mut inside = 0;
+    for (wi, w) in r.volumes.wedges.iter().enumerate().step_by(7) {
+        let planes = w.bounding_planes();
+        assert!(planes.len() >= 3, "wedge {wi}: {} planes: {w:?}", planes.len());
+        let split = w.split_plane();
+        for _ in 0..200 {
+            // Points around the edge, below it (away from the light), where its wedge lies.
+            let mid = (w.from + w.to) * 0.5;
+            let p = mid + DVec3::new(rng.range(-2., 2.), rng.range(-2., 2.), rng.range(0.0, 3.0));
+            if !w.contains(p) {
+                continue;
+            }
+            inside += 1;
+            for pl in &planes {
+                assert!(pl.eval(p) >= -1e-9 * (1.0 + p.length()), "wedge {wi}: {p} in the wedge but outside a bounding plane");
+            }
+            let int = w.integral(p).expect("inside: an integral");
+            assert_eq!(int.sign > 0.0, split.eval(p) > 0.0, "wedge {wi}: half-wedge side at {p}");
+        }
+    }
+    assert!(inside > 1000, "only {inside} points fell in wedges");
+    // The planes also reject: most random points near an edge are outside some plane.
+    let w = &r.volumes.wedges[0];
+    let planes = w.bounding_planes();
+    let rejected = (0..1000)
+        .map(|_| w.from + DVec3::new(rng.range(-3., 3.), rng.range(-3., 3.), rng.range(-3.0, 3.0)))
+        .filter(|p| planes.iter().any(|pl| pl.eval(*p) < 0.0))
+        .count();
+    assert!(rejected > 500, "the planes reject only {rejected} of 1000 points");
+}

@@ -159,6 +159,85 @@ impl Wedge {
     }
 }
 
+/// A plane `n · x + d = 0` in light space; its inside is `n · x + d >= 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    /// Normal (not necessarily unit).
+    pub n: DVec3,
+    /// Offset.
+    pub d: f64,
+}
+
+impl Plane {
+    /// Signed value at `p`; non-negative inside.
+    pub fn eval(&self, p: DVec3) -> f64 {
+        self.n.dot(p) + self.d
+    }
+}
+
+impl Wedge {
+    /// The plane through the edge and the light's centre that splits the wedge into its outer
+    /// half (positive side, away from the casters) and its inner half (negative side).
+    pub fn split_plane(&self) -> Plane {
+        let n = (self.to - self.from).cross(-self.from);
+        Plane {
+            n,
+            d: -n.dot(self.from),
+        }
+    }
+
+    /// Bounding planes of the wedge for the fast outside test of Lengyel (GDC 2005): every
+    /// point of the wedge is inside all of them, so a point outside any one is outside the wedge;
+    /// the GPU rejects fragments with this test before the integral.
+    ///
+    /// The wedge `{ s + t (s - l) }` (s on the edge, l on the light, t >= 0) lies in the convex
+    /// polyhedron `from + { a (to - from) + Σ_k b_k (s_k - l_k) : 0 <= a <= 1, b >= 0 }`, the
+    /// edge swept along the eight directions from the light's corners through its ends (expand
+    /// `(1 + t) s - t l` with `s`, `l` convex combinations). Its faces are the planes spanned by
+    /// two of the generators that leave all directions on one side: the front and back planes
+    /// (through the edge and a corner, supporting the light) and the side planes at the ends.
+    /// When the edge's line pierces the light rectangle there are no front and back planes and
+    /// the side planes alone bound the wedge, so an edge pointing at the light stays conservative
+    /// and never yields a NaN plane. The light's plane is always included.
+    pub fn bounding_planes(&self) -> Vec<Plane> {
+        let e = self.to - self.from;
+        let mut dirs = Vec::with_capacity(8);
+        for s in [self.from, self.to] {
+            for l in RADIAL_PARTS.map(|p| p[1].extend(0.0)) {
+                dirs.push(s - l);
+            }
+        }
+        let mut gens = dirs.clone();
+        gens.push(e);
+        let mut planes = vec![Plane { n: DVec3::Z, d: 0.0 }];
+        for i in 0..gens.len() {
+            for j in i + 1..gens.len() {
+                let n = gens[i].cross(gens[j]);
+                let len = n.length();
+                if !(len > 1e-12 * gens[i].length() * gens[j].length()) || !len.is_finite() {
+                    continue;
+                }
+                let n = n / len;
+                for n in [n, -n] {
+                    // All sweep directions must point into the inside (n · d >= 0).
+                    let tol = 1e-12 * (1.0 + self.from.length());
+                    if dirs.iter().any(|d| n.dot(*d) < -tol * d.length()) {
+                        continue;
+                    }
+                    let p = Plane {
+                        n,
+                        d: -(n.dot(self.from).min(n.dot(self.to))),
+                    };
+                    if !planes.iter().any(|q| q.n.dot(n) > 1.0 - 1e-9) {
+                        planes.push(p);
+                    }
+                }
+            }
+        }
+        planes
+    }
+}
+
 /// Whether the segment `a b` meets the square `[-1, 1]^2` (Liang & Barsky 1984).
 pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
     let d = b - a;
