@@ -7,7 +7,7 @@
 //!
 //! - `hard`: `V = 0` where the centre is hidden (the stencil answer), else 1;
 //! - `wedges` (Akenine-Möller & Assarsson): every edge's integral added into one sum on top of
-//!   the stencil count `n` (the number of occluders hiding the centre),
+//!   the stencil count `n` (the volumes' winding number at P, `N(P, c)` of [`crate::wedge`]),
 //!   `V = 1 - clamp(4·n + Σ_e s_e m_e |R_e|, 0, 4) / 4`. Counting rather than clamping the
 //!   stencil keeps each occluder's inner half-wedges subtracting from its own hard shadow;
 //!   overlapping occluders are still counted twice, which is what blending corrects;
@@ -271,7 +271,7 @@ pub struct CpuRenderer {
     pub volumes: Volumes,
     /// Wedge lookup.
     pub grid: WedgeGrid,
-    /// Occluder of each scene triangle.
+    /// Occluder of each scene triangle, with the top bit set for casters.
     triangle_occluder: Vec<u32>,
 }
 
@@ -283,10 +283,14 @@ fn full_parts() -> [Part; 4] {
     })
 }
 
+/// Marks caster triangles in `CpuRenderer::triangle_occluder`.
+const CASTER_BIT: u32 = 1 << 31;
+
 #[derive(Clone, Copy)]
 struct Accum {
     occluder: u32,
-    hard: bool,
+    /// The occluder's stencil count at P: caster triangles between P and the centre.
+    hard: u32,
     area: [f64; 4],
     rect: [Rect; 4],
     inner_rect: [Rect; 4],
@@ -297,7 +301,7 @@ impl Accum {
     fn new(occluder: u32) -> Self {
         Accum {
             occluder,
-            hard: false,
+            hard: 0,
             area: [0.0; 4],
             rect: [Rect::EMPTY; 4],
             inner_rect: [Rect::EMPTY; 4],
@@ -310,13 +314,13 @@ impl Accum {
         let full = full_parts();
         let mut b = VBuffer::default();
         for k in 0..4 {
-            let area = (if self.hard { PART_AREA } else { 0.0 } + self.area[k]).clamp(0.0, PART_AREA);
+            let area = (self.hard as f64 * PART_AREA + self.area[k]).clamp(0.0, PART_AREA);
             if area <= 0.0 {
                 continue;
             }
             // Seed 004, Figure 10: in hard shadow the occluded region reaches the part's border
             // unless the inner half-wedges cover the whole border, in which case it ends at them.
-            let hard_rect = if !self.hard {
+            let hard_rect = if self.hard == 0 {
                 Rect::EMPTY
             } else if self.inner_cover[k] >= 2.0 * (1.0 - 1e-9) {
                 self.inner_rect[k]
@@ -355,7 +359,12 @@ impl CpuRenderer {
         let grid = WedgeGrid::build(&volumes.wedges, lo - pad, hi + pad);
         let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
         for (oi, o) in volumes.occluders.iter().enumerate() {
-            triangle_occluder.extend(std::iter::repeat_n(oi as u32, o.mesh.faces.len()));
+            triangle_occluder.extend(
+                o.silhouette
+                    .is_caster
+                    .iter()
+                    .map(|&c| oi as u32 | if c { CASTER_BIT } else { 0 }),
+            );
         }
         CpuRenderer {
             tracer,
@@ -365,9 +374,10 @@ impl CpuRenderer {
         }
     }
 
-    /// The occluders that hide the light's centre from `p` (the per-occluder stencil counts'
-    /// non-zero set), sorted.
-    pub fn hard_occluders(&self, p: &SurfacePoint) -> Vec<u32> {
+    /// The stencil count of each occluder at `p`, for those where it is not zero, sorted by
+    /// occluder: the number of its caster triangles (light caps) between `p` and the light's
+    /// centre, which is its volume's winding number around `p`.
+    pub fn stencil_counts(&self, p: &SurfacePoint) -> Vec<(u32, u32)> {
         let c = self.tracer.light.center;
         let d = c - p.position;
         let dist = d.length();
@@ -382,12 +392,26 @@ impl CpuRenderer {
                 eps as f32,
                 (dist - eps) as f32,
                 p.triangle,
-                |t| out.push(self.triangle_occluder[t as usize]),
+                |t| {
+                    if self.triangle_occluder[t as usize] & CASTER_BIT != 0 {
+                        out.push(t);
+                    }
+                },
             );
         }
+        // A triangle split over several leaves is reported once per leaf.
         out.sort_unstable();
         out.dedup();
-        out
+        let mut counts: Vec<(u32, u32)> = Vec::new();
+        for t in out {
+            let o = self.triangle_occluder[t as usize] & !CASTER_BIT;
+            match counts.iter_mut().find(|c| c.0 == o) {
+                Some(c) => c.1 += 1,
+                None => counts.push((o, 1)),
+            }
+        }
+        counts.sort_unstable();
+        counts
     }
 
     /// Indices of the wedges that may contain the light-space point `pl`: the grid's cell, or
@@ -413,15 +437,15 @@ impl CpuRenderer {
         if !light.is_lit_side(p.position) {
             return 0.0;
         }
-        let hard = self.hard_occluders(p);
+        let hard = self.stencil_counts(p);
         if technique == Technique::Hard {
             return if hard.is_empty() { 1.0 } else { 0.0 };
         }
         let pl = light.to_light_space(p.position);
         let mut acc: Vec<Accum> = hard
             .iter()
-            .map(|&o| Accum {
-                hard: true,
+            .map(|&(o, n)| Accum {
+                hard: n,
                 ..Accum::new(o)
             })
             .collect();
@@ -452,8 +476,8 @@ impl CpuRenderer {
         let occlusion = match technique {
             Technique::Hard => unreachable!("handled above"),
             Technique::Wedges => {
-                // The stencil count: one full light per occluder hiding the centre.
-                let base = 4.0 * PART_AREA * hard.len() as f64;
+                // The stencil count: one full light per caster between P and the centre.
+                let base = 4.0 * PART_AREA * hard.iter().map(|h| h.1 as f64).sum::<f64>();
                 let sum: f64 = acc.iter().flat_map(|a| a.area).sum();
                 ((base + sum) / (4.0 * PART_AREA)).clamp(0.0, 1.0)
             }

@@ -48,6 +48,8 @@ pub struct Silhouette {
     pub closed: bool,
     /// Which triangles cast a volume: their vertex triples oriented to face the light.
     pub casters: Vec<[u32; 3]>,
+    /// Per mesh face, whether it is a caster (a light cap of the volume).
+    pub is_caster: Vec<bool>,
     /// Silhouette edges.
     pub edges: Vec<SilhouetteEdge>,
     /// Silhouette loops: connected sets of silhouette edges (indices into `edges`), connected
@@ -98,6 +100,7 @@ impl Silhouette {
                 _ => Some([f[0], f[2], f[1]]),
             })
             .collect();
+        let is_caster = (0..mesh.faces.len()).map(|fi| counts(fi) != 0).collect();
         let mut edges = Vec::new();
         for (ei, e) in mesh.edges.iter().enumerate() {
             let [u, v] = e.vertices;
@@ -122,6 +125,7 @@ impl Silhouette {
         Silhouette {
             closed,
             casters,
+            is_caster,
             edges,
             loops,
         }
