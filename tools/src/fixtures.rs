@@ -260,5 +260,17 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     );
     s.mesh("sphere.obj", "0.7", None, [-0.5, 1.3, -0.8]);
     write(scenes.join("tilted-light.toml"), s.0)?;
+
+    // camera-in-shadow: the eye sits inside the roof's shadow volume, the case z-fail is for.
+    let mut s = SceneText::new(
+        "The camera stands under a 6x6 roof, inside its shadow volume, looking out over the\nground past the roof's shadow edge, with a sphere in the sun beyond.",
+        [0.0, 1.5, 1.0],
+        [0.0, 0.0, -6.0],
+        &format!("center = [0.0, 7.0, 0.0]\n{DOWN_LIGHT}\nsize = [2.0, 2.0]\n"),
+    );
+    s.ground();
+    s.mesh("quad.obj", "6.0", None, [0.0, 3.0, 0.0]);
+    s.mesh("sphere.obj", "0.6", None, [1.0, 0.8, -6.0]);
+    write(scenes.join("camera-in-shadow.toml"), s.0)?;
     Ok(written)
 }

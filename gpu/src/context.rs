@@ -1,0 +1,127 @@
+//! Device creation: any adapter, hardware first, lavapipe (a CPU Vulkan) otherwise.
+//!
+//! Honours `WGPU_BACKEND` (e.g. `vulkan`) and `WGPU_ADAPTER_NAME` (a case-insensitive part of
+//! the adapter's name), and asks the adapter for the features and limits the passes need.
+
+/// Why no GPU device could be made.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter at all (no Vulkan, Metal, DX12 or GL driver).
+    #[error("no GPU adapter found (backends {backends:?}); install a driver, e.g. Mesa's lavapipe: apt-get install mesa-vulkan-drivers libvulkan1")]
+    NoAdapter {
+        /// Backends searched.
+        backends: wgpu::Backends,
+    },
+    /// `WGPU_ADAPTER_NAME` matches no adapter.
+    #[error("WGPU_ADAPTER_NAME={wanted:?} matches none of the adapters {found:?}")]
+    NoMatchingAdapter {
+        /// The requested name.
+        wanted: String,
+        /// The adapters' names.
+        found: Vec<String>,
+    },
+    /// The adapter lacks a feature the passes cannot do without.
+    #[error("adapter {adapter} lacks {feature}")]
+    MissingFeature {
+        /// The adapter's name.
+        adapter: String,
+        /// The missing feature.
+        feature: &'static str,
+    },
+    /// The adapter refused the device.
+    #[error("the adapter refused a device: {0}")]
+    RequestDevice(#[from] wgpu::RequestDeviceError),
+    /// A readback failed.
+    #[error("reading back from the GPU failed: {0}")]
+    Readback(String),
+}
+
+/// A device and its queue, with what the adapter offered.
+pub struct GpuContext {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's description (name, driver, backend).
+    pub info: wgpu::AdapterInfo,
+    /// Whether depth clipping can be turned off (z-fail caps at infinity rely on it).
+    pub unclipped_depth: bool,
+    /// Whether timestamp queries are available.
+    pub timestamps: bool,
+}
+
+/// Preference order of adapter kinds: real GPUs first.
+fn rank(t: wgpu::DeviceType) -> u8 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+impl GpuContext {
+    /// Opens the best adapter (see the module documentation).
+    pub fn new() -> Result<Self, GpuError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Self, GpuError> {
+        let desc = wgpu::InstanceDescriptor::new_without_display_handle().with_env();
+        let backends = desc.backends;
+        let instance = wgpu::Instance::new(desc);
+        let mut adapters = instance.enumerate_adapters(backends).await;
+        if adapters.is_empty() {
+            return Err(GpuError::NoAdapter { backends });
+        }
+        if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
+            let w = wanted.to_lowercase();
+            let found: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+            adapters.retain(|a| a.get_info().name.to_lowercase().contains(&w));
+            if adapters.is_empty() {
+                return Err(GpuError::NoMatchingAdapter { wanted, found });
+            }
+        }
+        adapters.sort_by_key(|a| rank(a.get_info().device_type));
+        let adapter = adapters.remove(0);
+        let info = adapter.get_info();
+        let offered = adapter.features();
+        let wanted = wgpu::Features::DEPTH_CLIP_CONTROL
+            | wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::DEPTH32FLOAT_STENCIL8;
+        let features = offered & wanted;
+        if !features.contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
+            return Err(GpuError::MissingFeature {
+                adapter: info.name.clone(),
+                feature: "DEPTH32FLOAT_STENCIL8",
+            });
+        }
+        let limits = adapter.limits();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("penumbra"),
+                required_features: features,
+                // Everything the adapter allows: the colour attachment bytes per sample in
+                // particular default to 32 but lavapipe offers 128.
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await?;
+        Ok(GpuContext {
+            device,
+            queue,
+            info,
+            unclipped_depth: features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+        })
+    }
+
+    /// One line naming the adapter, for logs.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {}, {:?})",
+            self.info.name, self.info.device_type, self.info.driver, self.info.backend
+        )
+    }
+}

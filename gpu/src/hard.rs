@@ -1,0 +1,215 @@
+//! The `hard` technique on the GPU: depth pre-pass, z-fail stencil pass, resolve, readback.
+
+use glam::Vec4;
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::Scene;
+use penumbra_volumes::Volumes;
+use penumbra_volumes::shadow_volume::VolumeVertex;
+use wgpu::util::DeviceExt;
+
+use crate::context::{GpuContext, GpuError};
+use crate::frame::FrameUniforms;
+use crate::passes::{
+    DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, depth::DepthPass, frame_layout,
+    resolve::ResolvePass, stencil::StencilPass,
+};
+
+/// Pipelines of the hard-shadow technique, built once per device.
+pub struct GpuHardRenderer<'a> {
+    ctx: &'a GpuContext,
+    frame_layout: wgpu::BindGroupLayout,
+    depth: DepthPass,
+    stencil: StencilPass,
+    resolve: ResolvePass,
+}
+
+fn target(
+    device: &wgpu::Device,
+    label: &str,
+    size: wgpu::Extent3d,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// Eye-relative vertices of every scene triangle, and of every shadow-volume triangle in
+/// homogeneous coordinates (`w = 0` at infinity).
+pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> (Vec<[f32; 3]>, Vec<[f32; 4]>) {
+    let eye = scene.camera.eye;
+    let c = scene.light.center;
+    let tris: Vec<[f32; 3]> = scene
+        .triangles()
+        .iter()
+        .flatten()
+        .map(|&v| (v - eye).as_vec3().to_array())
+        .collect();
+    let mut vol = Vec::new();
+    for o in &volumes.occluders {
+        let p = &o.volume.positions;
+        for (t, _) in &o.volume.triangles {
+            for v in t {
+                let h = match *v {
+                    VolumeVertex::Finite(i) => (p[i as usize] - eye).as_vec3().extend(1.0),
+                    VolumeVertex::Infinite(i) => (p[i as usize] - c).as_vec3().extend(0.0),
+                };
+                vol.push(Vec4::to_array(&h));
+            }
+        }
+    }
+    (tris, vol)
+}
+
+impl<'a> GpuHardRenderer<'a> {
+    /// Builds the pipelines on `ctx`'s device.
+    pub fn new(ctx: &'a GpuContext) -> Self {
+        let device = &ctx.device;
+        let frame_layout = frame_layout(device);
+        GpuHardRenderer {
+            depth: DepthPass::new(device, &frame_layout),
+            stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
+            resolve: ResolvePass::new(device, &frame_layout),
+            frame_layout,
+            ctx,
+        }
+    }
+
+    /// Renders V of `scene` (hard shadow of the light's centre) with the volumes of `volumes`.
+    pub fn render(&self, scene: &Scene, volumes: &Volumes) -> Result<VisibilityImage, GpuError> {
+        let device = &self.ctx.device;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let size = wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        };
+        let (tris, vol) = vertex_data(scene, volumes);
+        let radius = tris
+            .iter()
+            .map(|v| glam::Vec3::from(*v).length() as f64)
+            .fold(1e-3, f64::max);
+        let uniforms = FrameUniforms::new(scene, radius);
+        let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&uniforms),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.frame_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buf.as_entire_binding(),
+            }],
+        });
+        let vbuf = |label, data: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: data,
+                usage: wgpu::BufferUsages::VERTEX,
+            })
+        };
+        // Zero-length buffers are invalid: pad empty scenes with one degenerate vertex.
+        let tri_buf = vbuf("scene triangles", bytemuck::cast_slice(if tris.is_empty() { &[[0f32; 3]] } else { &tris[..] }));
+        let vol_buf = vbuf("volume triangles", bytemuck::cast_slice(if vol.is_empty() { &[[0f32; 4]] } else { &vol[..] }));
+        let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let depth = target(device, "depth", size, DEPTH_FORMAT, att);
+        let position = target(device, "position", size, POSITION_FORMAT, att | wgpu::TextureUsages::TEXTURE_BINDING);
+        let visibility = target(device, "visibility", size, VISIBILITY_FORMAT, att | wgpu::TextureUsages::COPY_SRC);
+        let depth_view = depth.create_view(&Default::default());
+        let position_view = position.create_view(&Default::default());
+        let visibility_view = visibility.create_view(&Default::default());
+        let position_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("position"),
+            layout: &self.resolve.texture_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&position_view),
+            }],
+        });
+        let mut enc = device.create_command_encoder(&Default::default());
+        self.depth.record(&mut enc, &frame, &tri_buf, tris.len() as u32, &position_view, &depth_view, None);
+        self.stencil.record(&mut enc, &frame, &vol_buf, vol.len() as u32, &depth_view, None);
+        self.resolve.record(&mut enc, &frame, &position_group, &visibility_view, &depth_view, None);
+        let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
+        Ok(VisibilityImage {
+            width: w,
+            height: h,
+            data,
+        })
+    }
+}
+
+/// Copies an `R32Float` texture into a buffer, submits `enc` and waits for the values.
+pub fn read_r32f(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    texture: &wgpu::Texture,
+    w: u32,
+    h: u32,
+) -> Result<Vec<f32>, GpuError> {
+    let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: row as u64 * h as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    let encoder = std::mem::replace(enc, ctx.device.create_command_encoder(&Default::default()));
+    ctx.queue.submit([encoder.finish()]);
+    let slice = buffer.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Readback(e.to_string()))?
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let mut out = Vec::with_capacity((w * h) as usize);
+    for y in 0..h as usize {
+        let r = &bytes[y * row as usize..y * row as usize + w as usize * 4];
+        out.extend(r.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])));
+    }
+    drop(bytes);
+    buffer.unmap();
+    Ok(out)
+}

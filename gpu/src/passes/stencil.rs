@@ -1,0 +1,134 @@
+//! z-fail stencil pass of the shadow volumes: drives `shaders/stencil.wgsl`.
+//!
+//! Two pipelines share the shader. Seen from the camera, the volume's back faces increment the
+//! stencil where they fail the depth test (they lie behind the receiver) and its front faces
+//! decrement it, so the count is the volumes' winding number around the receiver: the number of
+//! volume boundaries the view ray still crosses beyond it, outward minus inward, the dark caps at
+//! infinity included. A light cap lies exactly on the surface it caps. The receiver counts as
+//! lying on the light's side of its own triangle (it is not shadowed by it), so at equal depth a
+//! cap facing the camera is behind the receiver (fails a strict `Greater`) and a cap facing away
+//! is in front of it (passes `GreaterEqual`).
+
+use super::DEPTH_FORMAT;
+
+/// The stencil pass pipelines.
+pub struct StencilPass {
+    front: wgpu::RenderPipeline,
+    back: wgpu::RenderPipeline,
+}
+
+fn pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    unclipped_depth: bool,
+    front_faces: bool,
+) -> wgpu::RenderPipeline {
+    let face = wgpu::StencilFaceState {
+        compare: wgpu::CompareFunction::Always,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: if front_faces {
+            wgpu::StencilOperation::DecrementWrap
+        } else {
+            wgpu::StencilOperation::IncrementWrap
+        },
+        pass_op: wgpu::StencilOperation::Keep,
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if front_faces { "stencil front" } else { "stencil back" }),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: 16,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x4],
+            })],
+        },
+        primitive: wgpu::PrimitiveState {
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: Some(if front_faces { wgpu::Face::Back } else { wgpu::Face::Front }),
+            unclipped_depth,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(if front_faces {
+                wgpu::CompareFunction::Greater
+            } else {
+                wgpu::CompareFunction::GreaterEqual
+            }),
+            stencil: wgpu::StencilState {
+                front: face,
+                back: face,
+                read_mask: 0xff,
+                write_mask: 0xff,
+            },
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl StencilPass {
+    /// Builds both pipelines; `unclipped_depth` when the device has `DEPTH_CLIP_CONTROL`.
+    pub fn new(
+        device: &wgpu::Device,
+        frame_layout: &wgpu::BindGroupLayout,
+        unclipped_depth: bool,
+    ) -> Self {
+        let module = device.create_shader_module(wgpu::include_wgsl!("../shaders/stencil.wgsl"));
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("stencil"),
+            bind_group_layouts: &[Some(frame_layout)],
+            immediate_size: 0,
+        });
+        StencilPass {
+            front: pipeline(device, &layout, &module, unclipped_depth, true),
+            back: pipeline(device, &layout, &module, unclipped_depth, false),
+        }
+    }
+
+    /// Counts the volumes in `vertices` (homogeneous, eye-relative triangles) into the stencil
+    /// of `depth`, keeping the depth from the pre-pass.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::BindGroup,
+        vertices: &wgpu::Buffer,
+        vertex_count: u32,
+        depth: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("stencil"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, frame, &[]);
+        pass.set_vertex_buffer(0, vertices.slice(..));
+        for p in [&self.back, &self.front] {
+            pass.set_pipeline(p);
+            pass.draw(0..vertex_count, 0..1);
+        }
+    }
+}

@@ -1,0 +1,19 @@
+// z-fail stencil pass of the shadow volumes (Carmack 2000; Everitt & Kilgard 2002), seed 004's
+// first per-silhouette pass. Vertices are homogeneous: w = 1 for the casters' vertices (eye-
+// relative), w = 0 for their projections to infinity away from the light's centre, so the side
+// quads and dark caps reach infinity and the reversed, infinite projection puts them at depth 0.
+// No colour output: the stencil operations do the counting.
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    light_center: vec4<f32>,
+    light_normal: vec4<f32>,
+    size: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+
+@vertex
+fn vs(@location(0) h: vec4<f32>) -> @builtin(position) @invariant vec4<f32> {
+    return frame.view_proj * h;
+}
