@@ -475,8 +475,8 @@ fn receiver_triangle_and_coplanar_neighbours_do_not_occlude() {
     let mut rng = Rng::new(SEED);
     for _ in 0..100 {
         let p = DVec3::new(rng.range(-4.0, 4.0), 0.0, rng.range(-4.0, 4.0));
-        // Triangle 0 spans the half x - z < 0... (a, b, c) = corners 0, 1, 2: below the diagonal.
-        let own = if p.x - 5.0 > p.z + 5.0 - 10.0 { 0 } else { 1 };
+        // quad() splits along the diagonal from (-5, -5) to (5, 5): z <= x is triangle 0.
+        let own = if p.z <= p.x { 0 } else { 1 };
         let v = exact_visibility(p, &tilted, &ground, Some(own));
         if tilted.is_lit_side(p) {
             assert_eq!(v.visibility, 1.0, "{p}");
@@ -744,9 +744,239 @@ fn sphere_matches_ray_casting() {
     }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Degenerate arrangements: snap rounding must leave spade nothing to split.
+
+/// Union area within `[-1, 1]^2` by vertical slabs, independent of the triangulation: between
+/// consecutive x-coordinates of vertices and edge crossings (the square's edges included) no two
+/// edges cross, so the covered
+/// length is linear across a slab and the slab's area is its width times the covered length at
+/// its middle (even-odd rule per polygon, union over polygons).
+fn slab_union_area(polys: &[Vec<DVec2>]) -> f64 {
+    // The square's bottom and top are included: where an edge crosses them the clamped length
+    // bends.
+    let square = rect(-1.0, -1.0, 1.0, 1.0);
+    let edges: Vec<(DVec2, DVec2)> = polys
+        .iter()
+        .chain(std::iter::once(&square))
+        .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
+        .collect();
+    let mut xs: Vec<f64> = vec![-1.0, 1.0];
+    xs.extend(polys.iter().flatten().map(|v| v.x.clamp(-1.0, 1.0)));
+    for (i, &(a, b)) in edges.iter().enumerate() {
+        for &(c, d) in &edges[i + 1..] {
+            let den = (b - a).perp_dot(d - c);
+            if den == 0.0 {
+                continue;
+            }
+            let t = (c - a).perp_dot(d - c) / den;
+            let u = (c - a).perp_dot(b - a) / den;
+            if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+                xs.push((a.x + (b.x - a.x) * t).clamp(-1.0, 1.0));
+            }
+        }
+    }
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    let mut area = 0.0;
+    for w in xs.windows(2) {
+        let x = 0.5 * (w[0] + w[1]);
+        let mut intervals: Vec<(f64, f64)> = Vec::new();
+        for p in polys {
+            let mut ys: Vec<f64> = (0..p.len())
+                .filter_map(|i| {
+                    let (a, b) = (p[i], p[(i + 1) % p.len()]);
+                    ((a.x > x) != (b.x > x)).then(|| a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x))
+                })
+                .collect();
+            ys.sort_by(f64::total_cmp);
+            intervals.extend(
+                ys.chunks(2)
+                    .map(|c| (c[0].max(-1.0), c[1].min(1.0)))
+                    .filter(|(lo, hi)| lo < hi),
+            );
+        }
+        intervals.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut length, mut reach) = (0.0, -1.0f64);
+        for (lo, hi) in intervals {
+            if hi > reach {
+                length += hi - lo.max(reach);
+                reach = hi;
+            }
+        }
+        area += (w[1] - w[0]) * length;
+    }
+    area
+}
+
+/// [`union_area`] through the internal entry point, asserting that no fragment needed spade's
+/// splitting insertion.
+fn union_area_without_splits(polys: &[Vec<DVec2>]) -> f64 {
+    let clean: Vec<Vec<DVec2>> = polys
+        .iter()
+        .filter_map(|p| finish_polygon(clip_polygon_to_rect(p)))
+        .collect();
+    let u = union_area_of_clean(&clean);
+    assert_eq!(u.split_fallbacks, 0, "snap-rounded fragments crossed");
+    u.area
+}
+
+/// Triangles with vertices on coarse lattices (dyadic and not): shared and collinear edges,
+/// edges through vertices, many crossings at one point. Before snap rounding, spade's splitting
+/// insertion panicked or looped on about one case in five of these
+/// (`assertion failed: !previous_region.is_empty() || from == final_vertex`).
 #[test]
-#[ignore = "temporary stress"]
-fn stress_spheres_over_plane() {
+fn union_of_lattice_triangles_matches_slab_decomposition() {
+    let mut rng = Rng::new(SEED);
+    for case in 0..400 {
+        let (step, origin) = [(0.25, -1.25), (0.125, -1.25), (0.1, -1.2), (0.25, -1.2)][case % 4];
+        let m = (2.5 / step) as usize;
+        let count = 2 + rng.below(40);
+        let polys: Vec<Vec<DVec2>> = (0..count)
+            .map(|_| {
+                (0..3)
+                    .map(|_| {
+                        DVec2::new(
+                            origin + step * rng.below(m + 1) as f64,
+                            origin + step * rng.below(m + 1) as f64,
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        let got = union_area_without_splits(&polys);
+        let expected = slab_union_area(&polys);
+        assert!(
+            (got - expected).abs() < 1e-9,
+            "case {case}: {got} vs {expected}"
+        );
+        // Order and exact quarter turns change nothing.
+        let mut reversed = polys.clone();
+        reversed.reverse();
+        let turned: Vec<Vec<DVec2>> = polys
+            .iter()
+            .map(|p| p.iter().map(|v| DVec2::new(-v.y, v.x)).collect())
+            .collect();
+        for other in [reversed, turned] {
+            let v = union_area_without_splits(&other);
+            assert!((got - v).abs() < 1e-9, "case {case}: {got} vs {v}");
+        }
+    }
+}
+
+#[test]
+fn union_of_random_triangles_matches_slab_decomposition() {
+    let mut rng = Rng::new(SEED ^ 2);
+    for case in 0..100 {
+        let polys: Vec<Vec<DVec2>> = (0..2 + rng.below(60))
+            .map(|_| {
+                let c = DVec2::new(rng.range(-1.3, 1.3), rng.range(-1.3, 1.3));
+                let r = rng.range(0.01, 0.8);
+                (0..3)
+                    .map(|_| c + DVec2::new(rng.range(-r, r), rng.range(-r, r)))
+                    .collect()
+            })
+            .collect();
+        let got = union_area_without_splits(&polys);
+        let expected = slab_union_area(&polys);
+        assert!(
+            (got - expected).abs() < 1e-9,
+            "case {case}: {got} vs {expected}"
+        );
+    }
+}
+
+/// Exact visibility through the internal entry points, asserting no constraint was split.
+fn visibility_without_splits(
+    p: DVec3,
+    light: &RectLight,
+    tris: &[[DVec3; 3]],
+    exclude: Option<usize>,
+) -> f64 {
+    let v = exact_visibility(p, light, tris, exclude);
+    if light.is_lit_side(p) {
+        let pl = light.to_light_space(p);
+        let polys: Vec<Vec<DVec2>> = tris
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| Some(i) != exclude)
+            .filter_map(|(_, t)| project_triangle(pl, t.map(|x| light.to_light_space(x))))
+            .collect();
+        let u = union_area_of_clean(&polys);
+        assert_eq!(u.split_fallbacks, 0, "{p}");
+        assert_eq!(u.area, v.occluded_area);
+    }
+    assert!((0.0..=1.0).contains(&v.visibility), "{p}: {v:?}");
+    v.visibility
+}
+
+/// Two triangles per face of an axis-aligned box.
+fn cube(lo: DVec3, side: f64) -> Vec<[DVec3; 3]> {
+    let c = |x: f64, y: f64, z: f64| lo + DVec3::new(x, y, z) * side;
+    let v = [
+        c(0., 0., 0.),
+        c(1., 0., 0.),
+        c(1., 1., 0.),
+        c(0., 1., 0.),
+        c(0., 0., 1.),
+        c(1., 0., 1.),
+        c(1., 1., 1.),
+        c(0., 1., 1.),
+    ];
+    let faces = [
+        [0, 1, 2, 3],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [3, 2, 6, 7],
+        [0, 3, 7, 4],
+        [1, 2, 6, 5],
+    ];
+    faces
+        .iter()
+        .flat_map(|f| [[v[f[0]], v[f[1]], v[f[2]]], [v[f[0]], v[f[2]], v[f[3]]]])
+        .collect()
+}
+
+/// Boxes on a lattice under a light facing down, seen from receiver points on the same
+/// lattice: projected edges coincide with each other and with the light's edges. Before snap
+/// rounding about one point in 200 of this scene panicked inside spade.
+#[test]
+fn aligned_boxes_seen_from_lattice_points() {
+    let mut rng = Rng::new(SEED);
+    let light = light_facing_down(4.0, DVec2::ZERO, DVec2::new(2.0, 2.0));
+    let mut tris = Vec::new();
+    for i in 0..4 {
+        for j in 0..4 {
+            if rng.next_f64() < 0.6 {
+                let lo = DVec3::new(
+                    -2.0 + i as f64,
+                    0.5 + 0.25 * (i % 2) as f64,
+                    -2.0 + j as f64,
+                );
+                tris.extend(cube(lo, 0.5));
+            }
+        }
+    }
+    let mut checked = 0;
+    for i in 0..21 {
+        for j in 0..21 {
+            let p = DVec3::new(-2.0 + 0.2 * i as f64, 0.0, -2.0 + 0.2 * j as f64);
+            let v = visibility_without_splits(p, &light, &tris, None);
+            if (i * 21 + j) % 97 == 0 {
+                let s = ray_cast_visibility(p, &light, &tris, 64, &mut rng);
+                assert!((v - s).abs() < 3e-3, "{p}: {v} vs ray cast {s}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 4);
+}
+
+/// The scale of the project's largest scenes: 81 spheres of 760 triangles over a ground of two
+/// triangles, receivers on the ground and on the spheres (their own triangle excluded), a tilted
+/// light. Prints the time per point (rough, not asserted).
+#[test]
+fn spheres_over_ground_at_scene_scale() {
     let n = DVec3::new(0.2, -1.0, 0.1).normalize();
     let light = RectLight::new(
         DVec3::new(0.3, 7.0, -0.2),
@@ -757,177 +987,44 @@ fn stress_spheres_over_plane() {
     let mut tris: Vec<[DVec3; 3]> = quad(-20.0, 20.0, -20.0, 20.0, 0.0).to_vec();
     for i in 0..9 {
         for j in 0..9 {
-            let c = DVec3::new(-4.0 + i as f64, 1.0 + 0.1 * ((i * j) % 5) as f64, -4.0 + j as f64);
+            let c = DVec3::new(
+                -4.0 + i as f64,
+                1.0 + 0.1 * ((i * j) % 5) as f64,
+                -4.0 + j as f64,
+            );
             tris.extend(uv_sphere(c, 0.45, 20, 20));
         }
     }
-    println!("{} triangles", tris.len());
+    assert_eq!(tris.len(), 2 + 81 * 760);
     let mut rng = Rng::new(SEED);
-    let mut pts = Vec::new();
-    for _ in 0..300 {
-        if rng.next_f64() < 0.5 {
-            let p = DVec3::new(rng.range(-6.0, 6.0), 0.0, rng.range(-6.0, 6.0));
-            let own = if p.x - 5.0 > p.z + 5.0 - 10.0 { 0 } else { 1 };
-            pts.push((p, own));
-        } else {
-            let k = 2 + rng.below(tris.len() - 2);
-            let (u, v) = (rng.next_f64(), rng.next_f64());
-            let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
-            let t = tris[k];
-            pts.push((t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v, k));
-        }
-    }
     let start = std::time::Instant::now();
-    let mut total_polys = 0;
-    let mut worst = std::time::Duration::ZERO;
-    for &(p, own) in &pts {
-        let s = std::time::Instant::now();
-        let v = exact_visibility(p, &light, &tris, Some(own));
-        worst = worst.max(s.elapsed());
-        assert!((0.0..=1.0).contains(&v.visibility));
-        total_polys += v.polygons;
+    let count = 60;
+    let mut partial = 0;
+    for k in 0..count {
+        let (p, own) = if k % 2 == 0 {
+            let p = DVec3::new(rng.range(-6.0, 6.0), 0.0, rng.range(-6.0, 6.0));
+            // quad() splits along the diagonal from (-20, -20) to (20, 20): z <= x is triangle 0.
+            (p, if p.z <= p.x { 0 } else { 1 })
+        } else {
+            let own = 2 + rng.below(tris.len() - 2);
+            let (u, v) = (rng.next_f64(), rng.next_f64());
+            let (u, v) = if u + v > 1.0 {
+                (1.0 - u, 1.0 - v)
+            } else {
+                (u, v)
+            };
+            let t = tris[own];
+            (t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v, own)
+        };
+        let v = visibility_without_splits(p, &light, &tris, Some(own));
+        if v > 1e-6 && v < 1.0 - 1e-6 {
+            partial += 1;
+        }
     }
     println!(
-        "{} points: {:?} total, worst {:?}, mean polygons {}",
-        pts.len(),
-        start.elapsed(),
-        worst,
-        total_polys / pts.len()
+        "{} triangles, {count} points: {:?} per point",
+        tris.len(),
+        start.elapsed() / count
     );
-    for &(p, own) in pts.iter().take(12) {
-        let v = exact_visibility(p, &light, &tris, Some(own)).visibility;
-        let others: Vec<[DVec3; 3]> = tris
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| i != own)
-            .map(|(_, t)| *t)
-            .collect();
-        let s = ray_cast_visibility(p, &light, &others, 64, &mut rng);
-        println!("{p}: exact {v:.5} ray {s:.5}");
-    }
-}
-
-#[test]
-#[ignore = "temporary stress"]
-fn stress_lattice_triangles() {
-    let mut rng = Rng::new(SEED);
-    let mut worst: f64 = 0.0;
-    for case in 0..3000 {
-        let count = 2 + rng.below(60);
-        let step = [0.25, 0.125, 0.5, 0.1][case % 4];
-        let m = (2.4 / step) as usize;
-        let polys: Vec<Vec<DVec2>> = (0..count)
-            .map(|_| {
-                (0..3)
-                    .map(|_| {
-                        DVec2::new(
-                            -1.2 + step * rng.below(m + 1) as f64,
-                            -1.2 + step * rng.below(m + 1) as f64,
-                        )
-                    })
-                    .collect()
-            })
-            .collect();
-        let a = union_area(&polys);
-        let mut rev = polys.clone();
-        rev.reverse();
-        let b = union_area(&rev);
-        let sw: Vec<Vec<DVec2>> = polys
-            .iter()
-            .map(|p| p.iter().map(|v| DVec2::new(-v.y, v.x)).collect())
-            .collect();
-        let c = union_area(&sw);
-        // Monte Carlo estimate.
-        let mut hits = 0;
-        let ns = 4000;
-        for _ in 0..ns {
-            let q = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-            if polys
-                .iter()
-                .any(|p| p.len() >= 3 && super::contains(p, q))
-            {
-                hits += 1;
-            }
-        }
-        let mc = 4.0 * hits as f64 / ns as f64;
-        worst = worst.max((a - b).abs()).max((a - c).abs());
-        assert!((a - b).abs() < 1e-9 && (a - c).abs() < 1e-9, "case {case}: {a} {b} {c}");
-        assert!((a - mc).abs() < 0.15, "case {case}: {a} vs mc {mc}");
-    }
-    println!("worst order/rotation discrepancy {worst:e}");
-}
-
-#[test]
-#[ignore = "temporary stress"]
-fn stress_random_soup() {
-    let mut rng = Rng::new(SEED);
-    let light = light_facing_down(5.0, DVec2::ZERO, DVec2::new(2.0, 2.0));
-    for case in 0..200 {
-        let tris: Vec<[DVec3; 3]> = (0..200)
-            .map(|_| {
-                let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-1.0, 6.0), rng.range(-2.0, 2.0));
-                [0; 3].map(|_| {
-                    c + DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0))
-                })
-            })
-            .collect();
-        for _ in 0..5 {
-            let p = DVec3::new(rng.range(-2.0, 2.0), rng.range(-0.5, 4.9), rng.range(-2.0, 2.0));
-            let v = exact_visibility(p, &light, &tris, None);
-            assert!((0.0..=1.0).contains(&v.visibility));
-            if case % 40 == 0 {
-                let s = ray_cast_visibility(p, &light, &tris, 64, &mut rng);
-                println!("exact {:.5} ray {s:.5}", v.visibility);
-                assert!((v.visibility - s).abs() < 5e-3);
-            }
-        }
-    }
-}
-
-#[test]
-#[ignore = "temporary stress"]
-fn stress_count_panics() {
-    std::panic::set_hook(Box::new(|_| {}));
-    let mut rng = Rng::new(SEED);
-    let light = light_facing_down(5.0, DVec2::ZERO, DVec2::new(2.0, 2.0));
-    let (mut fails, mut total) = (0, 0);
-    let mut dumped = false;
-    for _case in 0..300 {
-        let tris: Vec<[DVec3; 3]> = (0..200)
-            .map(|_| {
-                let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-1.0, 6.0), rng.range(-2.0, 2.0));
-                [0; 3].map(|_| {
-                    c + DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0))
-                })
-            })
-            .collect();
-        for _ in 0..5 {
-            let p = DVec3::new(rng.range(-2.0, 2.0), rng.range(-0.5, 4.9), rng.range(-2.0, 2.0));
-            total += 1;
-            let r = std::panic::catch_unwind(|| exact_visibility(p, &light, &tris, None));
-            if r.is_err() {
-                fails += 1;
-                if !dumped {
-                    dumped = true;
-                    let pl = light.to_light_space(p);
-                    let polys: Vec<Vec<DVec2>> = tris
-                        .iter()
-                        .filter_map(|t| project_triangle(pl, t.map(|v| light.to_light_space(v))))
-                        .collect();
-                    let s: Vec<String> = polys
-                        .iter()
-                        .map(|q| {
-                            q.iter()
-                                .map(|v| format!("{:?} {:?}", v.x, v.y))
-                                .collect::<Vec<_>>()
-                                .join(" ")
-                        })
-                        .collect();
-                    std::fs::write("/tmp/fail_polys.txt", s.join("\n")).unwrap();
-                }
-            }
-        }
-    }
-    let _ = std::panic::take_hook();
-    println!("soup: {fails} panics out of {total}");
+    assert!(partial > 5, "only {partial} penumbra points");
 }
