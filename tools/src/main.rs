@@ -41,6 +41,10 @@ enum Technique {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Backend {
+    /// The GPU when an adapter exists, else the CPU.
+    Auto,
+    /// wgpu (fails without an adapter).
+    Gpu,
     /// The CPU evaluation of the `volumes` crate.
     Cpu,
 }
@@ -52,7 +56,7 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
         /// Technique.
-        #[arg(long, value_enum, default_value = "reference")]
+        #[arg(long, value_enum, default_value = "wedges-blend")]
         technique: Technique,
         /// Output EXR file.
         #[arg(long)]
@@ -63,8 +67,9 @@ enum Command {
         /// Also write an 8-bit greyscale PNG.
         #[arg(long)]
         png: Option<PathBuf>,
-        /// Where the volume techniques run (the references always run on the CPU).
-        #[arg(long, value_enum, default_value = "cpu")]
+        /// Where the volume techniques run (the references always run on the CPU; so far the
+        /// GPU renders `hard`, and `wedges`, `wedges-blend` run on the CPU).
+        #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
     },
     /// Print the surface point seen through one pixel, its exact V and its reference V.
@@ -139,8 +144,8 @@ fn run(cli: Cli) -> Result<()> {
             out,
             samples,
             png,
-            backend: Backend::Cpu,
-        } => render(&scene, technique, &out, samples, png.as_deref()),
+            backend,
+        } => render(&scene, technique, &out, samples, png.as_deref(), backend),
         Command::Probe {
             scene,
             pixel,
@@ -218,6 +223,7 @@ fn render(
     out: &Path,
     samples: usize,
     png: Option<&Path>,
+    backend: Backend,
 ) -> Result<()> {
     let per_axis = samples_per_axis(samples)?;
     let mut outputs = vec![out];
@@ -241,7 +247,15 @@ fn render(
     bar.set_message(format!("{technique:?}"));
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(rows);
-    let (img, triangles, detail) = render_image(&scene, technique, per_axis, &progress);
+    let gpu = select_gpu(technique, backend)?;
+    let (img, triangles, detail) = match &gpu {
+        Some(ctx) => {
+            let volumes = penumbra_volumes::Volumes::build(&scene);
+            let img = penumbra_gpu::GpuHardRenderer::new(ctx).render(&scene, &volumes)?;
+            (img, scene.triangle_count(), format!(" (gpu: {})", ctx.describe()))
+        }
+        None => render_image(&scene, technique, per_axis, &progress),
+    };
     bar.finish_and_clear();
     img.check_finite()
         .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
@@ -265,6 +279,34 @@ fn render(
         out.display()
     );
     Ok(())
+}
+
+/// The GPU to render `technique` on, or `None` for the CPU, saying which on stderr.
+fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<penumbra_gpu::GpuContext>> {
+    let on_gpu = matches!(technique, Technique::Hard);
+    match backend {
+        Backend::Cpu => Ok(None),
+        Backend::Gpu if !on_gpu => bail!(
+            "--backend gpu: {technique:?} has no GPU implementation yet (the GPU renders `hard`); use --backend cpu"
+        ),
+        Backend::Gpu => Ok(Some(penumbra_gpu::GpuContext::new()?)),
+        Backend::Auto if !on_gpu => {
+            if !matches!(technique, Technique::Reference | Technique::HardReference) {
+                eprintln!("backend: cpu ({technique:?} has no GPU implementation yet)");
+            }
+            Ok(None)
+        }
+        Backend::Auto => match penumbra_gpu::GpuContext::new() {
+            Ok(c) => {
+                eprintln!("backend: gpu, {}", c.describe());
+                Ok(Some(c))
+            }
+            Err(e) => {
+                eprintln!("backend: cpu ({e})");
+                Ok(None)
+            }
+        },
+    }
 }
 
 /// Renders `scene` with `technique`: the image, the triangle count and a note for the log.
