@@ -48,10 +48,13 @@ fn geometry_counts_match_fixtures_expected() {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("fixtures/expected")
             .join(format!("{name}.json"));
-        let text = std::fs::read_to_string(&path)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let text =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let mut want: serde_json::Value = serde_json::from_str(&text).unwrap();
-        assert!(want["how_checked"].is_string(), "{name}: say how the values were checked");
+        assert!(
+            want["how_checked"].is_string(),
+            "{name}: say how the values were checked"
+        );
         want.as_object_mut().unwrap().remove("how_checked");
         let want: GeometryCounts = serde_json::from_value(want).unwrap();
         let got = GeometryCounts::of(&penumbra::volumes::Volumes::build(&load(&name)));

@@ -22,9 +22,17 @@ fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
         let hard = r.render(&scene, Technique::Hard, &|_| {});
         let tracer = Tracer::new(&scene);
         let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
-        let differ = hard.data.iter().zip(&want.data).filter(|(a, b)| a != b).count();
+        let differ = hard
+            .data
+            .iter()
+            .zip(&want.data)
+            .filter(|(a, b)| a != b)
+            .count();
         let share = differ as f64 / hard.data.len() as f64;
-        println!("{name:>18}: hard differs from the hard reference on {differ} pixels ({:.4}%)", 100.0 * share);
+        println!(
+            "{name:>18}: hard differs from the hard reference on {differ} pixels ({:.4}%)",
+            100.0 * share
+        );
         assert!(share <= 1e-3, "{name}: {differ} pixels differ");
     }
 }
@@ -47,9 +55,14 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
         let mut rng = Rng::new(99);
         let (mut checked, mut shadowed) = (0, 0);
         while checked < 150 {
-            let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
+            let (i, j) = (
+                rng.below(cam.width as usize) as u32,
+                rng.below(cam.height as usize) as u32,
+            );
             let dir = cam.ray_dir(i, j);
-            let Some(p) = r.tracer.surface_point(cam.eye, dir) else { continue };
+            let Some(p) = r.tracer.surface_point(cam.eye, dir) else {
+                continue;
+            };
             if !scene.light.is_lit_side(p.position) {
                 continue;
             }
@@ -58,20 +71,32 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
             let q = p.position + (c - p.position).normalize() * r.tracer.epsilon * 10.0;
             for (oi, o) in r.volumes.occluders.iter().enumerate() {
                 let w = o.volume.winding_number(q, dir);
-                let fast = hard.iter().find(|h| h.0 == oi as u32).map_or(0, |h| h.1 as i32);
+                let fast = hard
+                    .iter()
+                    .find(|h| h.0 == oi as u32)
+                    .map_or(0, |h| h.1 as i32);
                 assert_eq!(w, fast, "{name}: pixel {i},{j}, occluder {oi}");
             }
             shadowed += usize::from(!hard.is_empty());
             checked += 1;
         }
-        assert!(shadowed > 0 || name == "quad-over-plane", "{name}: no shadowed sample");
+        assert!(
+            shadowed > 0 || name == "quad-over-plane",
+            "{name}: no shadowed sample"
+        );
     }
 }
 
 /// Random points strictly between the ground and the lowest occluder.
 fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
     (0..n)
-        .map(|_| DVec3::new(rng.range(-half, half), rng.range(0.01, y_max), rng.range(-half, half)))
+        .map(|_| {
+            DVec3::new(
+                rng.range(-half, half),
+                rng.range(0.01, y_max),
+                rng.range(-half, half),
+            )
+        })
         .collect()
 }
 
@@ -86,12 +111,18 @@ fn wedges_cover_every_penumbra_point_of_the_planar_fixtures() {
             tries += 1;
             assert!(tries < 200_000, "{name}: too few penumbra points");
             let p = air_points(&mut rng, 1, 3.5, y_max)[0];
-            let v = r.tracer.exact_visibility(&SurfacePoint { position: p, triangle: IN_THE_AIR });
+            let v = r.tracer.exact_visibility(&SurfacePoint {
+                position: p,
+                triangle: IN_THE_AIR,
+            });
             if v <= 1e-9 || v >= 1.0 - 1e-9 {
                 continue;
             }
             found += 1;
-            assert!(!r.wedges_containing(p).is_empty(), "{name}: {p} (V = {v}) is in no wedge");
+            assert!(
+                !r.wedges_containing(p).is_empty(),
+                "{name}: {p} (V = {v}) is in no wedge"
+            );
         }
     }
 }
@@ -118,7 +149,12 @@ fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
 #[test]
 fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
     let quad = (
-        vec![DVec3::new(-1., 0., -0.7), DVec3::new(1., 0., -0.7), DVec3::new(1., 0., 0.7), DVec3::new(-1., 0., 0.7)],
+        vec![
+            DVec3::new(-1., 0., -0.7),
+            DVec3::new(1., 0., -0.7),
+            DVec3::new(1., 0., 0.7),
+            DVec3::new(-1., 0., 0.7),
+        ],
         vec![[0, 1, 2], [0, 2, 3]],
     );
     // An L: concave, six corners, four triangles.
@@ -141,22 +177,33 @@ fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
             // A random tilt up to 50 degrees about a random horizontal axis, at height 2.
             let axis = DVec3::new(rng.range(-1., 1.), 0.0, rng.range(-1., 1.)).normalize();
             let rot = DQuat::from_axis_angle(axis, rng.range(-50f64, 50.).to_radians());
-            let moved: Vec<DVec3> = pts.iter().map(|&p| rot * p + DVec3::new(0., 2.2, 0.)).collect();
+            let moved: Vec<DVec3> = pts
+                .iter()
+                .map(|&p| rot * p + DVec3::new(0., 2.2, 0.))
+                .collect();
             let scene = single_occluder_scene(&moved, &tris);
             let lowest = moved.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
             let r = CpuRenderer::new(&scene);
             for p in air_points(&mut rng, 100, 3.0, lowest - 0.05) {
-                let sp = SurfacePoint { position: p, triangle: IN_THE_AIR };
+                let sp = SurfacePoint {
+                    position: p,
+                    triangle: IN_THE_AIR,
+                };
                 let exact = r.tracer.exact_visibility(&sp);
                 let got = r.visibility(&sp, Technique::Wedges);
                 if exact > 0.0 && exact < 1.0 {
                     penumbra += 1;
                 }
                 worst = worst.max((got - exact).abs());
-                assert!((got - exact).abs() <= 1e-4, "{shape}, case {case}, at {p}: wedges {got}, exact {exact}");
+                assert!(
+                    (got - exact).abs() <= 1e-4,
+                    "{shape}, case {case}, at {p}: wedges {got}, exact {exact}"
+                );
             }
         }
-        println!("{shape}: wedges vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra)");
+        println!(
+            "{shape}: wedges vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra)"
+        );
         assert!(penumbra > 150, "{shape}: too few penumbra points");
     }
 }
@@ -170,7 +217,10 @@ fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
     let mut rng = Rng::new(31);
     let mut candidates = Vec::new();
     while candidates.len() < points * 6 {
-        let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
+        let (i, j) = (
+            rng.below(cam.width as usize) as u32,
+            rng.below(cam.height as usize) as u32,
+        );
         if let Some(p) = r.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) {
             candidates.push(p);
         }
@@ -185,9 +235,14 @@ fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
             )
         })
         .collect();
-    let pen: Vec<_> = rows.into_iter().filter(|r| r.0 > 0.02 && r.0 < 0.98).take(points).collect();
+    let pen: Vec<_> = rows
+        .into_iter()
+        .filter(|r| r.0 > 0.02 && r.0 < 0.98)
+        .take(points)
+        .collect();
     let n = pen.len() as f64;
-    let mae = |f: fn(&(f64, f64, f64)) -> f64| pen.iter().map(|r| (f(r) - r.0).abs()).sum::<f64>() / n;
+    let mae =
+        |f: fn(&(f64, f64, f64)) -> f64| pen.iter().map(|r| (f(r) - r.0).abs()).sum::<f64>() / n;
     (mae(|r| r.1), mae(|r| r.2), pen.len())
 }
 
@@ -195,9 +250,14 @@ fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
 fn blending_beats_additive_wedges_where_penumbrae_overlap() {
     for name in ["overlapping-quads", "spheres-9x9"] {
         let (w, b, n) = overlap_errors(name, 600);
-        println!("{name:>18}: penumbra MAE against exact over {n} points: wedges {w:.5}, wedges-blend {b:.5}");
+        println!(
+            "{name:>18}: penumbra MAE against exact over {n} points: wedges {w:.5}, wedges-blend {b:.5}"
+        );
         assert!(n >= 300, "{name}: only {n} penumbra points");
-        assert!(b < w, "{name}: blending ({b}) is not better than additive wedges ({w})");
+        assert!(
+            b < w,
+            "{name}: blending ({b}) is not better than additive wedges ({w})"
+        );
     }
 }
 
@@ -216,13 +276,24 @@ fn a_rigid_motion_of_scene_and_light_changes_no_pixel() {
         let mut worst: f64 = 0.0;
         let mut n = 0;
         while n < 200 {
-            let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
-            let Some(p) = a.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else { continue };
-            let q = SurfacePoint { position: m.transform_point3(p.position), triangle: p.triangle };
+            let (i, j) = (
+                rng.below(cam.width as usize) as u32,
+                rng.below(cam.height as usize) as u32,
+            );
+            let Some(p) = a.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
+                continue;
+            };
+            let q = SurfacePoint {
+                position: m.transform_point3(p.position),
+                triangle: p.triangle,
+            };
             let va = a.visibility(&p, Technique::WedgesBlend);
             let vb = b.visibility(&q, Technique::WedgesBlend);
             worst = worst.max((va - vb).abs());
-            assert!((va - vb).abs() <= 1e-4, "{name}: pixel {i},{j}: {va} vs {vb}");
+            assert!(
+                (va - vb).abs() <= 1e-4,
+                "{name}: pixel {i},{j}: {va} vs {vb}"
+            );
             n += 1;
         }
         println!("{name:>18}: invariance, max |dV| {worst:.2e} over 200 points");
@@ -232,17 +303,67 @@ fn a_rigid_motion_of_scene_and_light_changes_no_pixel() {
 #[test]
 fn degenerate_geometry_never_panics_or_gives_nan() {
     let c = DVec3::new(0.0, 5.0, 0.0);
-    let cases: Vec<(&str, Vec<DVec3>, Vec<[u32; 3]>)> = vec![
+    type Case = (&'static str, Vec<DVec3>, Vec<[u32; 3]>);
+    let cases: Vec<Case> = vec![
         // Collinear corners (dropped as zero-area) next to a real triangle sharing an edge.
-        ("collinear", vec![DVec3::new(0., 2., 0.), DVec3::new(1., 2., 0.), DVec3::new(2., 2., 0.), DVec3::new(0., 2., 1.)], vec![[0, 1, 2], [0, 1, 3]]),
+        (
+            "collinear",
+            vec![
+                DVec3::new(0., 2., 0.),
+                DVec3::new(1., 2., 0.),
+                DVec3::new(2., 2., 0.),
+                DVec3::new(0., 2., 1.),
+            ],
+            vec![[0, 1, 2], [0, 1, 3]],
+        ),
         // An edge pointing straight at the light's centre, and a triangle in a plane through it.
-        ("edge at the light", vec![DVec3::new(0., 1., 0.), DVec3::new(0., 3., 0.), DVec3::new(1., 2., 0.2)], vec![[0, 1, 2]]),
-        ("edge-on triangle", vec![DVec3::new(0., 1., 0.), DVec3::new(0., 3., 0.), DVec3::new(1., 2., 0.)], vec![[0, 1, 2]]),
+        (
+            "edge at the light",
+            vec![
+                DVec3::new(0., 1., 0.),
+                DVec3::new(0., 3., 0.),
+                DVec3::new(1., 2., 0.2),
+            ],
+            vec![[0, 1, 2]],
+        ),
+        (
+            "edge-on triangle",
+            vec![
+                DVec3::new(0., 1., 0.),
+                DVec3::new(0., 3., 0.),
+                DVec3::new(1., 2., 0.),
+            ],
+            vec![[0, 1, 2]],
+        ),
         // Touching the light's plane, and crossing it.
-        ("touching", vec![DVec3::new(-1., 5., -1.), DVec3::new(1., 3., -1.), DVec3::new(0., 3., 1.)], vec![[0, 1, 2]]),
-        ("crossing", vec![DVec3::new(-1., 7., -1.), DVec3::new(1., 3., -1.), DVec3::new(0., 2., 1.)], vec![[0, 1, 2]]),
+        (
+            "touching",
+            vec![
+                DVec3::new(-1., 5., -1.),
+                DVec3::new(1., 3., -1.),
+                DVec3::new(0., 3., 1.),
+            ],
+            vec![[0, 1, 2]],
+        ),
+        (
+            "crossing",
+            vec![
+                DVec3::new(-1., 7., -1.),
+                DVec3::new(1., 3., -1.),
+                DVec3::new(0., 2., 1.),
+            ],
+            vec![[0, 1, 2]],
+        ),
         // A tiny sliver.
-        ("sliver", vec![DVec3::new(0., 2., 0.), DVec3::new(1., 2., 0.), DVec3::new(0.5, 2., 1e-12)], vec![[0, 1, 2]]),
+        (
+            "sliver",
+            vec![
+                DVec3::new(0., 2., 0.),
+                DVec3::new(1., 2., 0.),
+                DVec3::new(0.5, 2., 1e-12),
+            ],
+            vec![[0, 1, 2]],
+        ),
     ];
     let mut rng = Rng::new(5);
     for (name, pts, tris) in cases {
@@ -250,14 +371,19 @@ fn degenerate_geometry_never_panics_or_gives_nan() {
         assert_eq!(scene.light.center, c);
         let r = CpuRenderer::new(&scene);
         for o in &r.volumes.occluders {
-            o.volume.check_closed().unwrap_or_else(|e| panic!("{name}: {e}"));
+            o.volume
+                .check_closed()
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
         }
         // Receivers in front of, on and behind the light's plane, and right at the light's centre.
         let mut points = air_points(&mut rng, 300, 3.0, 8.0);
         points.push(c);
         points.push(pts[0]);
         for p in points {
-            let sp = SurfacePoint { position: p, triangle: IN_THE_AIR };
+            let sp = SurfacePoint {
+                position: p,
+                triangle: IN_THE_AIR,
+            };
             for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
                 let v = r.visibility(&sp, t);
                 assert!((0.0..=1.0).contains(&v), "{name}, {t:?} at {p}: V = {v}");
@@ -291,8 +417,13 @@ fn share_of_penumbra_points_outside_every_wedge() {
         let (mut pen, mut outside, mut tries) = (0, 0, 0);
         while pen < 500 && tries < 20_000 {
             tries += 1;
-            let (i, j) = (rng.below(cam.width as usize) as u32, rng.below(cam.height as usize) as u32);
-            let Some(p) = r.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else { continue };
+            let (i, j) = (
+                rng.below(cam.width as usize) as u32,
+                rng.below(cam.height as usize) as u32,
+            );
+            let Some(p) = r.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
+                continue;
+            };
             let v = r.tracer.exact_visibility(&p);
             if v <= 1e-9 || v >= 1.0 - 1e-9 {
                 continue;
@@ -301,7 +432,10 @@ fn share_of_penumbra_points_outside_every_wedge() {
             outside += usize::from(r.wedges_containing(p.position).is_empty());
         }
         let share = outside as f64 / pen.max(1) as f64;
-        println!("{name:>18}: {outside} of {pen} camera-visible penumbra points lie in no wedge ({:.1}%)", 100.0 * share);
+        println!(
+            "{name:>18}: {outside} of {pen} camera-visible penumbra points lie in no wedge ({:.1}%)",
+            100.0 * share
+        );
         if matches!(&*name, "quad-over-plane" | "overlapping-quads" | "fence") {
             assert_eq!(outside, 0, "{name}");
         }
@@ -316,7 +450,11 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
     let mut inside = 0;
     for (wi, w) in r.volumes.wedges.iter().enumerate().step_by(7) {
         let planes = w.bounding_planes();
-        assert!(planes.len() >= 3, "wedge {wi}: {} planes: {w:?}", planes.len());
+        assert!(
+            planes.len() >= 3,
+            "wedge {wi}: {} planes: {w:?}",
+            planes.len()
+        );
         let split = w.split_plane();
         for _ in 0..200 {
             // Points around the edge, below it (away from the light), where its wedge lies.
@@ -327,10 +465,17 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
             }
             inside += 1;
             for pl in &planes {
-                assert!(pl.eval(p) >= -1e-9 * (1.0 + p.length()), "wedge {wi}: {p} in the wedge but outside a bounding plane");
+                assert!(
+                    pl.eval(p) >= -1e-9 * (1.0 + p.length()),
+                    "wedge {wi}: {p} in the wedge but outside a bounding plane"
+                );
             }
             let int = w.integral(p).expect("inside: an integral");
-            assert_eq!(int.sign > 0.0, split.eval(p) > 0.0, "wedge {wi}: half-wedge side at {p}");
+            assert_eq!(
+                int.sign > 0.0,
+                split.eval(p) > 0.0,
+                "wedge {wi}: half-wedge side at {p}"
+            );
         }
     }
     assert!(inside > 1000, "only {inside} points fell in wedges");
@@ -341,5 +486,8 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
         .map(|_| w.from + DVec3::new(rng.range(-3., 3.), rng.range(-3., 3.), rng.range(-3.0, 3.0)))
         .filter(|p| planes.iter().any(|pl| pl.eval(*p) < 0.0))
         .count();
-    assert!(rejected > 500, "the planes reject only {rejected} of 1000 points");
+    assert!(
+        rejected > 500,
+        "the planes reject only {rejected} of 1000 points"
+    );
 }

@@ -7,7 +7,9 @@
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
     /// No adapter at all (no Vulkan, Metal, DX12 or GL driver).
-    #[error("no GPU adapter found (backends {backends:?}); install a driver, e.g. Mesa's lavapipe: apt-get install mesa-vulkan-drivers libvulkan1")]
+    #[error(
+        "no GPU adapter found (backends {backends:?}); install a driver, e.g. Mesa's lavapipe: apt-get install mesa-vulkan-drivers libvulkan1"
+    )]
     NoAdapter {
         /// Backends searched.
         backends: wgpu::Backends,

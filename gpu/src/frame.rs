@@ -44,7 +44,9 @@ pub fn view_proj(scene: &Scene, scene_radius: f64) -> Mat4 {
         DVec4::new(0.0, 0.0, 0.0, near),
         c.forward.extend(0.0),
     ];
-    DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose().as_mat4()
+    DMat4::from_cols(rows[0], rows[1], rows[2], rows[3])
+        .transpose()
+        .as_mat4()
 }
 
 impl FrameUniforms {
@@ -58,7 +60,12 @@ impl FrameUniforms {
             view_proj: m.to_cols_array_2d(),
             light_center: [lc.x, lc.y, lc.z, 0.0],
             light_normal: [n.x, n.y, n.z, 0.0],
-            size: [scene.camera.width as f32, scene.camera.height as f32, 0.0, 0.0],
+            size: [
+                scene.camera.width as f32,
+                scene.camera.height as f32,
+                0.0,
+                0.0,
+            ],
         }
     }
 }

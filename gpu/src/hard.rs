@@ -1,8 +1,8 @@
 //! The `hard` technique on the GPU: depth pre-pass, z-fail stencil pass, resolve, readback.
 
 use glam::Vec4;
-use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::Scene;
+use penumbra_geom::image::VisibilityImage;
 use penumbra_volumes::Volumes;
 use penumbra_volumes::shadow_volume::VolumeVertex;
 use wgpu::util::DeviceExt;
@@ -119,12 +119,38 @@ impl<'a> GpuHardRenderer<'a> {
             })
         };
         // Zero-length buffers are invalid: pad empty scenes with one degenerate vertex.
-        let tri_buf = vbuf("scene triangles", bytemuck::cast_slice(if tris.is_empty() { &[[0f32; 3]] } else { &tris[..] }));
-        let vol_buf = vbuf("volume triangles", bytemuck::cast_slice(if vol.is_empty() { &[[0f32; 4]] } else { &vol[..] }));
+        let tri_buf = vbuf(
+            "scene triangles",
+            bytemuck::cast_slice(if tris.is_empty() {
+                &[[0f32; 3]]
+            } else {
+                &tris[..]
+            }),
+        );
+        let vol_buf = vbuf(
+            "volume triangles",
+            bytemuck::cast_slice(if vol.is_empty() {
+                &[[0f32; 4]]
+            } else {
+                &vol[..]
+            }),
+        );
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let depth = target(device, "depth", size, DEPTH_FORMAT, att);
-        let position = target(device, "position", size, POSITION_FORMAT, att | wgpu::TextureUsages::TEXTURE_BINDING);
-        let visibility = target(device, "visibility", size, VISIBILITY_FORMAT, att | wgpu::TextureUsages::COPY_SRC);
+        let position = target(
+            device,
+            "position",
+            size,
+            POSITION_FORMAT,
+            att | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let visibility = target(
+            device,
+            "visibility",
+            size,
+            VISIBILITY_FORMAT,
+            att | wgpu::TextureUsages::COPY_SRC,
+        );
         let depth_view = depth.create_view(&Default::default());
         let position_view = position.create_view(&Default::default());
         let visibility_view = visibility.create_view(&Default::default());
@@ -137,9 +163,31 @@ impl<'a> GpuHardRenderer<'a> {
             }],
         });
         let mut enc = device.create_command_encoder(&Default::default());
-        self.depth.record(&mut enc, &frame, &tri_buf, tris.len() as u32, &position_view, &depth_view, None);
-        self.stencil.record(&mut enc, &frame, &vol_buf, vol.len() as u32, &depth_view, None);
-        self.resolve.record(&mut enc, &frame, &position_group, &visibility_view, &depth_view, None);
+        self.depth.record(
+            &mut enc,
+            &frame,
+            &tri_buf,
+            tris.len() as u32,
+            &position_view,
+            &depth_view,
+            None,
+        );
+        self.stencil.record(
+            &mut enc,
+            &frame,
+            &vol_buf,
+            vol.len() as u32,
+            &depth_view,
+            None,
+        );
+        self.resolve.record(
+            &mut enc,
+            &frame,
+            &position_group,
+            &visibility_view,
+            &depth_view,
+            None,
+        );
         let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
         Ok(VisibilityImage {
             width: w,
@@ -157,7 +205,8 @@ pub fn read_r32f(
     w: u32,
     h: u32,
 ) -> Result<Vec<f32>, GpuError> {
-    let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let row =
+        (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: row as u64 * h as u64,
@@ -207,7 +256,10 @@ pub fn read_r32f(
     let mut out = Vec::with_capacity((w * h) as usize);
     for y in 0..h as usize {
         let r = &bytes[y * row as usize..y * row as usize + w as usize * 4];
-        out.extend(r.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])));
+        out.extend(
+            r.chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+        );
     }
     drop(bytes);
     buffer.unmap();

@@ -3,8 +3,8 @@
 
 use std::path::PathBuf;
 
-use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::Scene;
+use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_gpu::{GpuContext, GpuHardRenderer};
 use penumbra_volumes::Volumes;
 
@@ -50,12 +50,19 @@ fn every_wgsl_file_validates_with_naga() {
         let src = std::fs::read_to_string(&p).unwrap();
         let module = naga::front::wgsl::parse_str(&src)
             .unwrap_or_else(|e| panic!("{}: {}", p.display(), e.emit_to_string(&src)));
-        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{}: {e:?}", p.display()));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}: {e:?}", p.display()));
         n += 1;
     }
-    assert!(n >= 3, "expected the pass shaders in {}, found {n}", dir.display());
+    assert!(
+        n >= 3,
+        "expected the pass shaders in {}, found {n}",
+        dir.display()
+    );
 }
 
 #[test]
@@ -67,9 +74,17 @@ fn gpu_hard_matches_the_hard_reference() {
         let img = r.render(&scene, &volumes).unwrap();
         let tracer = Tracer::new(&scene);
         let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
-        let differ = img.data.iter().zip(&want.data).filter(|(a, b)| a != b).count();
+        let differ = img
+            .data
+            .iter()
+            .zip(&want.data)
+            .filter(|(a, b)| a != b)
+            .count();
         let share = differ as f64 / img.data.len() as f64;
-        println!("{name:>18}: GPU hard differs from the hard reference on {differ} pixels ({:.3}%)", 100.0 * share);
+        println!(
+            "{name:>18}: GPU hard differs from the hard reference on {differ} pixels ({:.3}%)",
+            100.0 * share
+        );
         if share > 0.005 {
             let dir = std::env::temp_dir();
             let _ = img.write_exr(&dir.join(format!("{name}-gpu-hard-actual.exr")));

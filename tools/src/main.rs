@@ -115,7 +115,12 @@ enum Command {
         #[arg(long, default_value_t = 1024)]
         samples: usize,
         /// Techniques to measure.
-        #[arg(long, value_enum, value_delimiter = ',', default_value = "hard,wedges,wedges-blend")]
+        #[arg(
+            long,
+            value_enum,
+            value_delimiter = ',',
+            default_value = "hard,wedges,wedges-blend"
+        )]
         techniques: Vec<Technique>,
     },
     /// Regenerate the fixture meshes and scenes.
@@ -252,7 +257,11 @@ fn render(
         Some(ctx) => {
             let volumes = penumbra_volumes::Volumes::build(&scene);
             let img = penumbra_gpu::GpuHardRenderer::new(ctx).render(&scene, &volumes)?;
-            (img, scene.triangle_count(), format!(" (gpu: {})", ctx.describe()))
+            (
+                img,
+                scene.triangle_count(),
+                format!(" (gpu: {})", ctx.describe()),
+            )
         }
         None => render_image(&scene, technique, per_axis, &progress),
     };
@@ -321,7 +330,10 @@ fn render_image(
         Technique::Reference | Technique::HardReference => {
             let tracer = Tracer::new(scene);
             let (reference, detail) = match technique {
-                Technique::Reference => (Reference::Sampled { per_axis }, format!(" ({samples} samples)")),
+                Technique::Reference => (
+                    Reference::Sampled { per_axis },
+                    format!(" ({samples} samples)"),
+                ),
                 _ => (Reference::Hard, String::new()),
             };
             let img = reference::render(scene, &tracer, reference, progress);
@@ -462,12 +474,20 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique]) -> Result<()> 
     if scenes.is_empty() {
         bail!("{}: no scene files", dir.display());
     }
-    println!("Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98).\n");
-    println!("| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |");
+    println!(
+        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98).\n"
+    );
+    println!(
+        "| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |"
+    );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for path in scenes {
         let scene = load_scene(&path)?;
-        let name = path.file_stem().unwrap_or_default().to_string_lossy().into_owned();
+        let name = path
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
         let (truth, _, _) = render_image(&scene, Technique::Reference, per_axis, &|_| {});
         for &t in techniques {
             let start = std::time::Instant::now();
@@ -476,7 +496,9 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique]) -> Result<()> 
             let c = image::compare(&img, &truth)?;
             println!(
                 "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {secs:.2} |",
-                t.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default(),
+                t.to_possible_value()
+                    .map(|v| v.get_name().to_string())
+                    .unwrap_or_default(),
                 c.all.mae,
                 c.all.p99,
                 100.0 * c.all.share_over,

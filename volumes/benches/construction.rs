@@ -37,7 +37,12 @@ fn sphere(stacks: u32, slices: u32) -> TriangleMesh {
     }
     for i in 1..stacks - 1 {
         for k in 0..slices {
-            let (a, b, c, d) = (ring(i, k), ring(i, k + 1), ring(i + 1, k), ring(i + 1, k + 1));
+            let (a, b, c, d) = (
+                ring(i, k),
+                ring(i, k + 1),
+                ring(i + 1, k),
+                ring(i + 1, k + 1),
+            );
             t.push([a, c, d]);
             t.push([a, d, b]);
         }
@@ -68,11 +73,19 @@ fn input_bytes(m: &HalfEdgeMesh) -> usize {
     m.positions.len() * 24
         + m.faces.len() * 12
         + m.half_edges.len() * std::mem::size_of::<penumbra_geom::halfedge::HalfEdge>()
-        + m.edges.iter().map(|e| 12 + 4 * e.half_edges.len()).sum::<usize>()
+        + m.edges
+            .iter()
+            .map(|e| 12 + 4 * e.half_edges.len())
+            .sum::<usize>()
 }
 
 fn bench(c: &mut Criterion) {
-    let light = RectLight::new(DVec3::new(0.3, 6.0, 0.2), DVec3::NEG_Y, DVec3::X, DVec2::new(2.0, 2.0));
+    let light = RectLight::new(
+        DVec3::new(0.3, 6.0, 0.2),
+        DVec3::NEG_Y,
+        DVec3::X,
+        DVec2::new(2.0, 2.0),
+    );
     let mut g = c.benchmark_group("construction");
     g.sample_size(10);
     for (label, stacks, slices) in [("10k", 50u32, 100u32), ("100k", 224, 224), ("1M", 708, 708)] {
@@ -87,9 +100,10 @@ fn bench(c: &mut Criterion) {
             w,
             bytes as f64 / 1e6
         );
-        g.bench_function(format!("{label} triangles: silhouette + volume + wedges"), |b| {
-            b.iter(|| construct(black_box(&mesh), black_box(&light)))
-        });
+        g.bench_function(
+            format!("{label} triangles: silhouette + volume + wedges"),
+            |b| b.iter(|| construct(black_box(&mesh), black_box(&light))),
+        );
         g.bench_function(format!("{label} triangles: copy of the input bytes"), |b| {
             b.iter(|| {
                 copy.copy_from_slice(black_box(&input));
@@ -111,7 +125,12 @@ fn bench(c: &mut Criterion) {
             copy.copy_from_slice(&input);
             black_box(&copy);
         });
-        println!("{label}: construction {:.2} ms, copy {:.2} ms, ratio {:.1}x", tc * 1e3, tf * 1e3, tc / tf);
+        println!(
+            "{label}: construction {:.2} ms, copy {:.2} ms, ratio {:.1}x",
+            tc * 1e3,
+            tf * 1e3,
+            tc / tf
+        );
     }
     g.finish();
 }

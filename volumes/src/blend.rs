@@ -99,7 +99,10 @@ mod tests {
 
     #[test]
     fn disjoint_rectangles_add() {
-        let b = blend_part(&part(0.2, [0., 0.], [0.5, 0.5]), &part(0.1, [0.6, 0.], [1., 0.5]));
+        let b = blend_part(
+            &part(0.2, [0., 0.], [0.5, 0.5]),
+            &part(0.1, [0.6, 0.], [1., 0.5]),
+        );
         assert!((b.area - 0.3).abs() < 1e-15);
         assert_eq!(b.rect.min, DVec2::new(0., 0.));
         assert_eq!(b.rect.max, DVec2::new(1., 0.5));

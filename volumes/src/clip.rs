@@ -122,12 +122,21 @@ mod tests {
     fn radial_parts_tile_the_square() {
         let total: f64 = RADIAL_PARTS.iter().map(|t| area(t)).sum();
         assert!((total - 4.0).abs() < 1e-15);
-        assert!(RADIAL_PARTS.iter().all(|t| (area(t) - PART_AREA).abs() < 1e-15));
+        assert!(
+            RADIAL_PARTS
+                .iter()
+                .all(|t| (area(t) - PART_AREA).abs() < 1e-15)
+        );
     }
 
     #[test]
     fn clipping_a_square_by_a_diagonal_halves_it() {
-        let sq = [DVec2::new(-1., -1.), DVec2::new(1., -1.), DVec2::new(1., 1.), DVec2::new(-1., 1.)];
+        let sq = [
+            DVec2::new(-1., -1.),
+            DVec2::new(1., -1.),
+            DVec2::new(1., 1.),
+            DVec2::new(-1., 1.),
+        ];
         let half = clip_halfplane(&sq, |p| p.x - p.y);
         assert!((area(&half) - 2.0).abs() < 1e-15);
         assert!(clip_halfplane(&sq, |p| p.x - 5.0).is_empty());

@@ -178,8 +178,12 @@ impl WedgeGrid {
                 if blo.x > bhi.x || blo.y > bhi.y || blo.z > bhi.z {
                     return None;
                 }
-                let idx = |p: DVec3, a: usize| (((p[a] - lo[a]) / cell[a]) as usize).min(dims[a] - 1);
-                Some(([0, 1, 2].map(|a| idx(blo, a)), [0, 1, 2].map(|a| idx(bhi, a))))
+                let idx =
+                    |p: DVec3, a: usize| (((p[a] - lo[a]) / cell[a]) as usize).min(dims[a] - 1);
+                Some((
+                    [0, 1, 2].map(|a| idx(blo, a)),
+                    [0, 1, 2].map(|a| idx(bhi, a)),
+                ))
             })
             .collect();
         let n = dims[0] * dims[1] * dims[2];
@@ -313,7 +317,7 @@ impl Accum {
     fn buffer(&self) -> VBuffer {
         let full = full_parts();
         let mut b = VBuffer::default();
-        for k in 0..4 {
+        for (k, full) in full.iter().enumerate() {
             let area = (self.hard as f64 * PART_AREA + self.area[k]).clamp(0.0, PART_AREA);
             if area <= 0.0 {
                 continue;
@@ -325,11 +329,11 @@ impl Accum {
             } else if self.inner_cover[k] >= 2.0 * (1.0 - 1e-9) {
                 self.inner_rect[k]
             } else {
-                full[k].rect
+                full.rect
             };
             b.parts[k] = Part {
                 area,
-                rect: self.rect[k].union(&hard_rect).intersection(&full[k].rect),
+                rect: self.rect[k].union(&hard_rect).intersection(&full.rect),
             };
         }
         b
@@ -506,7 +510,10 @@ impl CpuRenderer {
         let done = std::sync::atomic::AtomicU64::new(0);
         img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
             for (i, out) in row.iter_mut().enumerate() {
-                if let Some(p) = self.tracer.surface_point(cam.eye, cam.ray_dir(i as u32, j as u32)) {
+                if let Some(p) = self
+                    .tracer
+                    .surface_point(cam.eye, cam.ray_dir(i as u32, j as u32))
+                {
                     *out = self.visibility(&p, technique) as f32;
                 }
             }

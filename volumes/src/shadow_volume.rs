@@ -48,7 +48,9 @@ pub struct ShadowVolume {
 
 /// A directed edge of the volume that no face runs the other way: the volume leaks there.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("shadow volume is open: edge {from:?} -> {to:?} is used {forward} times, its reverse {backward} times")]
+#[error(
+    "shadow volume is open: edge {from:?} -> {to:?} is used {forward} times, its reverse {backward} times"
+)]
 pub struct OpenVolume {
     /// Edge start.
     pub from: VolumeVertex,
@@ -87,7 +89,9 @@ impl ShadowVolume {
     pub fn homogeneous(&self, v: VolumeVertex) -> DVec4 {
         match v {
             VolumeVertex::Finite(i) => self.positions[i as usize].extend(1.0),
-            VolumeVertex::Infinite(i) => (self.positions[i as usize] - self.light_center).extend(0.0),
+            VolumeVertex::Infinite(i) => {
+                (self.positions[i as usize] - self.light_center).extend(0.0)
+            }
         }
     }
 
@@ -161,7 +165,9 @@ pub fn crossing(h: [DVec4; 3], p: DVec3, d: DVec3) -> i32 {
             return 0;
         }
         let s = det.signum();
-        let inside = s * d.dot(b.cross(c)) >= 0.0 && s * a.dot(d.cross(c)) >= 0.0 && s * a.dot(b.cross(d)) >= 0.0;
+        let inside = s * d.dot(b.cross(c)) >= 0.0
+            && s * a.dot(d.cross(c)) >= 0.0
+            && s * a.dot(b.cross(d)) >= 0.0;
         return if inside { s as i32 } else { 0 };
     }
     // Rotate so the first vertex is finite, keeping orientation.
@@ -169,7 +175,13 @@ pub fn crossing(h: [DVec4; 3], p: DVec3, d: DVec3) -> i32 {
     let [a, b, c] = [h[k], h[(k + 1) % 3], h[(k + 2) % 3]];
     let o = a.truncate() / a.w;
     // Edge vectors from `o`: to a finite vertex, its offset; to an infinite one, its direction.
-    let e = |v: DVec4| if v.w != 0.0 { v.truncate() / v.w - o } else { v.truncate() };
+    let e = |v: DVec4| {
+        if v.w != 0.0 {
+            v.truncate() / v.w - o
+        } else {
+            v.truncate()
+        }
+    };
     let (e1, e2) = (e(b), e(c));
     let n = e1.cross(e2);
     let denom = n.dot(d);
@@ -188,9 +200,9 @@ pub fn crossing(h: [DVec4; 3], p: DVec3, d: DVec3) -> i32 {
     let inside = match (b.w != 0.0, c.w != 0.0) {
         (true, true) => s >= 0.0 && r >= 0.0 && s + r <= 1.0,
         // (o, b finite, c infinite): the segment o-b swept along c's direction.
-        (true, false) => s >= 0.0 && r >= 0.0 && s <= 1.0,
+        (true, false) => (0.0..=1.0).contains(&s) && r >= 0.0,
         // (o, b infinite, c finite): the segment o-c swept along b's direction.
-        (false, true) => s >= 0.0 && r >= 0.0 && r <= 1.0,
+        (false, true) => s >= 0.0 && (0.0..=1.0).contains(&r),
         // (o, two directions): a cone at o.
         (false, false) => s >= 0.0 && r >= 0.0,
     };

@@ -209,7 +209,10 @@ impl Wedge {
         }
         let mut gens = dirs.clone();
         gens.push(e);
-        let mut planes = vec![Plane { n: DVec3::Z, d: 0.0 }];
+        let mut planes = vec![Plane {
+            n: DVec3::Z,
+            d: 0.0,
+        }];
         for i in 0..gens.len() {
             for j in i + 1..gens.len() {
                 let n = gens[i].cross(gens[j]);
@@ -242,7 +245,12 @@ impl Wedge {
 pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
     let d = b - a;
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [(-d.x, a.x + 1.0), (d.x, 1.0 - a.x), (-d.y, a.y + 1.0), (d.y, 1.0 - a.y)] {
+    for (p, q) in [
+        (-d.x, a.x + 1.0),
+        (d.x, 1.0 - a.x),
+        (-d.y, a.y + 1.0),
+        (d.y, 1.0 - a.y),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return false;

@@ -35,7 +35,11 @@ fn pipeline(
         pass_op: wgpu::StencilOperation::Keep,
     };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if front_faces { "stencil front" } else { "stencil back" }),
+        label: Some(if front_faces {
+            "stencil front"
+        } else {
+            "stencil back"
+        }),
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
@@ -49,7 +53,11 @@ fn pipeline(
         },
         primitive: wgpu::PrimitiveState {
             front_face: wgpu::FrontFace::Ccw,
-            cull_mode: Some(if front_faces { wgpu::Face::Back } else { wgpu::Face::Front }),
+            cull_mode: Some(if front_faces {
+                wgpu::Face::Back
+            } else {
+                wgpu::Face::Front
+            }),
             unclipped_depth,
             ..Default::default()
         },
