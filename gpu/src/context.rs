@@ -91,13 +91,22 @@ impl GpuContext {
         let offered = adapter.features();
         let wanted = wgpu::Features::DEPTH_CLIP_CONTROL
             | wgpu::Features::TIMESTAMP_QUERY
-            | wgpu::Features::DEPTH32FLOAT_STENCIL8;
+            | wgpu::Features::DEPTH32FLOAT_STENCIL8
+            | wgpu::Features::FLOAT32_BLENDABLE;
         let features = offered & wanted;
-        if !features.contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
-            return Err(GpuError::MissingFeature {
-                adapter: info.name.clone(),
-                feature: "DEPTH32FLOAT_STENCIL8",
-            });
+        for (f, name) in [
+            (
+                wgpu::Features::DEPTH32FLOAT_STENCIL8,
+                "DEPTH32FLOAT_STENCIL8",
+            ),
+            (wgpu::Features::FLOAT32_BLENDABLE, "FLOAT32_BLENDABLE"),
+        ] {
+            if !features.contains(f) {
+                return Err(GpuError::MissingFeature {
+                    adapter: info.name.clone(),
+                    feature: name,
+                });
+            }
         }
         let limits = adapter.limits();
         let (device, queue) = adapter

@@ -21,9 +21,13 @@ pub struct FrameUniforms {
     pub light_normal: [f32; 4],
     /// Image width and height in pixels, then two unused lanes.
     pub size: [f32; 4],
+    /// Light tangent and half the first side.
+    pub light_tangent: [f32; 4],
+    /// Light bitangent and half the second side.
+    pub light_bitangent: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 112);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
 
 /// The camera's eye-relative view-projection: right-handed look-at, vertical field of view,
 /// reversed depth (1 at the near plane, 0 at infinity) so that `Depth32Float` keeps its
@@ -56,7 +60,14 @@ impl FrameUniforms {
         let l = &scene.light;
         let lc = (l.center - scene.camera.eye).as_vec3();
         let n = l.normal.as_vec3();
+        let (t, b, h) = (
+            l.tangent.as_vec3(),
+            l.bitangent.as_vec3(),
+            l.half_size().as_vec2(),
+        );
         FrameUniforms {
+            light_tangent: [t.x, t.y, t.z, h.x],
+            light_bitangent: [b.x, b.y, b.z, h.y],
             view_proj: m.to_cols_array_2d(),
             light_center: [lc.x, lc.y, lc.z, 0.0],
             light_normal: [n.x, n.y, n.z, 0.0],

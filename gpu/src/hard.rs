@@ -1,5 +1,7 @@
-//! The `hard` technique on the GPU: depth pre-pass, z-fail stencil pass, resolve, readback.
+//! The volume techniques on the GPU. `hard`: depth pre-pass, z-fail stencil pass, resolve.
+//! `wedges` (additive): the same, plus the wedge pass of every silhouette edge before the resolve.
 
+use bytemuck::Zeroable;
 use glam::Vec4;
 use penumbra_geom::Scene;
 use penumbra_geom::image::VisibilityImage;
@@ -9,18 +11,66 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameUniforms;
+use crate::passes::wedge::{OCCLUSION_FORMAT, WedgeInstance, WedgePass, unit_cube};
 use crate::passes::{
     DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, depth::DepthPass, frame_layout,
     resolve::ResolvePass, stencil::StencilPass,
 };
 
-/// Pipelines of the hard-shadow technique, built once per device.
-pub struct GpuHardRenderer<'a> {
+/// A technique the GPU renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuTechnique {
+    /// Hard shadow of the light's centre.
+    Hard,
+    /// Additive penumbra wedges.
+    Wedges,
+}
+
+/// Pipelines of the GPU techniques, built once per device.
+pub struct GpuRenderer<'a> {
     ctx: &'a GpuContext,
     frame_layout: wgpu::BindGroupLayout,
     depth: DepthPass,
     stencil: StencilPass,
+    wedge: WedgePass,
     resolve: ResolvePass,
+}
+
+/// The wedges of `volumes` with their light-space bounding boxes clamped to the scene's
+/// light-space box (receivers lie in it); wedges wholly outside are dropped.
+pub fn wedge_instances(scene: &Scene, volumes: &Volumes) -> Vec<WedgeInstance> {
+    let mut lo = glam::DVec3::splat(f64::INFINITY);
+    let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
+    for t in scene.triangles() {
+        for v in t {
+            let l = scene.light.to_light_space(v);
+            lo = lo.min(l);
+            hi = hi.max(l);
+        }
+    }
+    let pad = (hi - lo).max(glam::DVec3::splat(1e-6)) * 1e-3;
+    let (lo, hi) = (lo - pad, hi + pad);
+    volumes
+        .wedges
+        .iter()
+        .filter_map(|w| {
+            let (blo, bhi) = penumbra_volumes::render::wedge_bounds(w, hi.z);
+            let (blo, bhi) = (blo.max(lo), bhi.min(hi));
+            if !(blo.x <= bhi.x && blo.y <= bhi.y && blo.z <= bhi.z) {
+                return None;
+            }
+            let f = |v: glam::DVec3, w: f32| {
+                let v = v.as_vec3();
+                [v.x, v.y, v.z, w]
+            };
+            Some(WedgeInstance {
+                lo: f(blo, 0.0),
+                hi: f(bhi, 0.0),
+                from: f(w.from, w.multiplicity as f32),
+                to: f(w.to, 0.0),
+            })
+        })
+        .collect()
 }
 
 fn target(
@@ -69,22 +119,29 @@ pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> (Vec<[f32; 3]>, Vec<[f32
     (tris, vol)
 }
 
-impl<'a> GpuHardRenderer<'a> {
+impl<'a> GpuRenderer<'a> {
     /// Builds the pipelines on `ctx`'s device.
     pub fn new(ctx: &'a GpuContext) -> Self {
         let device = &ctx.device;
         let frame_layout = frame_layout(device);
-        GpuHardRenderer {
+        let resolve = ResolvePass::new(device, &frame_layout);
+        GpuRenderer {
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
-            resolve: ResolvePass::new(device, &frame_layout),
+            wedge: WedgePass::new(device, &frame_layout, &resolve.texture_layout),
+            resolve,
             frame_layout,
             ctx,
         }
     }
 
-    /// Renders V of `scene` (hard shadow of the light's centre) with the volumes of `volumes`.
-    pub fn render(&self, scene: &Scene, volumes: &Volumes) -> Result<VisibilityImage, GpuError> {
+    /// Renders V of `scene` by `technique` with the volumes and wedges of `volumes`.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        volumes: &Volumes,
+        technique: GpuTechnique,
+    ) -> Result<VisibilityImage, GpuError> {
         let device = &self.ctx.device;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let size = wgpu::Extent3d {
@@ -180,10 +237,53 @@ impl<'a> GpuHardRenderer<'a> {
             &depth_view,
             None,
         );
+        let occlusion_group = match technique {
+            GpuTechnique::Hard => None,
+            GpuTechnique::Wedges => {
+                let instances = wedge_instances(scene, volumes);
+                let occlusion = target(
+                    device,
+                    "occlusion",
+                    size,
+                    OCCLUSION_FORMAT,
+                    att | wgpu::TextureUsages::TEXTURE_BINDING,
+                );
+                let occlusion_view = occlusion.create_view(&Default::default());
+                let cube = vbuf("unit cube", bytemuck::cast_slice(&unit_cube()));
+                let zero = [WedgeInstance::zeroed()];
+                let inst = vbuf(
+                    "wedges",
+                    bytemuck::cast_slice(if instances.is_empty() {
+                        &zero[..]
+                    } else {
+                        &instances[..]
+                    }),
+                );
+                self.wedge.record(
+                    &mut enc,
+                    &frame,
+                    &position_group,
+                    &cube,
+                    &inst,
+                    instances.len() as u32,
+                    &occlusion_view,
+                    None,
+                );
+                Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("occlusion"),
+                    layout: &self.resolve.texture_layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&occlusion_view),
+                    }],
+                }))
+            }
+        };
         self.resolve.record(
             &mut enc,
             &frame,
             &position_group,
+            occlusion_group.as_ref(),
             &visibility_view,
             &depth_view,
             None,

@@ -4,9 +4,11 @@
 use std::path::PathBuf;
 
 use penumbra_geom::Scene;
+use penumbra_geom::image::compare;
 use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_gpu::{GpuContext, GpuHardRenderer};
+use penumbra_gpu::{GpuContext, GpuRenderer, GpuTechnique};
 use penumbra_volumes::Volumes;
+use penumbra_volumes::{CpuRenderer, Technique};
 
 fn context() -> Option<GpuContext> {
     match GpuContext::new() {
@@ -47,7 +49,15 @@ fn every_wgsl_file_validates_with_naga() {
         if p.extension().is_none_or(|x| x != "wgsl") {
             continue;
         }
-        let src = std::fs::read_to_string(&p).unwrap();
+        // Each pass's shader is compiled with frame.wgsl prepended (`passes::shader`).
+        let src = format!(
+            "{}\n{}",
+            penumbra_gpu::passes::FRAME_WGSL,
+            std::fs::read_to_string(&p).unwrap()
+        );
+        if p.ends_with("frame.wgsl") {
+            continue;
+        }
         let module = naga::front::wgsl::parse_str(&src)
             .unwrap_or_else(|e| panic!("{}: {}", p.display(), e.emit_to_string(&src)));
         naga::valid::Validator::new(
@@ -68,10 +78,10 @@ fn every_wgsl_file_validates_with_naga() {
 #[test]
 fn gpu_hard_matches_the_hard_reference() {
     let Some(ctx) = context() else { return };
-    let r = GpuHardRenderer::new(&ctx);
+    let r = GpuRenderer::new(&ctx);
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
-        let img = r.render(&scene, &volumes).unwrap();
+        let img = r.render(&scene, &volumes, GpuTechnique::Hard).unwrap();
         let tracer = Tracer::new(&scene);
         let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
         let differ = img
@@ -90,5 +100,27 @@ fn gpu_hard_matches_the_hard_reference() {
             let _ = img.write_exr(&dir.join(format!("{name}-gpu-hard-actual.exr")));
         }
         assert!(share <= 0.005, "{name}: {differ} pixels differ");
+    }
+}
+
+#[test]
+fn gpu_wedges_match_the_cpu_oracle() {
+    let Some(ctx) = context() else { return };
+    let r = GpuRenderer::new(&ctx);
+    for (name, scene) in fixtures() {
+        let volumes = Volumes::build(&scene);
+        let gpu = r.render(&scene, &volumes, GpuTechnique::Wedges).unwrap();
+        let cpu = CpuRenderer::new(&scene).render(&scene, Technique::Wedges, &|_| {});
+        let c = compare(&gpu, &cpu).unwrap();
+        println!(
+            "{name:>18}: GPU wedges vs CPU: MAE {:.2e}, p99 {:.2e}, max {:.2e}; penumbra MAE {:.2e}",
+            c.all.mae, c.all.p99, c.all.max, c.penumbra.mae
+        );
+        if c.all.mae > 1e-3 || c.all.p99 > 0.02 {
+            let dir = std::env::temp_dir();
+            let _ = gpu.write_exr(&dir.join(format!("{name}-gpu-wedges-actual.exr")));
+        }
+        assert!(c.all.mae <= 1e-3, "{name}: MAE {}", c.all.mae);
+        assert!(c.all.p99 <= 0.02, "{name}: p99 {}", c.all.p99);
     }
 }

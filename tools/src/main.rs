@@ -68,7 +68,7 @@ enum Command {
         #[arg(long)]
         png: Option<PathBuf>,
         /// Where the volume techniques run (the references always run on the CPU; so far the
-        /// GPU renders `hard`, and `wedges`, `wedges-blend` run on the CPU).
+        /// GPU renders `hard` and `wedges`, and `wedges-blend` runs on the CPU).
         #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
     },
@@ -255,8 +255,13 @@ fn render(
     let gpu = select_gpu(technique, backend)?;
     let (img, triangles, detail) = match &gpu {
         Some(ctx) => {
+            let gpu_technique = match technique {
+                Technique::Hard => penumbra_gpu::GpuTechnique::Hard,
+                _ => penumbra_gpu::GpuTechnique::Wedges,
+            };
             let volumes = penumbra_volumes::Volumes::build(&scene);
-            let img = penumbra_gpu::GpuHardRenderer::new(ctx).render(&scene, &volumes)?;
+            let img =
+                penumbra_gpu::GpuRenderer::new(ctx).render(&scene, &volumes, gpu_technique)?;
             (
                 img,
                 scene.triangle_count(),
@@ -292,11 +297,11 @@ fn render(
 
 /// The GPU to render `technique` on, or `None` for the CPU, saying which on stderr.
 fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<penumbra_gpu::GpuContext>> {
-    let on_gpu = matches!(technique, Technique::Hard);
+    let on_gpu = matches!(technique, Technique::Hard | Technique::Wedges);
     match backend {
         Backend::Cpu => Ok(None),
         Backend::Gpu if !on_gpu => bail!(
-            "--backend gpu: {technique:?} has no GPU implementation yet (the GPU renders `hard`); use --backend cpu"
+            "--backend gpu: {technique:?} has no GPU implementation yet (the GPU renders `hard` and `wedges`); use --backend cpu"
         ),
         Backend::Gpu => Ok(Some(penumbra_gpu::GpuContext::new()?)),
         Backend::Auto if !on_gpu => {

@@ -10,7 +10,7 @@ pub struct DepthPass {
 impl DepthPass {
     /// Builds the pipeline.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
-        let module = device.create_shader_module(wgpu::include_wgsl!("../shaders/depth.wgsl"));
+        let module = super::shader(device, "depth", include_str!("../shaders/depth.wgsl"));
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("depth"),
             bind_group_layouts: &[Some(frame_layout)],

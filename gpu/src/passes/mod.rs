@@ -3,6 +3,18 @@
 pub mod depth;
 pub mod resolve;
 pub mod stencil;
+pub mod wedge;
+
+/// The shared declarations of `shaders/frame.wgsl`.
+pub const FRAME_WGSL: &str = include_str!("../shaders/frame.wgsl");
+
+/// Compiles a pass's WGSL with the frame declarations prepended.
+pub fn shader(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(format!("{FRAME_WGSL}\n{source}").into()),
+    })
+}
 
 /// Format of the depth pre-pass target: 32-bit float depth (readable) with the stencil counts.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32FloatStencil8;

@@ -2,18 +2,25 @@
 
 use super::{DEPTH_FORMAT, VISIBILITY_FORMAT};
 
+/// Stencil counts resolved one by one by the additive-wedges resolve; larger counts share the
+/// last draw (4 n already exceeds any wedge area that could be subtracted in practice).
+pub const MAX_COUNT: u32 = 7;
+
 /// The resolve pipelines (one per stencil outcome).
 pub struct ResolvePass {
     unshadowed: wgpu::RenderPipeline,
     shadowed: wgpu::RenderPipeline,
-    /// Layout of the position texture (group 1).
+    wedges_equal: wgpu::RenderPipeline,
+    wedges_at_least: wgpu::RenderPipeline,
+    /// Layout of a single non-filterable float texture (the receivers, group 1; the occlusion,
+    /// group 2).
     pub texture_layout: wgpu::BindGroupLayout,
 }
 
 impl ResolvePass {
     /// Builds the pipelines.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
-        let module = device.create_shader_module(wgpu::include_wgsl!("../shaders/resolve.wgsl"));
+        let module = super::shader(device, "resolve", include_str!("../shaders/resolve.wgsl"));
         let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("resolve position"),
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -32,7 +39,17 @@ impl ResolvePass {
             bind_group_layouts: &[Some(frame_layout), Some(&texture_layout)],
             immediate_size: 0,
         });
-        let make = |entry: &str, compare: wgpu::CompareFunction| {
+        let wedge_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("resolve wedges"),
+            bind_group_layouts: &[
+                Some(frame_layout),
+                Some(&texture_layout),
+                Some(&texture_layout),
+            ],
+            immediate_size: 0,
+        });
+        let make = |entry: &str, compare: wgpu::CompareFunction, counted: bool| {
+            let layout = if counted { &wedge_layout } else { &layout };
             let face = wgpu::StencilFaceState {
                 compare,
                 fail_op: wgpu::StencilOperation::Keep,
@@ -41,10 +58,10 @@ impl ResolvePass {
             };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(entry),
-                layout: Some(&layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module: &module,
-                    entry_point: Some("vs"),
+                    entry_point: Some(if counted { "vs_counted" } else { "vs" }),
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
@@ -73,18 +90,24 @@ impl ResolvePass {
             })
         };
         ResolvePass {
-            unshadowed: make("fs_unshadowed", wgpu::CompareFunction::Equal),
-            shadowed: make("fs_shadowed", wgpu::CompareFunction::NotEqual),
+            unshadowed: make("fs_unshadowed", wgpu::CompareFunction::Equal, false),
+            shadowed: make("fs_shadowed", wgpu::CompareFunction::NotEqual, false),
+            wedges_equal: make("fs_wedges", wgpu::CompareFunction::Equal, true),
+            // Passes where MAX_COUNT <= stencil.
+            wedges_at_least: make("fs_wedges", wgpu::CompareFunction::LessEqual, true),
             texture_layout,
         }
     }
 
-    /// Writes V into `visibility`, testing the stencil of `depth` against 0.
+    /// Writes V into `visibility`: the hard shadow when `occlusion` is `None`, else the
+    /// additive wedges' `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count.
+    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         position: &wgpu::BindGroup,
+        occlusion: Option<&wgpu::BindGroup>,
         visibility: &wgpu::TextureView,
         depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
@@ -111,10 +134,27 @@ impl ResolvePass {
         });
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, position, &[]);
-        for (p, reference) in [(&self.unshadowed, 0), (&self.shadowed, 0)] {
-            pass.set_pipeline(p);
-            pass.set_stencil_reference(reference);
-            pass.draw(0..3, 0..1);
+        match occlusion {
+            None => {
+                for p in [&self.unshadowed, &self.shadowed] {
+                    pass.set_pipeline(p);
+                    pass.set_stencil_reference(0);
+                    pass.draw(0..3, 0..1);
+                }
+            }
+            Some(o) => {
+                pass.set_bind_group(2, o, &[]);
+                for n in 0..=MAX_COUNT {
+                    pass.set_pipeline(if n < MAX_COUNT {
+                        &self.wedges_equal
+                    } else {
+                        &self.wedges_at_least
+                    });
+                    pass.set_stencil_reference(n);
+                    // The instance index tells the shader which count it resolves.
+                    pass.draw(0..3, n..n + 1);
+                }
+            }
         }
     }
 }

@@ -91,7 +91,7 @@ impl StencilPass {
         frame_layout: &wgpu::BindGroupLayout,
         unclipped_depth: bool,
     ) -> Self {
-        let module = device.create_shader_module(wgpu::include_wgsl!("../shaders/stencil.wgsl"));
+        let module = super::shader(device, "stencil", include_str!("../shaders/stencil.wgsl"));
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("stencil"),
             bind_group_layouts: &[Some(frame_layout)],

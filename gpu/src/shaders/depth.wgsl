@@ -2,14 +2,7 @@
 // Every scene triangle, both sides, into a Depth32FloatStencil8 target with reversed z, and the
 // eye-relative surface position P into an Rgba32Float target (w = 1 where something was hit).
 
-struct Frame {
-    view_proj: mat4x4<f32>,
-    light_center: vec4<f32>,
-    light_normal: vec4<f32>,
-    size: vec4<f32>,
-}
-
-@group(0) @binding(0) var<uniform> frame: Frame;
+// `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 
 struct VertexOut {
     // Invariant: the stencil pass draws the light caps from the same positions and must land on

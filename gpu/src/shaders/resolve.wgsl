@@ -1,21 +1,19 @@
-// Resolve of the hard shadow: V = 0 where the stencil count is not zero or where P is not
+// Resolve into V. Hard shadow: V = 0 where the stencil count is not zero or where P is not
 // strictly on the light's emitting side, V = 1 elsewhere and where the camera ray hit nothing.
 // Drawn twice as a full-screen triangle, once per stencil outcome.
 
-struct Frame {
-    view_proj: mat4x4<f32>,
-    light_center: vec4<f32>,
-    light_normal: vec4<f32>,
-    size: vec4<f32>,
-}
-
-@group(0) @binding(0) var<uniform> frame: Frame;
+// `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 @group(1) @binding(0) var position: texture_2d<f32>;
+
+// A triangle covering the screen.
+fn fullscreen(i: u32) -> vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
+}
 
 @vertex
 fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
+    return fullscreen(i);
 }
 
 fn lit(pixel: vec4<f32>) -> vec2<f32> {
@@ -37,4 +35,36 @@ fn fs_unshadowed(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> 
 fn fs_shadowed(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let l = lit(pixel);
     return vec4<f32>(select(0.0, 1.0, l.x == 0.0), 0.0, 0.0, 0.0);
+}
+
+struct ResolveOut {
+    @builtin(position) pixel: vec4<f32>,
+    // The stencil count this draw resolves (the draw's instance).
+    @location(0) @interpolate(flat) count: u32,
+}
+
+@group(2) @binding(0) var occlusion: texture_2d<f32>;
+
+@vertex
+fn vs_counted(@builtin(vertex_index) i: u32, @builtin(instance_index) k: u32) -> ResolveOut {
+    var out: ResolveOut;
+    out.pixel = fullscreen(i);
+    out.count = k;
+    return out;
+}
+
+// Additive wedges: V = 1 - clamp(4 n + Σ parts, 0, 4) / 4 with n the stencil count (the draw
+// for count n runs with stencil reference n; the last draw takes every larger count too).
+@fragment
+fn fs_wedges(in: ResolveOut) -> @location(0) vec4<f32> {
+    let l = lit(in.pixel);
+    if (l.x == 0.0) {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    if (l.y == 0.0) {
+        return vec4<f32>(0.0);
+    }
+    let o = textureLoad(occlusion, vec2<i32>(in.pixel.xy), 0);
+    let total = 4.0 * f32(in.count) + o.x + o.y + o.z + o.w;
+    return vec4<f32>(1.0 - clamp(total, 0.0, 4.0) / 4.0, 0.0, 0.0, 0.0);
 }

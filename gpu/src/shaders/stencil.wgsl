@@ -4,14 +4,7 @@
 // quads and dark caps reach infinity and the reversed, infinite projection puts them at depth 0.
 // No colour output: the stencil operations do the counting.
 
-struct Frame {
-    view_proj: mat4x4<f32>,
-    light_center: vec4<f32>,
-    light_normal: vec4<f32>,
-    size: vec4<f32>,
-}
-
-@group(0) @binding(0) var<uniform> frame: Frame;
+// `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 
 @vertex
 fn vs(@location(0) h: vec4<f32>) -> @builtin(position) @invariant vec4<f32> {

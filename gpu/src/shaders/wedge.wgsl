@@ -1,0 +1,142 @@
+// Penumbra-wedge pass (Akenine-Möller & Assarsson 2002; seed 004, sections 3.1, 4.2 and 4.3).
+// Each instance is one silhouette edge. Its wedge's bounding box (light space) is rasterised by
+// its back faces, so that every pixel whose view ray meets the box gets exactly one fragment,
+// the camera inside the box included. The fragment reads the receiver P written by the depth
+// pre-pass, and adds the edge's signed occluded area per radial part of the light: outer
+// half-wedges add, inner ones subtract. The same integral as the CPU oracle,
+// `penumbra_volumes::wedge::Wedge::integral`, in f32.
+
+struct WedgeIn {
+    @location(0) corner: vec3<f32>,
+    @location(1) lo: vec4<f32>,
+    @location(2) hi: vec4<f32>,
+    // Edge start in light space; w = multiplicity.
+    @location(3) edge_from: vec4<f32>,
+    @location(4) edge_to: vec4<f32>,
+}
+
+struct WedgeOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) edge_from: vec4<f32>,
+    @location(1) @interpolate(flat) edge_to: vec4<f32>,
+}
+
+@group(1) @binding(0) var position: texture_2d<f32>;
+
+@vertex
+fn vs(in: WedgeIn) -> WedgeOut {
+    var out: WedgeOut;
+    let l = mix(in.lo.xyz, in.hi.xyz, in.corner);
+    out.clip = frame.view_proj * vec4<f32>(from_light(l), 1.0);
+    out.edge_from = in.edge_from;
+    out.edge_to = in.edge_to;
+    return out;
+}
+
+// Room for a triangle clipped by three half-planes.
+const MAX_POLY: u32 = 8u;
+
+struct Poly {
+    v: array<vec2<f32>, 8>,
+    n: u32,
+}
+
+// Keeps the part of `p` where dot(h.xy, x) + h.z >= 0 (Sutherland & Hodgman).
+fn clip(p: Poly, h: vec3<f32>) -> Poly {
+    var out: Poly;
+    out.n = 0u;
+    for (var i = 0u; i < p.n; i++) {
+        let a = p.v[i];
+        let b = p.v[(i + 1u) % p.n];
+        let fa = dot(h.xy, a) + h.z;
+        let fb = dot(h.xy, b) + h.z;
+        if (fa >= 0.0 && out.n < MAX_POLY) {
+            out.v[out.n] = a;
+            out.n += 1u;
+        }
+        if ((fa >= 0.0) != (fb >= 0.0) && out.n < MAX_POLY) {
+            out.v[out.n] = a + (b - a) * (fa / (fa - fb));
+            out.n += 1u;
+        }
+    }
+    return out;
+}
+
+fn area(p: Poly) -> f32 {
+    var s = 0.0;
+    for (var i = 0u; i < p.n; i++) {
+        let a = p.v[i];
+        let b = p.v[(i + 1u) % p.n];
+        s += a.x * b.y - a.y * b.x;
+    }
+    return 0.5 * abs(s);
+}
+
+fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
+}
+
+// The four radial parts: the triangles from the centre to each side, counter-clockwise from +x.
+fn part(k: u32) -> Poly {
+    let c = array<vec2<f32>, 5>(
+        vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0), vec2<f32>(-1.0, -1.0),
+        vec2<f32>(1.0, -1.0),
+    );
+    var p: Poly;
+    p.v[0] = vec2<f32>(0.0);
+    p.v[1] = c[k];
+    p.v[2] = c[k + 1u];
+    p.n = 3u;
+    return p;
+}
+
+// Fraction of z_P kept between the clipped edge and the local near plane (f32: coarser than the
+// CPU's 1e-9; projected coordinates stay below about 1e6).
+const NEAR_MARGIN: f32 = 1e-6;
+
+@fragment
+fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
+    let hit = textureLoad(position, vec2<i32>(in.clip.xy), 0);
+    if (hit.w == 0.0) {
+        discard;
+    }
+    let p = to_light(hit.xyz);
+    if (!(p.z > 0.0)) {
+        discard;
+    }
+    // Clip the edge to the local near plane and project it from P onto the light plane.
+    var a3 = in.edge_from.xyz;
+    var b3 = in.edge_to.xyz;
+    let limit = p.z * (1.0 - NEAR_MARGIN);
+    if (a3.z > limit && b3.z > limit) {
+        discard;
+    }
+    if (b3.z > limit) {
+        b3 = a3 + (b3 - a3) * ((limit - a3.z) / (b3.z - a3.z));
+    } else if (a3.z > limit) {
+        a3 = b3 + (a3 - b3) * ((limit - b3.z) / (a3.z - b3.z));
+    }
+    let a = p.xy + (a3.xy - p.xy) * (p.z / (p.z - a3.z));
+    let b = p.xy + (b3.xy - p.xy) * (p.z / (p.z - b3.z));
+    let s0 = sign(cross2(a, b));
+    if (s0 == 0.0) {
+        discard;
+    }
+    // Outer half-wedge (away from the casters) adds, inner subtracts.
+    let side = dot(cross(in.edge_to.xyz - in.edge_from.xyz, -in.edge_from.xyz), p - in.edge_from.xyz);
+    if (side == 0.0) {
+        discard;
+    }
+    let e = b - a;
+    let cone_a = vec3<f32>(-s0 * a.y, s0 * a.x, 0.0);
+    let cone_b = vec3<f32>(s0 * b.y, -s0 * b.x, 0.0);
+    let beyond = -s0 * vec3<f32>(-e.y, e.x, -cross2(e, a));
+    var out = vec4<f32>(0.0);
+    for (var k = 0u; k < 4u; k++) {
+        let r = clip(clip(clip(part(k), cone_a), cone_b), beyond);
+        if (r.n >= 3u) {
+            out[k] = area(r);
+        }
+    }
+    return out * (sign(side) * in.edge_from.w);
+}
