@@ -26,6 +26,26 @@ pub enum GpuTechnique {
     Wedges,
 }
 
+/// GPU time of each pass of one frame, from timestamp queries, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PassTimes {
+    /// Depth pre-pass.
+    pub depth: f64,
+    /// z-fail stencil pass.
+    pub stencil: f64,
+    /// Penumbra-wedge pass (0 for `hard`).
+    pub wedge: f64,
+    /// Resolve into V.
+    pub resolve: f64,
+}
+
+impl PassTimes {
+    /// Sum of the passes.
+    pub fn total(&self) -> f64 {
+        self.depth + self.stencil + self.wedge + self.resolve
+    }
+}
+
 /// Pipelines of the GPU techniques, built once per device.
 pub struct GpuRenderer<'a> {
     ctx: &'a GpuContext,
@@ -142,6 +162,17 @@ impl<'a> GpuRenderer<'a> {
         volumes: &Volumes,
         technique: GpuTechnique,
     ) -> Result<VisibilityImage, GpuError> {
+        Ok(self.render_timed(scene, volumes, technique)?.0)
+    }
+
+    /// [`GpuRenderer::render`], with the GPU time of each pass when the device has timestamp
+    /// queries.
+    pub fn render_timed(
+        &self,
+        scene: &Scene,
+        volumes: &Volumes,
+        technique: GpuTechnique,
+    ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
         let device = &self.ctx.device;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let size = wgpu::Extent3d {
@@ -219,6 +250,20 @@ impl<'a> GpuRenderer<'a> {
                 resource: wgpu::BindingResource::TextureView(&position_view),
             }],
         });
+        let queries = self.ctx.timestamps.then(|| {
+            device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass times"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 8,
+            })
+        });
+        let stamp = |pass: u32| {
+            queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(2 * pass),
+                end_of_pass_write_index: Some(2 * pass + 1),
+            })
+        };
         let mut enc = device.create_command_encoder(&Default::default());
         self.depth.record(
             &mut enc,
@@ -227,7 +272,7 @@ impl<'a> GpuRenderer<'a> {
             tris.len() as u32,
             &position_view,
             &depth_view,
-            None,
+            stamp(0),
         );
         self.stencil.record(
             &mut enc,
@@ -235,7 +280,7 @@ impl<'a> GpuRenderer<'a> {
             &vol_buf,
             vol.len() as u32,
             &depth_view,
-            None,
+            stamp(1),
         );
         let occlusion_group = match technique {
             GpuTechnique::Hard => None,
@@ -267,7 +312,7 @@ impl<'a> GpuRenderer<'a> {
                     &inst,
                     instances.len() as u32,
                     &occlusion_view,
-                    None,
+                    stamp(2),
                 );
                 Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("occlusion"),
@@ -286,14 +331,52 @@ impl<'a> GpuRenderer<'a> {
             occlusion_group.as_ref(),
             &visibility_view,
             &depth_view,
-            None,
+            stamp(3),
         );
+        let stamps = queries.as_ref().map(|q| {
+            let resolved = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pass times"),
+                size: 64,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pass times readback"),
+                size: 64,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            enc.resolve_query_set(q, 0..8, &resolved, 0);
+            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, 64);
+            read
+        });
         let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
-        Ok(VisibilityImage {
-            width: w,
-            height: h,
-            data,
-        })
+        let times = match stamps {
+            None => None,
+            Some(read) => {
+                let t = read_u64(self.ctx, &read)?;
+                let period = self.ctx.queue.get_timestamp_period() as f64 * 1e-6;
+                let ms = |k: usize| t[2 * k + 1].saturating_sub(t[2 * k]) as f64 * period;
+                Some(PassTimes {
+                    depth: ms(0),
+                    stencil: ms(1),
+                    wedge: if technique == GpuTechnique::Wedges {
+                        ms(2)
+                    } else {
+                        0.0
+                    },
+                    resolve: ms(3),
+                })
+            }
+        };
+        Ok((
+            VisibilityImage {
+                width: w,
+                height: h,
+                data,
+            },
+            times,
+        ))
     }
 }
 
@@ -361,6 +444,34 @@ pub fn read_r32f(
                 .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
         );
     }
+    drop(bytes);
+    buffer.unmap();
+    Ok(out)
+}
+
+/// Maps a (submitted) buffer and reads it as `u64`s.
+fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuError> {
+    let slice = buffer.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Readback(e.to_string()))?
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let out = bytes
+        .chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect();
     drop(bytes);
     buffer.unmap();
     Ok(out)

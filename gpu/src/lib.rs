@@ -12,5 +12,5 @@ pub mod hard;
 pub mod passes;
 
 pub use context::{GpuContext, GpuError};
-pub use hard::{GpuRenderer, GpuTechnique};
+pub use hard::{GpuRenderer, GpuTechnique, PassTimes};
 pub use penumbra_volumes as volumes;

@@ -123,6 +123,27 @@ enum Command {
         )]
         techniques: Vec<Technique>,
     },
+    /// Time a technique: the median over N frames of each GPU pass (timestamp queries) and of
+    /// the whole frame (wall clock, CPU setup and readback included).
+    Bench {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Technique.
+        #[arg(long, value_enum, default_value = "wedges-blend")]
+        technique: Technique,
+        /// Frames to time (after one warm-up frame).
+        #[arg(long, default_value_t = 10)]
+        frames: usize,
+        /// Where to run it.
+        #[arg(long, value_enum, default_value = "auto")]
+        backend: Backend,
+        /// Light samples per pixel for `reference`.
+        #[arg(long, default_value_t = 256)]
+        samples: usize,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Regenerate the fixture meshes and scenes.
     GenFixtures {
         /// Fixture folder.
@@ -163,6 +184,14 @@ fn run(cli: Cli) -> Result<()> {
             json,
         } => compare(&a, &b, heatmap.as_deref(), json),
         Command::Geometry { scene, json } => geometry(&scene, json),
+        Command::Bench {
+            scene,
+            technique,
+            frames,
+            backend,
+            samples,
+            json,
+        } => bench(&scene, technique, frames, backend, samples, json),
         Command::Accuracy {
             scenes,
             samples,
@@ -511,6 +540,110 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique]) -> Result<()> 
                 c.penumbra.mae,
                 c.penumbra.p99
             );
+        }
+    }
+    Ok(())
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn bench(
+    scene_path: &Path,
+    technique: Technique,
+    frames: usize,
+    backend: Backend,
+    samples: usize,
+    json: bool,
+) -> Result<()> {
+    if frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let per_axis = samples_per_axis(samples)?;
+    let scene = load_scene(scene_path)?;
+    let gpu = select_gpu(technique, backend)?;
+    let mut wall = Vec::new();
+    let mut passes: Vec<penumbra_gpu::PassTimes> = Vec::new();
+    let device;
+    match &gpu {
+        Some(ctx) => {
+            device = ctx.describe();
+            let t = match technique {
+                Technique::Hard => penumbra_gpu::GpuTechnique::Hard,
+                _ => penumbra_gpu::GpuTechnique::Wedges,
+            };
+            let volumes = penumbra_volumes::Volumes::build(&scene);
+            let r = penumbra_gpu::GpuRenderer::new(ctx);
+            for k in 0..=frames {
+                let start = std::time::Instant::now();
+                let (_, times) = r.render_timed(&scene, &volumes, t)?;
+                if k > 0 {
+                    wall.push(start.elapsed().as_secs_f64() * 1e3);
+                    passes.extend(times);
+                }
+            }
+        }
+        None => {
+            device = format!("cpu, {} threads", rayon::current_num_threads());
+            for k in 0..=frames {
+                let start = std::time::Instant::now();
+                let _ = render_image(&scene, technique, per_axis, &|_| {});
+                if k > 0 {
+                    wall.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+    }
+    let pass = |f: fn(&penumbra_gpu::PassTimes) -> f64| {
+        (!passes.is_empty()).then(|| median(passes.iter().map(f).collect()))
+    };
+    let report = serde_json::json!({
+        "scene": scene_path.display().to_string(),
+        "technique": format!("{technique:?}"),
+        "device": device,
+        "resolution": [scene.camera.width, scene.camera.height],
+        "frames": frames,
+        "median_ms": {
+            "depth": pass(|p| p.depth),
+            "stencil": pass(|p| p.stencil),
+            "wedge": pass(|p| p.wedge),
+            "resolve": pass(|p| p.resolve),
+            "gpu_total": pass(|p| p.total()),
+            "frame_wall": median(wall),
+        }
+    });
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!(
+            "{} {:?} on {} at {}x{}, median of {frames} frames:",
+            scene_path.display(),
+            technique,
+            device,
+            scene.camera.width,
+            scene.camera.height
+        );
+        for k in [
+            "depth",
+            "stencil",
+            "wedge",
+            "resolve",
+            "gpu_total",
+            "frame_wall",
+        ] {
+            if let Some(ms) = report["median_ms"][k].as_f64() {
+                println!("  {k:<11} {ms:>10.3} ms");
+            }
         }
     }
     Ok(())

@@ -90,6 +90,30 @@ fn part(k: u32) -> Poly {
     return p;
 }
 
+// Whether the segment a-b meets the square [-1, 1]^2 (Liang & Barsky 1984).
+fn meets_square(a: vec2<f32>, b: vec2<f32>) -> bool {
+    let d = b - a;
+    var t0 = 0.0;
+    var t1 = 1.0;
+    let p = array<f32, 4>(-d.x, d.x, -d.y, d.y);
+    let q = array<f32, 4>(a.x + 1.0, 1.0 - a.x, a.y + 1.0, 1.0 - a.y);
+    for (var i = 0; i < 4; i++) {
+        if (p[i] == 0.0) {
+            if (q[i] < 0.0) {
+                return false;
+            }
+        } else {
+            let r = q[i] / p[i];
+            if (p[i] < 0.0) {
+                t0 = max(t0, r);
+            } else {
+                t1 = min(t1, r);
+            }
+        }
+    }
+    return t0 <= t1;
+}
+
 // Fraction of z_P kept between the clipped edge and the local near plane (f32: coarser than the
 // CPU's 1e-9; projected coordinates stay below about 1e6).
 const NEAR_MARGIN: f32 = 1e-6;
@@ -118,6 +142,10 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
     }
     let a = p.xy + (a3.xy - p.xy) * (p.z / (p.z - a3.z));
     let b = p.xy + (b3.xy - p.xy) * (p.z / (p.z - b3.z));
+    // Outside the wedge: the projected edge misses the light (most fragments of the box).
+    if (!meets_square(a, b)) {
+        discard;
+    }
     let s0 = sign(cross2(a, b));
     if (s0 == 0.0) {
         discard;
