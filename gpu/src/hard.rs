@@ -1,5 +1,8 @@
 //! The volume techniques on the GPU. `hard`: depth pre-pass, z-fail stencil pass, resolve.
 //! `wedges` (additive): the same, plus the wedge pass of every silhouette edge before the resolve.
+//! `wedges-blend`: the depth pre-pass, then seed 004's "per-silhouette 3 passes algorithm" for
+//! each occluder (stencil pass of its volume, wedge pass of its edges into a silhouette buffer,
+//! blend of that buffer into the final one), then the resolve.
 
 use bytemuck::Zeroable;
 use glam::Vec4;
@@ -11,7 +14,8 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameUniforms;
-use crate::passes::wedge::{OCCLUSION_FORMAT, WedgeInstance, WedgePass, unit_cube};
+use crate::passes::blend::{BUFFER_FORMAT, BlendPass, FINAL_TARGETS, SILHOUETTE_TARGETS};
+use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
     DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, depth::DepthPass, frame_layout,
     resolve::ResolvePass, stencil::StencilPass,
@@ -24,6 +28,8 @@ pub enum GpuTechnique {
     Hard,
     /// Additive penumbra wedges.
     Wedges,
+    /// Penumbra-wedges blending: per-silhouette stencil, wedge and blend passes.
+    WedgesBlend,
 }
 
 /// GPU time of each pass of one frame, from timestamp queries, in milliseconds.
@@ -33,8 +39,10 @@ pub struct PassTimes {
     pub depth: f64,
     /// z-fail stencil pass.
     pub stencil: f64,
-    /// Penumbra-wedge pass (0 for `hard`).
+    /// Penumbra-wedge passes (0 for `hard`).
     pub wedge: f64,
+    /// Blend passes (`wedges-blend` only).
+    pub blend: f64,
     /// Resolve into V.
     pub resolve: f64,
 }
@@ -42,7 +50,7 @@ pub struct PassTimes {
 impl PassTimes {
     /// Sum of the passes.
     pub fn total(&self) -> f64 {
-        self.depth + self.stencil + self.wedge + self.resolve
+        self.depth + self.stencil + self.wedge + self.blend + self.resolve
     }
 }
 
@@ -53,12 +61,17 @@ pub struct GpuRenderer<'a> {
     depth: DepthPass,
     stencil: StencilPass,
     wedge: WedgePass,
+    blend: BlendPass,
     resolve: ResolvePass,
 }
 
 /// The wedges of `volumes` with their light-space bounding boxes clamped to the scene's
-/// light-space box (receivers lie in it); wedges wholly outside are dropped.
-pub fn wedge_instances(scene: &Scene, volumes: &Volumes) -> Vec<WedgeInstance> {
+/// light-space box (receivers lie in it); wedges wholly outside are dropped. Also each
+/// occluder's range of the instances (the wedges come grouped by occluder).
+pub fn wedge_instances(
+    scene: &Scene,
+    volumes: &Volumes,
+) -> (Vec<WedgeInstance>, Vec<std::ops::Range<u32>>) {
     let mut lo = glam::DVec3::splat(f64::INFINITY);
     let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
     for t in scene.triangles() {
@@ -70,10 +83,10 @@ pub fn wedge_instances(scene: &Scene, volumes: &Volumes) -> Vec<WedgeInstance> {
     }
     let pad = (hi - lo).max(glam::DVec3::splat(1e-6)) * 1e-3;
     let (lo, hi) = (lo - pad, hi + pad);
-    volumes
-        .wedges
-        .iter()
-        .filter_map(|w| {
+    let mut ranges = vec![0..0; volumes.occluders.len()];
+    let mut out = Vec::with_capacity(volumes.wedges.len());
+    for w in &volumes.wedges {
+        let inst = (|| {
             let (blo, bhi) = penumbra_volumes::render::wedge_bounds(w, hi.z);
             let (blo, bhi) = (blo.max(lo), bhi.min(hi));
             if !(blo.x <= bhi.x && blo.y <= bhi.y && blo.z <= bhi.z) {
@@ -89,8 +102,17 @@ pub fn wedge_instances(scene: &Scene, volumes: &Volumes) -> Vec<WedgeInstance> {
                 from: f(w.from, w.multiplicity as f32),
                 to: f(w.to, 0.0),
             })
-        })
-        .collect()
+        })();
+        if let Some(i) = inst {
+            let r = &mut ranges[w.occluder as usize];
+            if r.start == r.end {
+                *r = out.len() as u32..out.len() as u32;
+            }
+            out.push(i);
+            r.end = out.len() as u32;
+        }
+    }
+    (out, ranges)
 }
 
 fn target(
@@ -112,9 +134,13 @@ fn target(
     })
 }
 
+/// Scene triangles (eye-relative), volume triangles (homogeneous) and each occluder's range of
+/// the latter.
+pub type VertexData = (Vec<[f32; 3]>, Vec<[f32; 4]>, Vec<std::ops::Range<u32>>);
+
 /// Eye-relative vertices of every scene triangle, and of every shadow-volume triangle in
-/// homogeneous coordinates (`w = 0` at infinity).
-pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> (Vec<[f32; 3]>, Vec<[f32; 4]>) {
+/// homogeneous coordinates (`w = 0` at infinity), with each occluder's range of the latter.
+pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> VertexData {
     let eye = scene.camera.eye;
     let c = scene.light.center;
     let tris: Vec<[f32; 3]> = scene
@@ -124,7 +150,9 @@ pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> (Vec<[f32; 3]>, Vec<[f32
         .map(|&v| (v - eye).as_vec3().to_array())
         .collect();
     let mut vol = Vec::new();
+    let mut ranges = Vec::with_capacity(volumes.occluders.len());
     for o in &volumes.occluders {
+        let start = vol.len() as u32;
         let p = &o.volume.positions;
         for (t, _) in &o.volume.triangles {
             for v in t {
@@ -135,8 +163,9 @@ pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> (Vec<[f32; 3]>, Vec<[f32
                 vol.push(Vec4::to_array(&h));
             }
         }
+        ranges.push(start..vol.len() as u32);
     }
-    (tris, vol)
+    (tris, vol, ranges)
 }
 
 impl<'a> GpuRenderer<'a> {
@@ -149,6 +178,7 @@ impl<'a> GpuRenderer<'a> {
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
             wedge: WedgePass::new(device, &frame_layout, &resolve.texture_layout),
+            blend: BlendPass::new(device, &frame_layout),
             resolve,
             frame_layout,
             ctx,
@@ -180,7 +210,7 @@ impl<'a> GpuRenderer<'a> {
             height: h,
             depth_or_array_layers: 1,
         };
-        let (tris, vol) = vertex_data(scene, volumes);
+        let (tris, vol, vol_ranges) = vertex_data(scene, volumes);
         let radius = tris
             .iter()
             .map(|v| glam::Vec3::from(*v).length() as f64)
@@ -206,7 +236,7 @@ impl<'a> GpuRenderer<'a> {
                 usage: wgpu::BufferUsages::VERTEX,
             })
         };
-        // Zero-length buffers are invalid: pad empty scenes with one degenerate vertex.
+        // Zero-length buffers are invalid: pad empty ones with one unused element.
         let tri_buf = vbuf(
             "scene triangles",
             bytemuck::cast_slice(if tris.is_empty() {
@@ -224,14 +254,9 @@ impl<'a> GpuRenderer<'a> {
             }),
         );
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
         let depth = target(device, "depth", size, DEPTH_FORMAT, att);
-        let position = target(
-            device,
-            "position",
-            size,
-            POSITION_FORMAT,
-            att | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
+        let position = target(device, "position", size, POSITION_FORMAT, sampled);
         let visibility = target(
             device,
             "visibility",
@@ -242,28 +267,48 @@ impl<'a> GpuRenderer<'a> {
         let depth_view = depth.create_view(&Default::default());
         let position_view = position.create_view(&Default::default());
         let visibility_view = visibility.create_view(&Default::default());
-        let position_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("position"),
-            layout: &self.resolve.texture_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&position_view),
-            }],
-        });
+        let single = |view: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("texture"),
+                layout: &self.resolve.texture_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            })
+        };
+        let position_group = single(&position_view);
+
+        // Timestamp queries: two per pass, summed per kind of pass.
+        let blending = technique == GpuTechnique::WedgesBlend;
+        let passes = if blending {
+            2 + 4 * volumes.occluders.len()
+        } else {
+            4
+        };
         let queries = self.ctx.timestamps.then(|| {
             device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass times"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 8,
+                count: 2 * passes as u32,
             })
         });
-        let stamp = |pass: u32| {
+        let mut kinds: Vec<usize> = Vec::with_capacity(passes);
+        let mut stamp = |kind: usize| {
+            let i = kinds.len() as u32;
+            kinds.push(kind);
             queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
                 query_set: q,
-                beginning_of_pass_write_index: Some(2 * pass),
-                end_of_pass_write_index: Some(2 * pass + 1),
+                beginning_of_pass_write_index: Some(2 * i),
+                end_of_pass_write_index: Some(2 * i + 1),
             })
         };
+        const DEPTH: usize = 0;
+        const STENCIL: usize = 1;
+        const WEDGE: usize = 2;
+        const BLEND: usize = 3;
+        const RESOLVE: usize = 4;
+
         let mut enc = device.create_command_encoder(&Default::default());
         self.depth.record(
             &mut enc,
@@ -272,82 +317,210 @@ impl<'a> GpuRenderer<'a> {
             tris.len() as u32,
             &position_view,
             &depth_view,
-            stamp(0),
+            stamp(DEPTH),
         );
-        self.stencil.record(
-            &mut enc,
-            &frame,
-            &vol_buf,
-            vol.len() as u32,
-            &depth_view,
-            stamp(1),
+        let cube = vbuf("unit cube", bytemuck::cast_slice(&unit_cube()));
+        let (instances, inst_ranges) = match technique {
+            GpuTechnique::Hard => (Vec::new(), Vec::new()),
+            _ => wedge_instances(scene, volumes),
+        };
+        let zero = [WedgeInstance::zeroed()];
+        let inst = vbuf(
+            "wedges",
+            bytemuck::cast_slice(if instances.is_empty() {
+                &zero[..]
+            } else {
+                &instances[..]
+            }),
         );
-        let occlusion_group = match technique {
-            GpuTechnique::Hard => None,
-            GpuTechnique::Wedges => {
-                let instances = wedge_instances(scene, volumes);
-                let occlusion = target(
-                    device,
-                    "occlusion",
-                    size,
-                    OCCLUSION_FORMAT,
-                    att | wgpu::TextureUsages::TEXTURE_BINDING,
-                );
-                let occlusion_view = occlusion.create_view(&Default::default());
-                let cube = vbuf("unit cube", bytemuck::cast_slice(&unit_cube()));
-                let zero = [WedgeInstance::zeroed()];
-                let inst = vbuf(
-                    "wedges",
-                    bytemuck::cast_slice(if instances.is_empty() {
-                        &zero[..]
-                    } else {
-                        &instances[..]
-                    }),
-                );
-                self.wedge.record(
+        let buffer = |label| target(device, label, size, BUFFER_FORMAT, sampled);
+        let empty_rect = wgpu::Color {
+            r: 1e30,
+            g: 1e30,
+            b: -1e30,
+            a: -1e30,
+        };
+        let big = wgpu::Color {
+            r: 1e30,
+            g: 1e30,
+            b: 1e30,
+            a: 1e30,
+        };
+        let occlusion_view;
+        match technique {
+            GpuTechnique::Hard | GpuTechnique::Wedges => {
+                self.stencil.record(
                     &mut enc,
                     &frame,
-                    &position_group,
-                    &cube,
-                    &inst,
-                    instances.len() as u32,
-                    &occlusion_view,
-                    stamp(2),
+                    &vol_buf,
+                    0..vol.len() as u32,
+                    false,
+                    &depth_view,
+                    stamp(STENCIL),
                 );
-                Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("occlusion"),
-                    layout: &self.resolve.texture_layout,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&occlusion_view),
-                    }],
-                }))
+                occlusion_view = (technique == GpuTechnique::Wedges).then(|| {
+                    let v = buffer("occlusion").create_view(&Default::default());
+                    self.wedge.record(
+                        &mut enc,
+                        &frame,
+                        &position_group,
+                        &cube,
+                        &inst,
+                        0..instances.len() as u32,
+                        WedgeOutput::Additive,
+                        &[(&v, wgpu::Color::TRANSPARENT)],
+                        stamp(WEDGE),
+                    );
+                    v
+                });
             }
-        };
+            GpuTechnique::WedgesBlend => {
+                // Two final buffers, ping-ponged, and one silhouette buffer.
+                let finals: [Vec<wgpu::TextureView>; 2] = [0, 1].map(|_| {
+                    (0..FINAL_TARGETS)
+                        .map(|_| buffer("final").create_view(&Default::default()))
+                        .collect()
+                });
+                let sil: Vec<wgpu::TextureView> = (0..SILHOUETTE_TARGETS)
+                    .map(|_| buffer("silhouette").create_view(&Default::default()))
+                    .collect();
+                // Start from no occlusion: areas 0, empty rectangles.
+                {
+                    let clears: Vec<Option<wgpu::RenderPassColorAttachment>> = finals[0]
+                        .iter()
+                        .enumerate()
+                        .map(|(i, view)| {
+                            Some(wgpu::RenderPassColorAttachment {
+                                view,
+                                depth_slice: None,
+                                resolve_target: None,
+                                ops: wgpu::Operations {
+                                    load: wgpu::LoadOp::Clear(if i == 0 {
+                                        wgpu::Color::TRANSPARENT
+                                    } else {
+                                        empty_rect
+                                    }),
+                                    store: wgpu::StoreOp::Store,
+                                },
+                            })
+                        })
+                        .collect();
+                    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("clear final"),
+                        color_attachments: &clears,
+                        depth_stencil_attachment: None,
+                        timestamp_writes: None,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                }
+                let inputs = |old: &[wgpu::TextureView]| {
+                    let entries: Vec<wgpu::BindGroupEntry> = old
+                        .iter()
+                        .chain(&sil)
+                        .enumerate()
+                        .map(|(i, v)| wgpu::BindGroupEntry {
+                            binding: i as u32,
+                            resource: wgpu::BindingResource::TextureView(v),
+                        })
+                        .collect();
+                    device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("blend inputs"),
+                        layout: &self.blend.inputs_layout,
+                        entries: &entries,
+                    })
+                };
+                let groups = [inputs(&finals[0]), inputs(&finals[1])];
+                let mut cur = 0;
+                for (o, vr) in vol_ranges.iter().enumerate() {
+                    let ir = inst_ranges[o].clone();
+                    if vr.is_empty() && ir.is_empty() {
+                        continue;
+                    }
+                    // Seed 004's three passes for this silhouette.
+                    self.stencil.record(
+                        &mut enc,
+                        &frame,
+                        &vol_buf,
+                        vr.clone(),
+                        true,
+                        &depth_view,
+                        stamp(STENCIL),
+                    );
+                    let t = |i: usize, c| (&sil[i], c);
+                    let zero = wgpu::Color::TRANSPARENT;
+                    self.wedge.record(
+                        &mut enc,
+                        &frame,
+                        &position_group,
+                        &cube,
+                        &inst,
+                        ir.clone(),
+                        WedgeOutput::SilhouetteA,
+                        &[
+                            t(0, zero),
+                            t(1, zero),
+                            t(2, big),
+                            t(3, big),
+                            t(4, big),
+                            t(5, big),
+                        ],
+                        stamp(WEDGE),
+                    );
+                    self.wedge.record(
+                        &mut enc,
+                        &frame,
+                        &position_group,
+                        &cube,
+                        &inst,
+                        ir,
+                        WedgeOutput::SilhouetteB,
+                        &[t(6, big), t(7, big), t(8, big), t(9, big)],
+                        stamp(WEDGE),
+                    );
+                    self.blend.record(
+                        &mut enc,
+                        &frame,
+                        &groups[cur],
+                        &finals[1 - cur],
+                        &depth_view,
+                        stamp(BLEND),
+                    );
+                    cur = 1 - cur;
+                }
+                let [a, b] = finals;
+                let mut finals = [a, b];
+                occlusion_view = Some(std::mem::take(&mut finals[cur]).swap_remove(0));
+            }
+        }
+        let occlusion_group = occlusion_view.as_ref().map(&single);
         self.resolve.record(
             &mut enc,
             &frame,
             &position_group,
             occlusion_group.as_ref(),
+            blending,
             &visibility_view,
             &depth_view,
-            stamp(3),
+            stamp(RESOLVE),
         );
-        let stamps = queries.as_ref().map(|q| {
+        let used = kinds.len() as u32;
+        let stamps = queries.as_ref().filter(|_| used > 0).map(|q| {
+            let bytes = 16 * used as u64;
             let resolved = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("pass times"),
-                size: 64,
+                size: bytes,
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
             let read = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("pass times readback"),
-                size: 64,
+                size: bytes,
                 usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
                 mapped_at_creation: false,
             });
-            enc.resolve_query_set(q, 0..8, &resolved, 0);
-            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, 64);
+            enc.resolve_query_set(q, 0..2 * used, &resolved, 0);
+            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
             read
         });
         let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
@@ -356,16 +529,16 @@ impl<'a> GpuRenderer<'a> {
             Some(read) => {
                 let t = read_u64(self.ctx, &read)?;
                 let period = self.ctx.queue.get_timestamp_period() as f64 * 1e-6;
-                let ms = |k: usize| t[2 * k + 1].saturating_sub(t[2 * k]) as f64 * period;
+                let mut sums = [0.0f64; 5];
+                for (i, &k) in kinds.iter().enumerate() {
+                    sums[k] += t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period;
+                }
                 Some(PassTimes {
-                    depth: ms(0),
-                    stencil: ms(1),
-                    wedge: if technique == GpuTechnique::Wedges {
-                        ms(2)
-                    } else {
-                        0.0
-                    },
-                    resolve: ms(3),
+                    depth: sums[DEPTH],
+                    stencil: sums[STENCIL],
+                    wedge: sums[WEDGE],
+                    blend: sums[BLEND],
+                    resolve: sums[RESOLVE],
                 })
             }
         };

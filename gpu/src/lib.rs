@@ -1,9 +1,9 @@
 //! The wgpu back end of penumbra: one module and one WGSL file per pass (seed 004, section 4).
 //!
-//! Implemented so far: the device (any adapter, hardware first, Mesa's lavapipe otherwise), the
-//! depth pre-pass, the z-fail stencil pass of the shadow volumes, the penumbra-wedge pass and the
-//! resolve pass: the `hard` and the additive `wedges` techniques. The per-silhouette blending of
-//! `wedges-blend` is the next step; until then it runs on the CPU oracle of `penumbra-volumes`.
+//! The device (any adapter, hardware first, Mesa's lavapipe otherwise), the depth pre-pass, the
+//! z-fail stencil pass of the shadow volumes, the penumbra-wedge pass, the blend pass and the
+//! resolve: `hard`, additive `wedges` and seed 004's `wedges-blend`, each checked against the
+//! CPU oracle of `penumbra-volumes`.
 #![warn(missing_docs)]
 
 pub mod context;

@@ -105,20 +105,29 @@ fn gpu_hard_matches_the_hard_reference() {
 
 #[test]
 fn gpu_wedges_match_the_cpu_oracle() {
+    gpu_matches_cpu(GpuTechnique::Wedges, Technique::Wedges);
+}
+
+#[test]
+fn gpu_wedges_blend_matches_the_cpu_oracle() {
+    gpu_matches_cpu(GpuTechnique::WedgesBlend, Technique::WedgesBlend);
+}
+
+fn gpu_matches_cpu(gt: GpuTechnique, t: Technique) {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::new(&ctx);
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
-        let gpu = r.render(&scene, &volumes, GpuTechnique::Wedges).unwrap();
-        let cpu = CpuRenderer::new(&scene).render(&scene, Technique::Wedges, &|_| {});
+        let gpu = r.render(&scene, &volumes, gt).unwrap();
+        let cpu = CpuRenderer::new(&scene).render(&scene, t, &|_| {});
         let c = compare(&gpu, &cpu).unwrap();
         println!(
-            "{name:>18}: GPU wedges vs CPU: MAE {:.2e}, p99 {:.2e}, max {:.2e}; penumbra MAE {:.2e}",
+            "{name:>18}: GPU {t:?} vs CPU: MAE {:.2e}, p99 {:.2e}, max {:.2e}; penumbra MAE {:.2e}",
             c.all.mae, c.all.p99, c.all.max, c.penumbra.mae
         );
         if c.all.mae > 1e-3 || c.all.p99 > 0.02 {
             let dir = std::env::temp_dir();
-            let _ = gpu.write_exr(&dir.join(format!("{name}-gpu-wedges-actual.exr")));
+            let _ = gpu.write_exr(&dir.join(format!("{name}-gpu-{t:?}-actual.exr")));
         }
         assert!(c.all.mae <= 1e-3, "{name}: MAE {}", c.all.mae);
         assert!(c.all.p99 <= 0.02, "{name}: p99 {}", c.all.p99);

@@ -67,8 +67,8 @@ enum Command {
         /// Also write an 8-bit greyscale PNG.
         #[arg(long)]
         png: Option<PathBuf>,
-        /// Where the volume techniques run (the references always run on the CPU; so far the
-        /// GPU renders `hard` and `wedges`, and `wedges-blend` runs on the CPU).
+        /// Where the volume techniques (`hard`, `wedges`, `wedges-blend`) run; the references
+        /// always run on the CPU.
         #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
     },
@@ -284,10 +284,7 @@ fn render(
     let gpu = select_gpu(technique, backend)?;
     let (img, triangles, detail) = match &gpu {
         Some(ctx) => {
-            let gpu_technique = match technique {
-                Technique::Hard => penumbra_gpu::GpuTechnique::Hard,
-                _ => penumbra_gpu::GpuTechnique::Wedges,
-            };
+            let gpu_technique = gpu_technique(technique);
             let volumes = penumbra_volumes::Volumes::build(&scene);
             let img =
                 penumbra_gpu::GpuRenderer::new(ctx).render(&scene, &volumes, gpu_technique)?;
@@ -324,18 +321,30 @@ fn render(
     Ok(())
 }
 
+/// The GPU version of a volume technique.
+fn gpu_technique(t: Technique) -> penumbra_gpu::GpuTechnique {
+    match t {
+        Technique::Hard => penumbra_gpu::GpuTechnique::Hard,
+        Technique::Wedges => penumbra_gpu::GpuTechnique::Wedges,
+        _ => penumbra_gpu::GpuTechnique::WedgesBlend,
+    }
+}
+
 /// The GPU to render `technique` on, or `None` for the CPU, saying which on stderr.
 fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<penumbra_gpu::GpuContext>> {
-    let on_gpu = matches!(technique, Technique::Hard | Technique::Wedges);
+    let on_gpu = matches!(
+        technique,
+        Technique::Hard | Technique::Wedges | Technique::WedgesBlend
+    );
     match backend {
         Backend::Cpu => Ok(None),
         Backend::Gpu if !on_gpu => bail!(
-            "--backend gpu: {technique:?} has no GPU implementation yet (the GPU renders `hard` and `wedges`); use --backend cpu"
+            "--backend gpu: {technique:?} runs on the CPU only (the GPU renders the volume techniques)"
         ),
         Backend::Gpu => Ok(Some(penumbra_gpu::GpuContext::new()?)),
         Backend::Auto if !on_gpu => {
             if !matches!(technique, Technique::Reference | Technique::HardReference) {
-                eprintln!("backend: cpu ({technique:?} has no GPU implementation yet)");
+                eprintln!("backend: cpu ({technique:?} is a CPU technique)");
             }
             Ok(None)
         }
@@ -578,10 +587,7 @@ fn bench(
     match &gpu {
         Some(ctx) => {
             device = ctx.describe();
-            let t = match technique {
-                Technique::Hard => penumbra_gpu::GpuTechnique::Hard,
-                _ => penumbra_gpu::GpuTechnique::Wedges,
-            };
+            let t = gpu_technique(technique);
             let volumes = penumbra_volumes::Volumes::build(&scene);
             let r = penumbra_gpu::GpuRenderer::new(ctx);
             for k in 0..=frames {
@@ -617,6 +623,7 @@ fn bench(
             "depth": pass(|p| p.depth),
             "stencil": pass(|p| p.stencil),
             "wedge": pass(|p| p.wedge),
+            "blend": pass(|p| p.blend),
             "resolve": pass(|p| p.resolve),
             "gpu_total": pass(|p| p.total()),
             "frame_wall": median(wall),

@@ -111,6 +111,11 @@ impl Wedge {
     /// as seen from `p` (`p` outside the wedge).
     pub fn integral(&self, p: DVec3) -> Option<EdgeIntegral> {
         let (a, b) = self.project(p)?;
+        // Only wedges containing p contribute: an edge whose projection misses the light hides
+        // none of it (its near region would otherwise depend on which edges a search returns).
+        if !segment_meets_square(a, b) {
+            return None;
+        }
         let s0 = cross(a, b);
         if s0 == 0.0 {
             return None;

@@ -1,5 +1,6 @@
 //! One module per pass, each driving the WGSL file of the same name in `src/shaders/`.
 
+pub mod blend;
 pub mod depth;
 pub mod resolve;
 pub mod stencil;

@@ -12,6 +12,7 @@ pub struct ResolvePass {
     shadowed: wgpu::RenderPipeline,
     wedges_equal: wgpu::RenderPipeline,
     wedges_at_least: wgpu::RenderPipeline,
+    blended: wgpu::RenderPipeline,
     /// Layout of a single non-filterable float texture (the receivers, group 1; the occlusion,
     /// group 2).
     pub texture_layout: wgpu::BindGroupLayout,
@@ -95,12 +96,15 @@ impl ResolvePass {
             wedges_equal: make("fs_wedges", wgpu::CompareFunction::Equal, true),
             // Passes where MAX_COUNT <= stencil.
             wedges_at_least: make("fs_wedges", wgpu::CompareFunction::LessEqual, true),
+            // The blended buffer already holds the hard shadows: count 0, every pixel.
+            blended: make("fs_wedges", wgpu::CompareFunction::Always, true),
             texture_layout,
         }
     }
 
-    /// Writes V into `visibility`: the hard shadow when `occlusion` is `None`, else the
-    /// additive wedges' `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count.
+    /// Writes V into `visibility`: the hard shadow when `occlusion` is `None`, else
+    /// `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count (additive wedges) or
+    /// `n = 0` when `blended` (the final buffer of the blending, hard shadows included).
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
@@ -108,6 +112,7 @@ impl ResolvePass {
         frame: &wgpu::BindGroup,
         position: &wgpu::BindGroup,
         occlusion: Option<&wgpu::BindGroup>,
+        blended: bool,
         visibility: &wgpu::TextureView,
         depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
@@ -141,6 +146,11 @@ impl ResolvePass {
                     pass.set_stencil_reference(0);
                     pass.draw(0..3, 0..1);
                 }
+            }
+            Some(o) if blended => {
+                pass.set_bind_group(2, o, &[]);
+                pass.set_pipeline(&self.blended);
+                pass.draw(0..3, 0..1);
             }
             Some(o) => {
                 pass.set_bind_group(2, o, &[]);

@@ -103,14 +103,17 @@ impl StencilPass {
         }
     }
 
-    /// Counts the volumes in `vertices` (homogeneous, eye-relative triangles) into the stencil
-    /// of `depth`, keeping the depth from the pre-pass.
+    /// Counts the volume triangles `range` of `vertices` (homogeneous, eye-relative) into the
+    /// stencil of `depth`, keeping the depth from the pre-pass; `clear` zeroes the stencil first
+    /// (per-silhouette counts).
+    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         vertices: &wgpu::Buffer,
-        vertex_count: u32,
+        range: std::ops::Range<u32>,
+        clear: bool,
         depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
@@ -124,7 +127,11 @@ impl StencilPass {
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
+                    load: if clear {
+                        wgpu::LoadOp::Clear(0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
             }),
@@ -134,9 +141,12 @@ impl StencilPass {
         });
         pass.set_bind_group(0, frame, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
+        if range.is_empty() {
+            return;
+        }
         for p in [&self.back, &self.front] {
             pass.set_pipeline(p);
-            pass.draw(0..vertex_count, 0..1);
+            pass.draw(range.clone(), 0..1);
         }
     }
 }

@@ -37,9 +37,22 @@ pub fn unit_cube() -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// The wedge pass pipeline.
+/// The wedge pass pipelines: additive (one target) and the two halves of a silhouette buffer.
 pub struct WedgePass {
     pipeline: wgpu::RenderPipeline,
+    silhouette_a: wgpu::RenderPipeline,
+    silhouette_b: wgpu::RenderPipeline,
+}
+
+/// Which wedge pass output to write.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WedgeOutput {
+    /// Signed area per part, added (`wedges`).
+    Additive,
+    /// Area, cover and outer rectangles of a silhouette buffer.
+    SilhouetteA,
+    /// Inner rectangles of a silhouette buffer.
+    SilhouetteB,
 }
 
 impl WedgePass {
@@ -55,62 +68,86 @@ impl WedgePass {
             bind_group_layouts: &[Some(frame_layout), Some(position_layout)],
             immediate_size: 0,
         });
-        let add = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
+        let blend = |operation| {
+            let c = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation,
+            };
+            Some(wgpu::ColorTargetState {
+                format: OCCLUSION_FORMAT,
+                blend: Some(wgpu::BlendState { color: c, alpha: c }),
+                write_mask: wgpu::ColorWrites::ALL,
+            })
         };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("wedge"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[
-                    Some(wgpu::VertexBufferLayout {
-                        array_stride: 12,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                    }),
-                    Some(wgpu::VertexBufferLayout {
-                        array_stride: 64,
-                        step_mode: wgpu::VertexStepMode::Instance,
-                        attributes: &wgpu::vertex_attr_array![
-                            1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
-                        ],
-                    }),
+        let (add, min) = (
+            blend(wgpu::BlendOperation::Add),
+            blend(wgpu::BlendOperation::Min),
+        );
+        let make = |entry: &str, targets: &[Option<wgpu::ColorTargetState>]| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: 12,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                        }),
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: 64,
+                            step_mode: wgpu::VertexStepMode::Instance,
+                            attributes: &wgpu::vertex_attr_array![
+                                1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
+                            ],
+                        }),
+                    ],
+                },
+                primitive: wgpu::PrimitiveState {
+                    front_face: wgpu::FrontFace::Ccw,
+                    // Back faces only: one fragment per pixel whose ray meets the box, wherever the
+                    // camera is.
+                    cull_mode: Some(wgpu::Face::Front),
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        WedgePass {
+            pipeline: make("fs", std::slice::from_ref(&add)),
+            silhouette_a: make(
+                "fs_silhouette_a",
+                &[
+                    add.clone(),
+                    add,
+                    min.clone(),
+                    min.clone(),
+                    min.clone(),
+                    min.clone(),
                 ],
-            },
-            primitive: wgpu::PrimitiveState {
-                front_face: wgpu::FrontFace::Ccw,
-                // Back faces only: one fragment per pixel whose ray meets the box, wherever the
-                // camera is.
-                cull_mode: Some(wgpu::Face::Front),
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: OCCLUSION_FORMAT,
-                    blend: Some(wgpu::BlendState {
-                        color: add,
-                        alpha: add,
-                    }),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        WedgePass { pipeline }
+            ),
+            silhouette_b: make(
+                "fs_silhouette_b",
+                &[min.clone(), min.clone(), min.clone(), min],
+            ),
+        }
     }
 
-    /// Clears `occlusion` and accumulates the signed areas of `instances` wedges into it.
+    /// Clears `targets` to `clear` and accumulates the wedges `instances` (a range of the
+    /// instance buffer `wedges`) into them, writing `output`.
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
@@ -119,31 +156,44 @@ impl WedgePass {
         position: &wgpu::BindGroup,
         cube: &wgpu::Buffer,
         wedges: &wgpu::Buffer,
-        instances: u32,
-        occlusion: &wgpu::TextureView,
+        instances: std::ops::Range<u32>,
+        output: WedgeOutput,
+        targets: &[(&wgpu::TextureView, wgpu::Color)],
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
+            .iter()
+            .map(|(view, clear)| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(*clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("wedge"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: occlusion,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &attachments,
             depth_stencil_attachment: None,
             timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(match output {
+            WedgeOutput::Additive => &self.pipeline,
+            WedgeOutput::SilhouetteA => &self.silhouette_a,
+            WedgeOutput::SilhouetteB => &self.silhouette_b,
+        });
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, position, &[]);
         pass.set_vertex_buffer(0, cube.slice(..));
         pass.set_vertex_buffer(1, wedges.slice(..));
-        pass.draw(0..36, 0..instances);
+        if !instances.is_empty() {
+            pass.draw(0..36, instances);
+        }
     }
 }

@@ -118,22 +118,70 @@ fn meets_square(a: vec2<f32>, b: vec2<f32>) -> bool {
 // CPU's 1e-9; projected coordinates stay below about 1e6).
 const NEAR_MARGIN: f32 = 1e-6;
 
-@fragment
-fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
-    let hit = textureLoad(position, vec2<i32>(in.clip.xy), 0);
-    if (hit.w == 0.0) {
-        discard;
+// A rectangle as (min x, min y, max x, max y); empty when min > max.
+const BIG: f32 = 1e30;
+const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
+
+fn bbox(p: Poly) -> vec4<f32> {
+    var r = EMPTY_RECT;
+    for (var i = 0u; i < p.n; i++) {
+        r = vec4<f32>(min(r.xy, p.v[i]), max(r.zw, p.v[i]));
     }
-    let p = to_light(hit.xyz);
+    return r;
+}
+
+// What one edge contributes at one receiver, per radial part: the CPU's `EdgeIntegral`.
+struct Integral {
+    // False when the edge does not touch the light as seen from P.
+    valid: bool,
+    // +1 outer half-wedge, -1 inner.
+    sign: f32,
+    // m · |R_e ∩ T_k|.
+    area: vec4<f32>,
+    // Bounding rectangles of R_e ∩ T_k (beyond the edge) and of the cone's part between the
+    // centre and the edge (near), per part.
+    beyond: array<vec4<f32>, 4>,
+    near: array<vec4<f32>, 4>,
+    // Length of the part's outer side inside the cone over the edge.
+    cover: vec4<f32>,
+}
+
+// Keeps the part of the segment a-b where dot(h.xy, x) + h.z >= 0; n = 0 when nothing is left.
+struct Segment {
+    a: vec2<f32>,
+    b: vec2<f32>,
+    n: u32,
+}
+
+fn clip_segment(s: Segment, h: vec3<f32>) -> Segment {
+    var out = s;
+    if (s.n == 0u) {
+        return out;
+    }
+    let fa = dot(h.xy, s.a) + h.z;
+    let fb = dot(h.xy, s.b) + h.z;
+    if (fa < 0.0 && fb < 0.0) {
+        out.n = 0u;
+    } else if (fa >= 0.0 && fb < 0.0) {
+        out.b = s.a + (s.b - s.a) * (fa / (fa - fb));
+    } else if (fa < 0.0 && fb >= 0.0) {
+        out.a = s.a + (s.b - s.a) * (fa / (fa - fb));
+    }
+    return out;
+}
+
+fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>) -> Integral {
+    var out: Integral;
+    out.valid = false;
     if (!(p.z > 0.0)) {
-        discard;
+        return out;
     }
     // Clip the edge to the local near plane and project it from P onto the light plane.
-    var a3 = in.edge_from.xyz;
-    var b3 = in.edge_to.xyz;
+    var a3 = edge_from.xyz;
+    var b3 = edge_to.xyz;
     let limit = p.z * (1.0 - NEAR_MARGIN);
     if (a3.z > limit && b3.z > limit) {
-        discard;
+        return out;
     }
     if (b3.z > limit) {
         b3 = a3 + (b3 - a3) * ((limit - a3.z) / (b3.z - a3.z));
@@ -144,27 +192,137 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
     let b = p.xy + (b3.xy - p.xy) * (p.z / (p.z - b3.z));
     // Outside the wedge: the projected edge misses the light (most fragments of the box).
     if (!meets_square(a, b)) {
-        discard;
+        return out;
     }
     let s0 = sign(cross2(a, b));
     if (s0 == 0.0) {
-        discard;
+        return out;
     }
     // Outer half-wedge (away from the casters) adds, inner subtracts.
-    let side = dot(cross(in.edge_to.xyz - in.edge_from.xyz, -in.edge_from.xyz), p - in.edge_from.xyz);
+    let side = dot(cross(edge_to.xyz - edge_from.xyz, -edge_from.xyz), p - edge_from.xyz);
     if (side == 0.0) {
-        discard;
+        return out;
     }
+    out.sign = sign(side);
     let e = b - a;
     let cone_a = vec3<f32>(-s0 * a.y, s0 * a.x, 0.0);
     let cone_b = vec3<f32>(s0 * b.y, -s0 * b.x, 0.0);
     let beyond = -s0 * vec3<f32>(-e.y, e.x, -cross2(e, a));
-    var out = vec4<f32>(0.0);
+    out.area = vec4<f32>(0.0);
+    out.cover = vec4<f32>(0.0);
     for (var k = 0u; k < 4u; k++) {
-        let r = clip(clip(clip(part(k), cone_a), cone_b), beyond);
-        if (r.n >= 3u) {
-            out[k] = area(r);
+        out.beyond[k] = EMPTY_RECT;
+        out.near[k] = EMPTY_RECT;
+        let t = part(k);
+        let cone = clip(clip(t, cone_a), cone_b);
+        if (cone.n < 3u) {
+            continue;
+        }
+        var side_seg: Segment;
+        side_seg.a = t.v[1];
+        side_seg.b = t.v[2];
+        side_seg.n = 2u;
+        let sc = clip_segment(clip_segment(side_seg, cone_a), cone_b);
+        if (sc.n > 0u) {
+            out.cover[k] = length(sc.b - sc.a);
+        }
+        let r = clip(cone, beyond);
+        let near = clip(cone, -beyond);
+        let ra = select(0.0, area(r), r.n >= 3u);
+        if (ra > 0.0) {
+            out.area[k] = edge_from.w * ra;
+            out.beyond[k] = bbox(r);
+            out.valid = true;
+        }
+        if (near.n >= 3u) {
+            out.near[k] = bbox(near);
+            out.valid = true;
         }
     }
-    return out * (sign(side) * in.edge_from.w);
+    return out;
+}
+
+fn receiver(pixel: vec4<f32>) -> vec4<f32> {
+    let hit = textureLoad(position, vec2<i32>(pixel.xy), 0);
+    if (hit.w == 0.0) {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(to_light(hit.xyz), 1.0);
+}
+
+// Additive wedges: the signed area per part.
+@fragment
+fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
+    let p = receiver(in.clip);
+    if (p.w == 0.0) {
+        discard;
+    }
+    let i = integral(in.edge_from, in.edge_to, p.xyz);
+    if (!i.valid) {
+        discard;
+    }
+    return i.area * i.sign;
+}
+
+// The silhouette buffer of seed 004 (first half): signed areas (added), the inner half-wedges'
+// cover of each part's border (added), and the outer half-wedges' rectangles (minimum of the
+// minima, and of the negated maxima, so that one blend operation does both).
+struct SilhouetteA {
+    @location(0) area: vec4<f32>,
+    @location(1) cover: vec4<f32>,
+    @location(2) outer_min01: vec4<f32>,
+    @location(3) outer_min23: vec4<f32>,
+    @location(4) outer_negmax01: vec4<f32>,
+    @location(5) outer_negmax23: vec4<f32>,
+}
+
+@fragment
+fn fs_silhouette_a(in: WedgeOut) -> SilhouetteA {
+    let p = receiver(in.clip);
+    if (p.w == 0.0) {
+        discard;
+    }
+    let i = integral(in.edge_from, in.edge_to, p.xyz);
+    if (!i.valid) {
+        discard;
+    }
+    var out: SilhouetteA;
+    out.area = i.area * i.sign;
+    out.cover = select(vec4<f32>(0.0), i.cover, i.sign < 0.0);
+    var r = array<vec4<f32>, 4>(EMPTY_RECT, EMPTY_RECT, EMPTY_RECT, EMPTY_RECT);
+    if (i.sign > 0.0) {
+        r = i.beyond;
+    }
+    out.outer_min01 = vec4<f32>(r[0].xy, r[1].xy);
+    out.outer_min23 = vec4<f32>(r[2].xy, r[3].xy);
+    out.outer_negmax01 = -vec4<f32>(r[0].zw, r[1].zw);
+    out.outer_negmax23 = -vec4<f32>(r[2].zw, r[3].zw);
+    return out;
+}
+
+// Second half: the inner half-wedges' near rectangles (seed 004, Figure 10).
+struct SilhouetteB {
+    @location(0) inner_min01: vec4<f32>,
+    @location(1) inner_min23: vec4<f32>,
+    @location(2) inner_negmax01: vec4<f32>,
+    @location(3) inner_negmax23: vec4<f32>,
+}
+
+@fragment
+fn fs_silhouette_b(in: WedgeOut) -> SilhouetteB {
+    let p = receiver(in.clip);
+    if (p.w == 0.0) {
+        discard;
+    }
+    let i = integral(in.edge_from, in.edge_to, p.xyz);
+    if (!i.valid || i.sign > 0.0) {
+        discard;
+    }
+    var out: SilhouetteB;
+    let r = i.near;
+    out.inner_min01 = vec4<f32>(r[0].xy, r[1].xy);
+    out.inner_min23 = vec4<f32>(r[2].xy, r[3].xy);
+    out.inner_negmax01 = -vec4<f32>(r[0].zw, r[1].zw);
+    out.inner_negmax23 = -vec4<f32>(r[2].zw, r[3].zw);
+    return out;
 }

@@ -1,0 +1,157 @@
+//! Blend pass of penumbra-wedges blending: drives `shaders/blend.wgsl`.
+
+use super::DEPTH_FORMAT;
+use super::resolve::MAX_COUNT;
+
+/// Format of every final- and silhouette-buffer target.
+pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Targets of the final buffer: area per part, then one rectangle per part.
+pub const FINAL_TARGETS: usize = 5;
+
+/// Targets of a silhouette buffer: area, cover, outer minima (2), outer negated maxima (2),
+/// inner minima (2), inner negated maxima (2).
+pub const SILHOUETTE_TARGETS: usize = 10;
+
+/// A layout of `n` non-filterable float textures at bindings `0..n`, fragment stage.
+pub fn textures_layout(device: &wgpu::Device, label: &str, n: u32) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n)
+        .map(|binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        })
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
+/// The blend pipelines (stencil count equal to the draw's, or at least `MAX_COUNT`).
+pub struct BlendPass {
+    equal: wgpu::RenderPipeline,
+    at_least: wgpu::RenderPipeline,
+    /// Layout of group 1: the old final buffer, then the silhouette buffer.
+    pub inputs_layout: wgpu::BindGroupLayout,
+}
+
+impl BlendPass {
+    /// Builds the pipelines.
+    pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
+        let module = super::shader(device, "blend", include_str!("../shaders/blend.wgsl"));
+        let inputs_layout = textures_layout(
+            device,
+            "blend inputs",
+            (FINAL_TARGETS + SILHOUETTE_TARGETS) as u32,
+        );
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("blend"),
+            bind_group_layouts: &[Some(frame_layout), Some(&inputs_layout)],
+            immediate_size: 0,
+        });
+        let targets: Vec<Option<wgpu::ColorTargetState>> = (0..FINAL_TARGETS)
+            .map(|_| Some(BUFFER_FORMAT.into()))
+            .collect();
+        let make = |compare| {
+            let face = wgpu::StencilFaceState {
+                compare,
+                fail_op: wgpu::StencilOperation::Keep,
+                depth_fail_op: wgpu::StencilOperation::Keep,
+                pass_op: wgpu::StencilOperation::Keep,
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("blend"),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: wgpu::StencilState {
+                        front: face,
+                        back: face,
+                        read_mask: 0xff,
+                        write_mask: 0,
+                    },
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        BlendPass {
+            equal: make(wgpu::CompareFunction::Equal),
+            at_least: make(wgpu::CompareFunction::LessEqual),
+            inputs_layout,
+        }
+    }
+
+    /// Blends the silhouette buffer into the final one: reads `inputs` (old final, silhouette),
+    /// writes `out` (new final), with the silhouette's stencil counts in `depth`.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::BindGroup,
+        inputs: &wgpu::BindGroup,
+        out: &[wgpu::TextureView],
+        depth: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = out
+            .iter()
+            .map(|view| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("blend"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, frame, &[]);
+        pass.set_bind_group(1, inputs, &[]);
+        for n in 0..=MAX_COUNT {
+            pass.set_pipeline(if n < MAX_COUNT {
+                &self.equal
+            } else {
+                &self.at_least
+            });
+            pass.set_stencil_reference(n);
+            pass.draw(0..3, n..n + 1);
+        }
+    }
+}
