@@ -117,6 +117,31 @@ impl SceneText {
     }
 }
 
+/// `n x n` spheres of 760 triangles over a plane on two heights in a checkerboard: seed 004's
+/// Figure 1 at `n = 9`, and its Figure 12's sweep of sphere counts.
+fn sphere_grid(n: usize) -> SceneText {
+    let mut s = SceneText::new(
+        &format!(
+            "{} spheres of 760 triangles in a {n}x{n} grid over a plane, as in seed 004's Figure 1, on\ntwo heights in a checkerboard so that their penumbrae overlap.",
+            n * n
+        ),
+        [0.0, 11.0, 12.0],
+        [0.0, 0.0, 0.5],
+        &format!("center = [0.0, 9.0, 0.0]\n{DOWN_LIGHT}\nsize = [3.0, 3.0]\n"),
+    );
+    s.ground();
+    let half = (n as f64 - 1.0) / 2.0;
+    for gz in 0..n {
+        for gx in 0..n {
+            let x = (gx as f64 - half) * 1.1;
+            let z = (gz as f64 - half) * 1.1;
+            let y = if (gx + gz) % 2 == 0 { 1.2 } else { 2.0 };
+            s.mesh("sphere.obj", "0.4", None, [x, y, z]);
+        }
+    }
+    s
+}
+
 const DOWN_LIGHT: &str = "normal = [0.0, -1.0, 0.0]\ntangent = [1.0, 0.0, 0.0]";
 
 /// Writes every fixture mesh to `dir/meshes` and scene to `dir/scenes`.
@@ -184,22 +209,16 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     write(scenes.join("sphere-over-plane.toml"), s.0)?;
 
     // spheres-9x9: seed 004, Figure 1.
-    let mut s = SceneText::new(
-        "81 spheres of 760 triangles in a 9x9 grid over a plane, as in seed 004's Figure 1, on\ntwo heights in a checkerboard so that their penumbrae overlap.",
-        [0.0, 11.0, 12.0],
-        [0.0, 0.0, 0.5],
-        &format!("center = [0.0, 9.0, 0.0]\n{DOWN_LIGHT}\nsize = [3.0, 3.0]\n"),
-    );
-    s.ground();
-    for gz in 0..9 {
-        for gx in 0..9 {
-            let x = (gx as f64 - 4.0) * 1.1;
-            let z = (gz as f64 - 4.0) * 1.1;
-            let y = if (gx + gz) % 2 == 0 { 1.2 } else { 2.0 };
-            s.mesh("sphere.obj", "0.4", None, [x, y, z]);
-        }
+    write(scenes.join("spheres-9x9.toml"), sphere_grid(9).0)?;
+    // The sweep of seed 004's Figure 12 (benchmarks only, not tests).
+    let bench = dir.join("bench");
+    std::fs::create_dir_all(&bench).with_context(|| format!("creating {}", bench.display()))?;
+    for n in [1, 2, 4, 6, 8, 9] {
+        write(
+            bench.join(format!("spheres-{}.toml", n * n)),
+            sphere_grid(n).0,
+        )?;
     }
-    write(scenes.join("spheres-9x9.toml"), s.0)?;
 
     // fence: open single-sided boards standing on the ground.
     let mut s = SceneText::new(

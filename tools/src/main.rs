@@ -122,6 +122,9 @@ enum Command {
             default_value = "hard,wedges,wedges-blend"
         )]
         techniques: Vec<Technique>,
+        /// Where the volume techniques run.
+        #[arg(long, value_enum, default_value = "auto")]
+        backend: Backend,
     },
     /// Time a technique: the median over N frames of each GPU pass (timestamp queries) and of
     /// the whole frame (wall clock, CPU setup and readback included).
@@ -196,7 +199,8 @@ fn run(cli: Cli) -> Result<()> {
             scenes,
             samples,
             techniques,
-        } => accuracy(&scenes, samples, &techniques),
+            backend,
+        } => accuracy(&scenes, samples, &techniques, backend),
         Command::GenFixtures { out } => {
             for f in fixtures::generate(&out)? {
                 println!("wrote {f}");
@@ -506,8 +510,10 @@ fn geometry(scene_path: &Path, json: bool) -> Result<()> {
     Ok(())
 }
 
-fn accuracy(dir: &Path, samples: usize, techniques: &[Technique]) -> Result<()> {
+fn accuracy(dir: &Path, samples: usize, techniques: &[Technique], backend: Backend) -> Result<()> {
     let per_axis = samples_per_axis(samples)?;
+    let gpu = select_gpu(Technique::WedgesBlend, backend)?;
+    let renderer = gpu.as_ref().map(penumbra_gpu::GpuRenderer::new);
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("reading {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -532,9 +538,17 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique]) -> Result<()> 
             .to_string_lossy()
             .into_owned();
         let (truth, _, _) = render_image(&scene, Technique::Reference, per_axis, &|_| {});
+        let volumes = penumbra_volumes::Volumes::build(&scene);
         for &t in techniques {
             let start = std::time::Instant::now();
-            let (img, _, _) = render_image(&scene, t, per_axis, &|_| {});
+            let volume_technique = matches!(
+                t,
+                Technique::Hard | Technique::Wedges | Technique::WedgesBlend
+            );
+            let img = match &renderer {
+                Some(r) if volume_technique => r.render(&scene, &volumes, gpu_technique(t))?,
+                _ => render_image(&scene, t, per_axis, &|_| {}).0,
+            };
             let secs = start.elapsed().as_secs_f64();
             let c = image::compare(&img, &truth)?;
             println!(

@@ -325,7 +325,7 @@ fn committed_fixtures_are_what_the_generator_writes() {
         .output()
         .unwrap();
     assert!(out.status.success());
-    for sub in ["meshes", "scenes"] {
+    for sub in ["meshes", "scenes", "bench"] {
         let names = files_in(&d.join(sub));
         assert_eq!(names, files_in(&fixtures().join(sub)), "{sub}");
         for n in names {
