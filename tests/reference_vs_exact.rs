@@ -6,7 +6,7 @@
 //! `(1/N²) Σ_k p_k(1 - p_k) <= V(1 - V)/N` (stratification never adds variance to plain Monte
 //! Carlo: by Jensen, `Σ p_k² >= N·V²`). So `σ <= sqrt(V(1 - V)/N) <= 1/(2·64)` for `N = 4096`.
 //! We allow `5σ + 1/N` per pixel: a false failure has probability below 1e-6 per pixel (the
-//! count is a sum of many independent strata, close to normal), about 1e-3 over the 1400 pixels
+//! count is a sum of many independent strata, close to normal), about 1e-3 over the 1600 pixels
 //! of all fixtures, and the seed is fixed, so a pass is reproducible; the `1/N` covers a single
 //! sample lost to the shadow rays' start offset. The mean signed difference over the 200 pixels
 //! must also stay within 5 standard errors of zero, which catches a bias far smaller than any

@@ -524,7 +524,8 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique], backend: Backe
         bail!("{}: no scene files", dir.display());
     }
     println!(
-        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98).\n"
+        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98); volume techniques on {}.\n",
+        gpu.as_ref().map_or("the CPU".to_string(), |c| c.describe())
     );
     println!(
         "| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |"
