@@ -179,6 +179,49 @@ impl TriangleMesh {
         TriangleMesh::from_raw(path, &positions, &triangles)
     }
 
+    /// A closed UV sphere of radius 1 around the origin, outward-facing: a pole at `+y` and one
+    /// at `-y`, `stacks - 1` rings of `slices` vertices, `2 * slices * (stacks - 1)` triangles.
+    ///
+    /// # Panics
+    ///
+    /// If `stacks < 2` or `slices < 3`.
+    pub fn uv_sphere(stacks: u32, slices: u32) -> TriangleMesh {
+        assert!(
+            stacks >= 2 && slices >= 3,
+            "uv_sphere({stacks}, {slices}) is degenerate"
+        );
+        let mut p = vec![DVec3::Y];
+        for i in 1..stacks {
+            let theta = std::f64::consts::PI * i as f64 / stacks as f64;
+            for k in 0..slices {
+                let phi = std::f64::consts::TAU * k as f64 / slices as f64;
+                p.push(DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    -theta.sin() * phi.sin(),
+                ));
+            }
+        }
+        p.push(DVec3::NEG_Y);
+        let ring = |i: u32, k: u32| 1 + (i - 1) * slices + k % slices;
+        let south = p.len() as u32 - 1;
+        let mut t = Vec::new();
+        for k in 0..slices {
+            t.push([0, ring(1, k), ring(1, k + 1)]);
+            t.push([south, ring(stacks - 1, k + 1), ring(stacks - 1, k)]);
+        }
+        for i in 1..stacks - 1 {
+            for k in 0..slices {
+                let (a, b) = (ring(i, k), ring(i, k + 1));
+                let (c, d) = (ring(i + 1, k), ring(i + 1, k + 1));
+                t.push([a, c, d]);
+                t.push([a, d, b]);
+            }
+        }
+        TriangleMesh::from_raw(Path::new("uv_sphere"), &p, &t)
+            .expect("finite positions and in-range indices by construction")
+    }
+
     /// The mesh with `m` applied to every position (triangles and welding unchanged).
     pub fn transformed(&self, m: &DMat4) -> TriangleMesh {
         TriangleMesh {

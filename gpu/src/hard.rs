@@ -592,23 +592,7 @@ pub fn read_r32f(
     );
     let encoder = std::mem::replace(enc, ctx.device.create_command_encoder(&Default::default()));
     ctx.queue.submit([encoder.finish()]);
-    let slice = buffer.slice(..);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.device
-        .poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| GpuError::Readback(e.to_string()))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let bytes = slice
-        .get_mapped_range()
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let bytes = map_read(ctx, &buffer)?;
     let mut out = Vec::with_capacity((w * h) as usize);
     for y in 0..h as usize {
         let r = &bytes[y * row as usize..y * row as usize + w as usize * 4];
@@ -617,13 +601,12 @@ pub fn read_r32f(
                 .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
         );
     }
-    drop(bytes);
-    buffer.unmap();
     Ok(out)
 }
 
-/// Maps a (submitted) buffer and reads it as `u64`s.
-fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuError> {
+/// Maps a buffer whose copies were submitted, waits, and returns its bytes.
+fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    let err = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
     let slice = buffer.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -634,18 +617,17 @@ fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuErro
             submission_index: None,
             timeout: None,
         })
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| GpuError::Readback(e.to_string()))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let bytes = slice
-        .get_mapped_range()
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let out = bytes
+        .map_err(|e| err(&e))?;
+    rx.recv().map_err(|e| err(&e))?.map_err(|e| err(&e))?;
+    let bytes = slice.get_mapped_range().map_err(|e| err(&e))?.to_vec();
+    buffer.unmap();
+    Ok(bytes)
+}
+
+/// Maps a (submitted) buffer and reads it as `u64`s.
+fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuError> {
+    Ok(map_read(ctx, buffer)?
         .chunks_exact(8)
         .map(|c| u64::from_le_bytes(c.try_into().expect("8 bytes")))
-        .collect();
-    drop(bytes);
-    buffer.unmap();
-    Ok(out)
+        .collect())
 }

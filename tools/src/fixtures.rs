@@ -37,35 +37,7 @@ pub fn quad() -> Result<TriangleMesh> {
 
 /// A closed UV sphere of radius 1, outward-facing, `2 * slices * (stacks - 1)` triangles.
 pub fn uv_sphere(stacks: u32, slices: u32) -> Result<TriangleMesh> {
-    let mut p = vec![DVec3::Y];
-    for i in 1..stacks {
-        let theta = std::f64::consts::PI * i as f64 / stacks as f64;
-        for k in 0..slices {
-            let phi = std::f64::consts::TAU * k as f64 / slices as f64;
-            p.push(DVec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                -theta.sin() * phi.sin(),
-            ));
-        }
-    }
-    p.push(DVec3::NEG_Y);
-    let ring = |i: u32, k: u32| 1 + (i - 1) * slices + k % slices;
-    let south = p.len() as u32 - 1;
-    let mut t = Vec::new();
-    for k in 0..slices {
-        t.push([0, ring(1, k), ring(1, k + 1)]);
-        t.push([south, ring(stacks - 1, k + 1), ring(stacks - 1, k)]);
-    }
-    for i in 1..stacks - 1 {
-        for k in 0..slices {
-            let (a, b) = (ring(i, k), ring(i, k + 1));
-            let (c, d) = (ring(i + 1, k), ring(i + 1, k + 1));
-            t.push([a, c, d]);
-            t.push([a, d, b]);
-        }
-    }
-    mesh(&p, &t)
+    Ok(TriangleMesh::uv_sphere(stacks, slices))
 }
 
 /// Three triangles sharing the edge from `(-1, 0, 0)` to `(1, 0, 0)`: a non-manifold "book" of

@@ -5,7 +5,6 @@
 //! `cargo bench -p penumbra-volumes --bench construction`; the ratio is printed after each size.
 
 use std::hint::black_box;
-use std::path::Path;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -18,36 +17,12 @@ use penumbra_volumes::wedge::Wedge;
 /// A closed UV sphere with `2 * slices * (stacks - 1)` triangles, bumped so that its
 /// silhouette is long and ragged like a real model's.
 fn sphere(stacks: u32, slices: u32) -> TriangleMesh {
-    let mut p = vec![DVec3::Y];
-    for i in 1..stacks {
-        let th = std::f64::consts::PI * i as f64 / stacks as f64;
-        for k in 0..slices {
-            let ph = std::f64::consts::TAU * k as f64 / slices as f64;
-            let r = 1.0 + 0.05 * ((7.0 * ph).sin() * (5.0 * th).cos());
-            p.push(r * DVec3::new(th.sin() * ph.cos(), th.cos(), -th.sin() * ph.sin()));
-        }
+    let mut m = TriangleMesh::uv_sphere(stacks, slices);
+    for p in &mut m.positions {
+        let (th, ph) = (p.y.clamp(-1.0, 1.0).acos(), (-p.z).atan2(p.x));
+        *p *= 1.0 + 0.05 * ((7.0 * ph).sin() * (5.0 * th).cos());
     }
-    p.push(DVec3::NEG_Y);
-    let ring = |i: u32, k: u32| 1 + (i - 1) * slices + k % slices;
-    let s = p.len() as u32 - 1;
-    let mut t = Vec::new();
-    for k in 0..slices {
-        t.push([0, ring(1, k), ring(1, k + 1)]);
-        t.push([s, ring(stacks - 1, k + 1), ring(stacks - 1, k)]);
-    }
-    for i in 1..stacks - 1 {
-        for k in 0..slices {
-            let (a, b, c, d) = (
-                ring(i, k),
-                ring(i, k + 1),
-                ring(i + 1, k),
-                ring(i + 1, k + 1),
-            );
-            t.push([a, c, d]);
-            t.push([a, d, b]);
-        }
-    }
-    TriangleMesh::from_raw(Path::new("bench"), &p, &t).expect("valid sphere")
+    m
 }
 
 /// Builds what a frame needs when the light moves: silhouette, volume and wedges.

@@ -1,6 +1,5 @@
 //! Blend pass of penumbra-wedges blending: drives `shaders/blend.wgsl`.
 
-use super::DEPTH_FORMAT;
 use super::resolve::MAX_COUNT;
 
 /// Format of every final- and silhouette-buffer target.
@@ -59,12 +58,6 @@ impl BlendPass {
             .map(|_| Some(BUFFER_FORMAT.into()))
             .collect();
         let make = |compare| {
-            let face = wgpu::StencilFaceState {
-                compare,
-                fail_op: wgpu::StencilOperation::Keep,
-                depth_fail_op: wgpu::StencilOperation::Keep,
-                pass_op: wgpu::StencilOperation::Keep,
-            };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("blend"),
                 layout: Some(&layout),
@@ -75,18 +68,7 @@ impl BlendPass {
                     buffers: &[],
                 },
                 primitive: Default::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
-                    stencil: wgpu::StencilState {
-                        front: face,
-                        back: face,
-                        read_mask: 0xff,
-                        write_mask: 0,
-                    },
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(super::stencil_test(compare)),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,

@@ -42,3 +42,27 @@ pub fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         }],
     })
 }
+
+/// Depth-stencil state of a full-screen pass that only tests the stencil against its reference
+/// with `compare` (reference on the left: `Less` passes where `reference < stencil`), writing
+/// neither depth nor stencil.
+pub fn stencil_test(compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    let face = wgpu::StencilFaceState {
+        compare,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op: wgpu::StencilOperation::Keep,
+    };
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(false),
+        depth_compare: Some(wgpu::CompareFunction::Always),
+        stencil: wgpu::StencilState {
+            front: face,
+            back: face,
+            read_mask: 0xff,
+            write_mask: 0,
+        },
+        bias: Default::default(),
+    }
+}

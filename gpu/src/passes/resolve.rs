@@ -1,6 +1,6 @@
 //! Resolve of the hard shadow into V: drives `shaders/resolve.wgsl`.
 
-use super::{DEPTH_FORMAT, VISIBILITY_FORMAT};
+use super::VISIBILITY_FORMAT;
 
 /// Stencil counts resolved one by one by the additive-wedges resolve; larger counts share the
 /// last draw (4 n already exceeds any wedge area that could be subtracted in practice).
@@ -51,12 +51,6 @@ impl ResolvePass {
         });
         let make = |entry: &str, compare: wgpu::CompareFunction, counted: bool| {
             let layout = if counted { &wedge_layout } else { &layout };
-            let face = wgpu::StencilFaceState {
-                compare,
-                fail_op: wgpu::StencilOperation::Keep,
-                depth_fail_op: wgpu::StencilOperation::Keep,
-                pass_op: wgpu::StencilOperation::Keep,
-            };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(entry),
                 layout: Some(layout),
@@ -67,18 +61,7 @@ impl ResolvePass {
                     buffers: &[],
                 },
                 primitive: Default::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
-                    stencil: wgpu::StencilState {
-                        front: face,
-                        back: face,
-                        read_mask: 0xff,
-                        write_mask: 0,
-                    },
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(super::stencil_test(compare)),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
