@@ -369,6 +369,7 @@ impl<'a> GpuRenderer<'a> {
                         0..instances.len() as u32,
                         WedgeOutput::Additive,
                         &[(&v, wgpu::Color::TRANSPARENT)],
+                        None,
                         stamp(WEDGE),
                     );
                     v
@@ -455,27 +456,10 @@ impl<'a> GpuRenderer<'a> {
                         &position_group,
                         &cube,
                         &inst,
-                        ir.clone(),
-                        WedgeOutput::SilhouetteA,
-                        &[
-                            t(0, zero),
-                            t(1, zero),
-                            t(2, big),
-                            t(3, big),
-                            t(4, big),
-                            t(5, big),
-                        ],
-                        stamp(WEDGE),
-                    );
-                    self.wedge.record(
-                        &mut enc,
-                        &frame,
-                        &position_group,
-                        &cube,
-                        &inst,
                         ir,
-                        WedgeOutput::SilhouetteB,
-                        &[t(6, big), t(7, big), t(8, big), t(9, big)],
+                        WedgeOutput::Silhouette,
+                        &[t(0, zero), t(1, zero), t(2, big), t(3, big), t(4, big), t(5, big)],
+                        Some(&depth_view),
                         stamp(WEDGE),
                     );
                     self.blend.record(

@@ -8,9 +8,8 @@ pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Targets of the final buffer: area per part, then one rectangle per part.
 pub const FINAL_TARGETS: usize = 5;
 
-/// Targets of a silhouette buffer: area, cover, outer minima (2), outer negated maxima (2),
-/// inner minima (2), inner negated maxima (2).
-pub const SILHOUETTE_TARGETS: usize = 10;
+/// Targets of a silhouette buffer: area, cover, rectangle minima (2), negated maxima (2).
+pub const SILHOUETTE_TARGETS: usize = 6;
 
 /// A layout of `n` non-filterable float textures at bindings `0..n`, fragment stage.
 pub fn textures_layout(device: &wgpu::Device, label: &str, n: u32) -> wgpu::BindGroupLayout {

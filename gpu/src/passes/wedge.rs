@@ -40,19 +40,18 @@ pub fn unit_cube() -> Vec<[f32; 3]> {
 /// The wedge pass pipelines: additive (one target) and the two halves of a silhouette buffer.
 pub struct WedgePass {
     pipeline: wgpu::RenderPipeline,
-    silhouette_a: wgpu::RenderPipeline,
-    silhouette_b: wgpu::RenderPipeline,
+    silhouette_lit: wgpu::RenderPipeline,
+    silhouette_hard: wgpu::RenderPipeline,
 }
 
 /// Which wedge pass output to write.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WedgeOutput {
-    /// Signed area per part, added (`wedges`).
+    /// Signed area per part, added (`wedges`): one target, no depth-stencil attachment.
     Additive,
-    /// Area, cover and outer rectangles of a silhouette buffer.
-    SilhouetteA,
-    /// Inner rectangles of a silhouette buffer.
-    SilhouetteB,
+    /// A silhouette buffer (6 targets), split by the silhouette's stencil count in the
+    /// (read-only) depth-stencil attachment.
+    Silhouette,
 }
 
 impl WedgePass {
@@ -84,7 +83,9 @@ impl WedgePass {
             blend(wgpu::BlendOperation::Add),
             blend(wgpu::BlendOperation::Min),
         );
-        let make = |entry: &str, targets: &[Option<wgpu::ColorTargetState>]| {
+        let make = |entry: &str,
+                    targets: &[Option<wgpu::ColorTargetState>],
+                    stencil: Option<wgpu::CompareFunction>| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(entry),
                 layout: Some(&layout),
@@ -114,7 +115,7 @@ impl WedgePass {
                     cull_mode: Some(wgpu::Face::Front),
                     ..Default::default()
                 },
-                depth_stencil: None,
+                depth_stencil: stencil.map(super::stencil_test),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
@@ -126,28 +127,25 @@ impl WedgePass {
                 cache: None,
             })
         };
+        let silhouette = [add.clone(), add.clone(), min.clone(), min.clone(), min.clone(), min];
         WedgePass {
-            pipeline: make("fs", std::slice::from_ref(&add)),
-            silhouette_a: make(
-                "fs_silhouette_a",
-                &[
-                    add.clone(),
-                    add,
-                    min.clone(),
-                    min.clone(),
-                    min.clone(),
-                    min.clone(),
-                ],
+            pipeline: make("fs", std::slice::from_ref(&add), None),
+            silhouette_lit: make(
+                "fs_silhouette_lit",
+                &silhouette,
+                Some(wgpu::CompareFunction::Equal),
             ),
-            silhouette_b: make(
-                "fs_silhouette_b",
-                &[min.clone(), min.clone(), min.clone(), min],
+            silhouette_hard: make(
+                "fs_silhouette_hard",
+                &silhouette,
+                Some(wgpu::CompareFunction::NotEqual),
             ),
         }
     }
 
     /// Clears `targets` to `clear` and accumulates the wedges `instances` (a range of the
-    /// instance buffer `wedges`) into them, writing `output`.
+    /// instance buffer `wedges`) into them, writing `output`; `depth` (the stencil counts) is
+    /// needed for [`WedgeOutput::Silhouette`].
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
@@ -159,6 +157,7 @@ impl WedgePass {
         instances: std::ops::Range<u32>,
         output: WedgeOutput,
         targets: &[(&wgpu::TextureView, wgpu::Color)],
+        depth: Option<&wgpu::TextureView>,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
@@ -178,22 +177,31 @@ impl WedgePass {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("wedge"),
             color_attachments: &attachments,
-            depth_stencil_attachment: None,
+            depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
             timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,
-        });
-        pass.set_pipeline(match output {
-            WedgeOutput::Additive => &self.pipeline,
-            WedgeOutput::SilhouetteA => &self.silhouette_a,
-            WedgeOutput::SilhouetteB => &self.silhouette_b,
         });
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, position, &[]);
         pass.set_vertex_buffer(0, cube.slice(..));
         pass.set_vertex_buffer(1, wedges.slice(..));
-        if !instances.is_empty() {
-            pass.draw(0..36, instances);
+        if instances.is_empty() {
+            return;
+        }
+        let pipelines: &[&wgpu::RenderPipeline] = match output {
+            WedgeOutput::Additive => &[&self.pipeline],
+            // Each pixel passes exactly one of the two stencil tests, so it is shaded once.
+            WedgeOutput::Silhouette => &[&self.silhouette_lit, &self.silhouette_hard],
+        };
+        for p in pipelines {
+            pass.set_pipeline(p);
+            pass.set_stencil_reference(0);
+            pass.draw(0..36, instances.clone());
         }
     }
 }

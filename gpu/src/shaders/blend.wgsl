@@ -12,17 +12,13 @@
 @group(1) @binding(2) var final_rect1: texture_2d<f32>;
 @group(1) @binding(3) var final_rect2: texture_2d<f32>;
 @group(1) @binding(4) var final_rect3: texture_2d<f32>;
-// Silhouette buffer, as the wedge pass's fs_silhouette_a and fs_silhouette_b wrote it.
+// Silhouette buffer, as the wedge pass's fs_silhouette_lit and fs_silhouette_hard wrote it.
 @group(1) @binding(5) var sil_area: texture_2d<f32>;
 @group(1) @binding(6) var sil_cover: texture_2d<f32>;
-@group(1) @binding(7) var sil_outer_min01: texture_2d<f32>;
-@group(1) @binding(8) var sil_outer_min23: texture_2d<f32>;
-@group(1) @binding(9) var sil_outer_negmax01: texture_2d<f32>;
-@group(1) @binding(10) var sil_outer_negmax23: texture_2d<f32>;
-@group(1) @binding(11) var sil_inner_min01: texture_2d<f32>;
-@group(1) @binding(12) var sil_inner_min23: texture_2d<f32>;
-@group(1) @binding(13) var sil_inner_negmax01: texture_2d<f32>;
-@group(1) @binding(14) var sil_inner_negmax23: texture_2d<f32>;
+@group(1) @binding(7) var sil_min01: texture_2d<f32>;
+@group(1) @binding(8) var sil_min23: texture_2d<f32>;
+@group(1) @binding(9) var sil_negmax01: texture_2d<f32>;
+@group(1) @binding(10) var sil_negmax23: texture_2d<f32>;
 
 const BIG: f32 = 1e30;
 const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
@@ -90,21 +86,14 @@ fn fs(in: BlendIn) -> FinalOut {
     );
     let sa = textureLoad(sil_area, px, 0);
     let cover = textureLoad(sil_cover, px, 0);
-    let om01 = textureLoad(sil_outer_min01, px, 0);
-    let om23 = textureLoad(sil_outer_min23, px, 0);
-    let ox01 = -textureLoad(sil_outer_negmax01, px, 0);
-    let ox23 = -textureLoad(sil_outer_negmax23, px, 0);
-    let im01 = textureLoad(sil_inner_min01, px, 0);
-    let im23 = textureLoad(sil_inner_min23, px, 0);
-    let ix01 = -textureLoad(sil_inner_negmax01, px, 0);
-    let ix23 = -textureLoad(sil_inner_negmax23, px, 0);
-    let outer = array<vec4<f32>, 4>(
-        vec4<f32>(om01.xy, ox01.xy), vec4<f32>(om01.zw, ox01.zw),
-        vec4<f32>(om23.xy, ox23.xy), vec4<f32>(om23.zw, ox23.zw),
-    );
-    let inner = array<vec4<f32>, 4>(
-        vec4<f32>(im01.xy, ix01.xy), vec4<f32>(im01.zw, ix01.zw),
-        vec4<f32>(im23.xy, ix23.xy), vec4<f32>(im23.zw, ix23.zw),
+    let m01 = textureLoad(sil_min01, px, 0);
+    let m23 = textureLoad(sil_min23, px, 0);
+    let x01 = -textureLoad(sil_negmax01, px, 0);
+    let x23 = -textureLoad(sil_negmax23, px, 0);
+    // Outer regions where the count is zero; outer and inner (near) regions in hard shadow.
+    let rects = array<vec4<f32>, 4>(
+        vec4<f32>(m01.xy, x01.xy), vec4<f32>(m01.zw, x01.zw),
+        vec4<f32>(m23.xy, x23.xy), vec4<f32>(m23.zw, x23.zw),
     );
     let n = f32(in.count);
     var area = fa;
@@ -114,11 +103,13 @@ fn fs(in: BlendIn) -> FinalOut {
         if (s_area <= 0.0) {
             continue;
         }
-        var hard = EMPTY_RECT;
-        if (n > 0.0) {
-            hard = select(full_rect(k), inner[k], cover[k] >= FULL_COVER);
+        // In hard shadow the region reaches the part's border unless the inner half-wedges
+        // cover all of it (CPU: `Accum::buffer`).
+        var r = rects[k];
+        if (n > 0.0 && cover[k] < FULL_COVER) {
+            r = full_rect(k);
         }
-        let s_rect = rect_intersection(rect_union(outer[k], hard), full_rect(k));
+        let s_rect = rect_intersection(r, full_rect(k));
         if (fa[k] <= 0.0) {
             area[k] = s_area;
             fr[k] = s_rect;

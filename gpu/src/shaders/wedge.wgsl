@@ -264,21 +264,24 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
     return i.area * i.sign;
 }
 
-// The silhouette buffer of seed 004 (first half): signed areas (added), the inner half-wedges'
-// cover of each part's border (added), and the outer half-wedges' rectangles (minimum of the
-// minima, and of the negated maxima, so that one blend operation does both).
-struct SilhouetteA {
+// The silhouette buffer of seed 004, in one pass split by the silhouette's stencil count: the
+// signed areas (added), the inner half-wedges' cover of each part's border (added), and one
+// rectangle per part kept by `Min` blending of its minima and of its negated maxima. Where the
+// count is zero (drawn with stencil `Equal 0`) the rectangle bounds the outer half-wedges'
+// regions only; in hard shadow (`NotEqual 0`) it bounds the outer regions and the inner
+// half-wedges' near regions together, which is all the blend needs (seed 004, Figure 10).
+struct Silhouette {
     @location(0) area: vec4<f32>,
     @location(1) cover: vec4<f32>,
-    @location(2) outer_min01: vec4<f32>,
-    @location(3) outer_min23: vec4<f32>,
-    @location(4) outer_negmax01: vec4<f32>,
-    @location(5) outer_negmax23: vec4<f32>,
+    @location(2) min01: vec4<f32>,
+    @location(3) min23: vec4<f32>,
+    @location(4) negmax01: vec4<f32>,
+    @location(5) negmax23: vec4<f32>,
 }
 
-@fragment
-fn fs_silhouette_a(in: WedgeOut) -> SilhouetteA {
+fn silhouette(in: WedgeOut, hard: bool) -> Silhouette {
     let p = receiver(in.clip);
+    var out: Silhouette;
     if (p.w == 0.0) {
         discard;
     }
@@ -286,43 +289,27 @@ fn fs_silhouette_a(in: WedgeOut) -> SilhouetteA {
     if (!i.valid) {
         discard;
     }
-    var out: SilhouetteA;
     out.area = i.area * i.sign;
     out.cover = select(vec4<f32>(0.0), i.cover, i.sign < 0.0);
     var r = array<vec4<f32>, 4>(EMPTY_RECT, EMPTY_RECT, EMPTY_RECT, EMPTY_RECT);
     if (i.sign > 0.0) {
         r = i.beyond;
+    } else if (hard) {
+        r = i.near;
     }
-    out.outer_min01 = vec4<f32>(r[0].xy, r[1].xy);
-    out.outer_min23 = vec4<f32>(r[2].xy, r[3].xy);
-    out.outer_negmax01 = -vec4<f32>(r[0].zw, r[1].zw);
-    out.outer_negmax23 = -vec4<f32>(r[2].zw, r[3].zw);
+    out.min01 = vec4<f32>(r[0].xy, r[1].xy);
+    out.min23 = vec4<f32>(r[2].xy, r[3].xy);
+    out.negmax01 = -vec4<f32>(r[0].zw, r[1].zw);
+    out.negmax23 = -vec4<f32>(r[2].zw, r[3].zw);
     return out;
-}
-
-// Second half: the inner half-wedges' near rectangles (seed 004, Figure 10).
-struct SilhouetteB {
-    @location(0) inner_min01: vec4<f32>,
-    @location(1) inner_min23: vec4<f32>,
-    @location(2) inner_negmax01: vec4<f32>,
-    @location(3) inner_negmax23: vec4<f32>,
 }
 
 @fragment
-fn fs_silhouette_b(in: WedgeOut) -> SilhouetteB {
-    let p = receiver(in.clip);
-    if (p.w == 0.0) {
-        discard;
-    }
-    let i = integral(in.edge_from, in.edge_to, p.xyz);
-    if (!i.valid || i.sign > 0.0) {
-        discard;
-    }
-    var out: SilhouetteB;
-    let r = i.near;
-    out.inner_min01 = vec4<f32>(r[0].xy, r[1].xy);
-    out.inner_min23 = vec4<f32>(r[2].xy, r[3].xy);
-    out.inner_negmax01 = -vec4<f32>(r[0].zw, r[1].zw);
-    out.inner_negmax23 = -vec4<f32>(r[2].zw, r[3].zw);
-    return out;
+fn fs_silhouette_lit(in: WedgeOut) -> Silhouette {
+    return silhouette(in, false);
+}
+
+@fragment
+fn fs_silhouette_hard(in: WedgeOut) -> Silhouette {
+    return silhouette(in, true);
 }
