@@ -255,7 +255,7 @@ impl<'a> GpuRenderer<'a> {
         );
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
-        let depth = target(device, "depth", size, DEPTH_FORMAT, att);
+        let depth = target(device, "depth", size, DEPTH_FORMAT, sampled);
         let position = target(device, "position", size, POSITION_FORMAT, sampled);
         let visibility = target(
             device,
@@ -432,6 +432,20 @@ impl<'a> GpuRenderer<'a> {
                     })
                 };
                 let groups = [inputs(&finals[0]), inputs(&finals[1])];
+                let stencil_view = depth.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("stencil counts"),
+                    format: Some(wgpu::TextureFormat::Stencil8),
+                    aspect: wgpu::TextureAspect::StencilOnly,
+                    ..Default::default()
+                });
+                let stencil_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("stencil counts"),
+                    layout: &self.wedge.stencil_layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&stencil_view),
+                    }],
+                });
                 let mut cur = 0;
                 for (o, vr) in vol_ranges.iter().enumerate() {
                     let ir = inst_ranges[o].clone();
@@ -458,8 +472,15 @@ impl<'a> GpuRenderer<'a> {
                         &inst,
                         ir,
                         WedgeOutput::Silhouette,
-                        &[t(0, zero), t(1, zero), t(2, big), t(3, big), t(4, big), t(5, big)],
-                        Some(&depth_view),
+                        &[
+                            t(0, zero),
+                            t(1, zero),
+                            t(2, big),
+                            t(3, big),
+                            t(4, big),
+                            t(5, big),
+                        ],
+                        Some(&stencil_group),
                         stamp(WEDGE),
                     );
                     self.blend.record(

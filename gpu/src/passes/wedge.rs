@@ -40,8 +40,9 @@ pub fn unit_cube() -> Vec<[f32; 3]> {
 /// The wedge pass pipelines: additive (one target) and the two halves of a silhouette buffer.
 pub struct WedgePass {
     pipeline: wgpu::RenderPipeline,
-    silhouette_lit: wgpu::RenderPipeline,
-    silhouette_hard: wgpu::RenderPipeline,
+    silhouette: wgpu::RenderPipeline,
+    /// Layout of group 2 of the silhouette pipeline: the stencil counts as a `u32` texture.
+    pub stencil_layout: wgpu::BindGroupLayout,
 }
 
 /// Which wedge pass output to write.
@@ -49,8 +50,7 @@ pub struct WedgePass {
 pub enum WedgeOutput {
     /// Signed area per part, added (`wedges`): one target, no depth-stencil attachment.
     Additive,
-    /// A silhouette buffer (6 targets), split by the silhouette's stencil count in the
-    /// (read-only) depth-stencil attachment.
+    /// A silhouette buffer (6 targets), reading the silhouette's stencil counts (group 2).
     Silhouette,
 }
 
@@ -65,6 +65,28 @@ impl WedgePass {
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("wedge"),
             bind_group_layouts: &[Some(frame_layout), Some(position_layout)],
+            immediate_size: 0,
+        });
+        let stencil_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("stencil counts"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let silhouette_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("wedge silhouette"),
+            bind_group_layouts: &[
+                Some(frame_layout),
+                Some(position_layout),
+                Some(&stencil_layout),
+            ],
             immediate_size: 0,
         });
         let blend = |operation| {
@@ -85,10 +107,10 @@ impl WedgePass {
         );
         let make = |entry: &str,
                     targets: &[Option<wgpu::ColorTargetState>],
-                    stencil: Option<wgpu::CompareFunction>| {
+                    layout: &wgpu::PipelineLayout| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(entry),
-                layout: Some(&layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs"),
@@ -115,7 +137,7 @@ impl WedgePass {
                     cull_mode: Some(wgpu::Face::Front),
                     ..Default::default()
                 },
-                depth_stencil: stencil.map(super::stencil_test),
+                depth_stencil: None,
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
@@ -127,25 +149,24 @@ impl WedgePass {
                 cache: None,
             })
         };
-        let silhouette = [add.clone(), add.clone(), min.clone(), min.clone(), min.clone(), min];
+        let silhouette = [
+            add.clone(),
+            add.clone(),
+            min.clone(),
+            min.clone(),
+            min.clone(),
+            min,
+        ];
         WedgePass {
-            pipeline: make("fs", std::slice::from_ref(&add), None),
-            silhouette_lit: make(
-                "fs_silhouette_lit",
-                &silhouette,
-                Some(wgpu::CompareFunction::Equal),
-            ),
-            silhouette_hard: make(
-                "fs_silhouette_hard",
-                &silhouette,
-                Some(wgpu::CompareFunction::NotEqual),
-            ),
+            pipeline: make("fs", std::slice::from_ref(&add), &layout),
+            silhouette: make("fs_silhouette", &silhouette, &silhouette_layout),
+            stencil_layout,
         }
     }
 
     /// Clears `targets` to `clear` and accumulates the wedges `instances` (a range of the
-    /// instance buffer `wedges`) into them, writing `output`; `depth` (the stencil counts) is
-    /// needed for [`WedgeOutput::Silhouette`].
+    /// instance buffer `wedges`) into them, writing `output`; `stencil` (a bind group of
+    /// [`WedgePass::stencil_layout`]) is needed for [`WedgeOutput::Silhouette`].
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
@@ -157,7 +178,7 @@ impl WedgePass {
         instances: std::ops::Range<u32>,
         output: WedgeOutput,
         targets: &[(&wgpu::TextureView, wgpu::Color)],
-        depth: Option<&wgpu::TextureView>,
+        stencil: Option<&wgpu::BindGroup>,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
@@ -177,11 +198,7 @@ impl WedgePass {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("wedge"),
             color_attachments: &attachments,
-            depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
-                view,
-                depth_ops: None,
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: None,
             timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,
@@ -193,15 +210,13 @@ impl WedgePass {
         if instances.is_empty() {
             return;
         }
-        let pipelines: &[&wgpu::RenderPipeline] = match output {
-            WedgeOutput::Additive => &[&self.pipeline],
-            // Each pixel passes exactly one of the two stencil tests, so it is shaded once.
-            WedgeOutput::Silhouette => &[&self.silhouette_lit, &self.silhouette_hard],
-        };
-        for p in pipelines {
-            pass.set_pipeline(p);
-            pass.set_stencil_reference(0);
-            pass.draw(0..36, instances.clone());
+        match (output, stencil) {
+            (WedgeOutput::Silhouette, Some(s)) => {
+                pass.set_pipeline(&self.silhouette);
+                pass.set_bind_group(2, s, &[]);
+            }
+            _ => pass.set_pipeline(&self.pipeline),
         }
+        pass.draw(0..36, instances);
     }
 }

@@ -267,9 +267,9 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
 // The silhouette buffer of seed 004, in one pass split by the silhouette's stencil count: the
 // signed areas (added), the inner half-wedges' cover of each part's border (added), and one
 // rectangle per part kept by `Min` blending of its minima and of its negated maxima. Where the
-// count is zero (drawn with stencil `Equal 0`) the rectangle bounds the outer half-wedges'
-// regions only; in hard shadow (`NotEqual 0`) it bounds the outer regions and the inner
-// half-wedges' near regions together, which is all the blend needs (seed 004, Figure 10).
+// silhouette's stencil count is zero the rectangle bounds the outer half-wedges' regions only;
+// in its hard shadow it bounds the outer regions and the inner half-wedges' near regions
+// together, which is all the blend needs (seed 004, Figure 10).
 struct Silhouette {
     @location(0) area: vec4<f32>,
     @location(1) cover: vec4<f32>,
@@ -304,12 +304,11 @@ fn silhouette(in: WedgeOut, hard: bool) -> Silhouette {
     return out;
 }
 
-@fragment
-fn fs_silhouette_lit(in: WedgeOut) -> Silhouette {
-    return silhouette(in, false);
-}
+// The silhouette's stencil counts (the stencil aspect of the depth pre-pass's target).
+@group(2) @binding(0) var stencil_count: texture_2d<u32>;
 
 @fragment
-fn fs_silhouette_hard(in: WedgeOut) -> Silhouette {
-    return silhouette(in, true);
+fn fs_silhouette(in: WedgeOut) -> Silhouette {
+    let n = textureLoad(stencil_count, vec2<i32>(in.clip.xy), 0).r;
+    return silhouette(in, n != 0u);
 }
