@@ -174,11 +174,12 @@ impl<'a> GpuRenderer<'a> {
         let device = &ctx.device;
         let frame_layout = frame_layout(device);
         let resolve = ResolvePass::new(device, &frame_layout);
+        let wedge = WedgePass::new(device, &frame_layout, &resolve.texture_layout);
         GpuRenderer {
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
-            wedge: WedgePass::new(device, &frame_layout, &resolve.texture_layout),
-            blend: BlendPass::new(device, &frame_layout),
+            blend: BlendPass::new(device, &frame_layout, &wedge.stencil_layout),
+            wedge,
             resolve,
             frame_layout,
             ctx,
@@ -488,7 +489,7 @@ impl<'a> GpuRenderer<'a> {
                         &frame,
                         &groups[cur],
                         &finals[1 - cur],
-                        &depth_view,
+                        &stencil_group,
                         stamp(BLEND),
                     );
                     cur = 1 - cur;

@@ -1,7 +1,5 @@
 //! Blend pass of penumbra-wedges blending: drives `shaders/blend.wgsl`.
 
-use super::resolve::MAX_COUNT;
-
 /// Format of every final- and silhouette-buffer target.
 pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -31,17 +29,21 @@ pub fn textures_layout(device: &wgpu::Device, label: &str, n: u32) -> wgpu::Bind
     })
 }
 
-/// The blend pipelines (stencil count equal to the draw's, or at least `MAX_COUNT`).
+/// The blend pipeline.
 pub struct BlendPass {
-    equal: wgpu::RenderPipeline,
-    at_least: wgpu::RenderPipeline,
+    pipeline: wgpu::RenderPipeline,
     /// Layout of group 1: the old final buffer, then the silhouette buffer.
     pub inputs_layout: wgpu::BindGroupLayout,
 }
 
 impl BlendPass {
     /// Builds the pipelines.
-    pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
+    /// `stencil_layout` is the wedge pass's layout of the stencil counts (group 2).
+    pub fn new(
+        device: &wgpu::Device,
+        frame_layout: &wgpu::BindGroupLayout,
+        stencil_layout: &wgpu::BindGroupLayout,
+    ) -> Self {
         let module = super::shader(device, "blend", include_str!("../shaders/blend.wgsl"));
         let inputs_layout = textures_layout(
             device,
@@ -50,51 +52,52 @@ impl BlendPass {
         );
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("blend"),
-            bind_group_layouts: &[Some(frame_layout), Some(&inputs_layout)],
+            bind_group_layouts: &[
+                Some(frame_layout),
+                Some(&inputs_layout),
+                Some(stencil_layout),
+            ],
             immediate_size: 0,
         });
         let targets: Vec<Option<wgpu::ColorTargetState>> = (0..FINAL_TARGETS)
             .map(|_| Some(BUFFER_FORMAT.into()))
             .collect();
-        let make = |compare| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("blend"),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: Some(super::stencil_test(compare)),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("blend"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         BlendPass {
-            equal: make(wgpu::CompareFunction::Equal),
-            at_least: make(wgpu::CompareFunction::LessEqual),
+            pipeline,
             inputs_layout,
         }
     }
 
-    /// Blends the silhouette buffer into the final one: reads `inputs` (old final, silhouette),
-    /// writes `out` (new final), with the silhouette's stencil counts in `depth`.
+    /// Blends the silhouette buffer into the final one: reads `inputs` (old final, silhouette)
+    /// and `stencil` (the silhouette's counts), writes `out` (new final).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         inputs: &wgpu::BindGroup,
         out: &[wgpu::TextureView],
-        depth: &wgpu::TextureView,
+        stencil: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = out
@@ -114,25 +117,15 @@ impl BlendPass {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("blend"),
             color_attachments: &attachments,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: None,
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: None,
             timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
-        for n in 0..=MAX_COUNT {
-            pass.set_pipeline(if n < MAX_COUNT {
-                &self.equal
-            } else {
-                &self.at_least
-            });
-            pass.set_stencil_reference(n);
-            pass.draw(0..3, n..n + 1);
-        }
+        pass.set_bind_group(2, stencil, &[]);
+        pass.draw(0..3, 0..1);
     }
 }

@@ -3,8 +3,8 @@
 // and its wedge pass's targets, exactly as the CPU oracle's `Accum::buffer`, and blends it into
 // the final buffer with
 //     eps = (A_f / |B_f|) · (A_s / |B_s|) · |B_f ∩ B_s|,   A = A_f + A_s - eps,   B = B_f ∪ B_s,
-// skipped where either occlusion is zero. One full-screen draw per stencil count (the instance
-// index tells the shader which), reading the old final buffer and writing the new one.
+// skipped where either occlusion is zero. One full-screen draw, reading the silhouette's stencil
+// counts, the old final buffer and the silhouette buffer, and writing the new final buffer.
 
 // Final buffer (old): area per part, then each part's rectangle (min x, min y, max x, max y).
 @group(1) @binding(0) var final_area: texture_2d<f32>;
@@ -20,24 +20,19 @@
 @group(1) @binding(9) var sil_negmax01: texture_2d<f32>;
 @group(1) @binding(10) var sil_negmax23: texture_2d<f32>;
 
+// The silhouette's stencil counts (the stencil aspect of the depth pre-pass's target).
+@group(2) @binding(0) var stencil_count: texture_2d<u32>;
+
 const BIG: f32 = 1e30;
 const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
 // The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
 // rectangle to end at them (CPU: 2 (1 - 1e-9); f32 sums need more slack).
 const FULL_COVER: f32 = 1.99998;
 
-struct BlendIn {
-    @builtin(position) pixel: vec4<f32>,
-    @location(0) @interpolate(flat) count: u32,
-}
-
 @vertex
-fn vs(@builtin(vertex_index) i: u32, @builtin(instance_index) k: u32) -> BlendIn {
-    var out: BlendIn;
+fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    out.pixel = vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
-    out.count = k;
-    return out;
+    return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
 }
 
 struct FinalOut {
@@ -75,8 +70,8 @@ fn full_rect(k: u32) -> vec4<f32> {
 }
 
 @fragment
-fn fs(in: BlendIn) -> FinalOut {
-    let px = vec2<i32>(in.pixel.xy);
+fn fs(@builtin(position) pixel: vec4<f32>) -> FinalOut {
+    let px = vec2<i32>(pixel.xy);
     let fa = textureLoad(final_area, px, 0);
     var fr = array<vec4<f32>, 4>(
         textureLoad(final_rect0, px, 0),
@@ -95,7 +90,7 @@ fn fs(in: BlendIn) -> FinalOut {
         vec4<f32>(m01.xy, x01.xy), vec4<f32>(m01.zw, x01.zw),
         vec4<f32>(m23.xy, x23.xy), vec4<f32>(m23.zw, x23.zw),
     );
-    let n = f32(in.count);
+    let n = f32(textureLoad(stencil_count, px, 0).r);
     var area = fa;
     for (var k = 0u; k < 4u; k++) {
         // The silhouette's part: its hard shadow plus its edges, as a rectangle-bounded area.
