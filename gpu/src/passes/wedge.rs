@@ -37,7 +37,7 @@ pub fn unit_cube() -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// The wedge pass pipelines: additive (one target) and the two halves of a silhouette buffer.
+/// The wedge pass pipelines: additive (one target) and a silhouette buffer (six targets).
 pub struct WedgePass {
     pipeline: wgpu::RenderPipeline,
     silhouette: wgpu::RenderPipeline,
