@@ -9,26 +9,6 @@ pub const FINAL_TARGETS: usize = 5;
 /// Targets of a silhouette buffer: area, cover, rectangle minima (2), negated maxima (2).
 pub const SILHOUETTE_TARGETS: usize = 6;
 
-/// A layout of `n` non-filterable float textures at bindings `0..n`, fragment stage.
-pub fn textures_layout(device: &wgpu::Device, label: &str, n: u32) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n)
-        .map(|binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        })
-        .collect();
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries: &entries,
-    })
-}
-
 /// The blend pipeline.
 pub struct BlendPass {
     pipeline: wgpu::RenderPipeline,
@@ -45,7 +25,7 @@ impl BlendPass {
         stencil_layout: &wgpu::BindGroupLayout,
     ) -> Self {
         let module = super::shader(device, "blend", include_str!("../shaders/blend.wgsl"));
-        let inputs_layout = textures_layout(
+        let inputs_layout = super::textures_layout(
             device,
             "blend inputs",
             (FINAL_TARGETS + SILHOUETTE_TARGETS) as u32,

@@ -66,3 +66,23 @@ pub fn stencil_test(compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
         bias: Default::default(),
     }
 }
+
+/// A layout of `n` non-filterable float textures at bindings `0..n`, fragment stage.
+pub fn textures_layout(device: &wgpu::Device, label: &str, n: u32) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..n)
+        .map(|binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        })
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}

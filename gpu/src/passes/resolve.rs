@@ -22,19 +22,7 @@ impl ResolvePass {
     /// Builds the pipelines.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
         let module = super::shader(device, "resolve", include_str!("../shaders/resolve.wgsl"));
-        let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("resolve position"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
+        let texture_layout = super::textures_layout(device, "one texture", 1);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("resolve"),
             bind_group_layouts: &[Some(frame_layout), Some(&texture_layout)],
