@@ -8,9 +8,9 @@
 
 pub mod context;
 pub mod frame;
-pub mod hard;
 pub mod passes;
+pub mod renderer;
 
 pub use context::{GpuContext, GpuError};
-pub use hard::{GpuRenderer, GpuTechnique, PassTimes};
 pub use penumbra_volumes as volumes;
+pub use renderer::{GpuRenderer, GpuTechnique, PassTimes};

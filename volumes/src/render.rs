@@ -26,7 +26,7 @@
 //! region (a hole's loop subtracts from its outer loop's area), so they share one buffer. For the
 //! fixtures each occluder has one loop, as seed 004's spheres do.
 
-use glam::{DVec2, DVec3, Vec3A};
+use glam::{DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
@@ -173,11 +173,7 @@ impl WedgeGrid {
         let boxes: Vec<Option<([usize; 3], [usize; 3])>> = wedges
             .iter()
             .map(|w| {
-                let (blo, bhi) = wedge_bounds(w, hi.z);
-                let (blo, bhi) = (blo.max(lo), bhi.min(hi));
-                if blo.x > bhi.x || blo.y > bhi.y || blo.z > bhi.z {
-                    return None;
-                }
+                let (blo, bhi) = wedge_box(w, lo, hi)?;
                 let idx =
                     |p: DVec3, a: usize| (((p[a] - lo[a]) / cell[a]) as usize).min(dims[a] - 1);
                 Some((
@@ -237,11 +233,6 @@ impl WedgeGrid {
         let i = (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0];
         Some(&self.items[self.start[i] as usize..self.start[i + 1] as usize])
     }
-
-    /// Total number of (cell, wedge) entries.
-    pub fn entries(&self) -> usize {
-        self.items.len()
-    }
 }
 
 /// A light-space box holding every point of `w`'s wedge at light-space depth `z <= zmax`: the
@@ -265,6 +256,31 @@ pub fn wedge_bounds(w: &Wedge, zmax: f64) -> (DVec3, DVec3) {
         }
     }
     (lo, hi)
+}
+
+/// The light-space box holding every receiver: the bounds of `triangles`, padded by a thousandth
+/// of their extent (the unit box when there are none).
+pub fn receiver_box(light: &RectLight, triangles: &[[DVec3; 3]]) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for v in triangles.iter().flatten() {
+        let l = light.to_light_space(*v);
+        lo = lo.min(l);
+        hi = hi.max(l);
+    }
+    if !(lo.x <= hi.x) {
+        lo = DVec3::ZERO;
+        hi = DVec3::ONE;
+    }
+    let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
+    (lo - pad, hi + pad)
+}
+
+/// [`wedge_bounds`] clipped to the receivers' box `[lo, hi]`, or `None` when the wedge misses it.
+pub fn wedge_box(w: &Wedge, lo: DVec3, hi: DVec3) -> Option<(DVec3, DVec3)> {
+    let (blo, bhi) = wedge_bounds(w, hi.z);
+    let (blo, bhi) = (blo.max(lo), bhi.min(hi));
+    (blo.x <= bhi.x && blo.y <= bhi.y && blo.z <= bhi.z).then_some((blo, bhi))
 }
 
 /// Everything the CPU needs to render the volume techniques of one scene.
@@ -346,21 +362,8 @@ impl CpuRenderer {
         let tracer = Tracer::new(scene);
         let volumes = Volumes::build(scene);
         let light = scene.light;
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for t in &tracer.triangles {
-            for v in t {
-                let l = light.to_light_space(*v);
-                lo = lo.min(l);
-                hi = hi.max(l);
-            }
-        }
-        if !(lo.x <= hi.x) {
-            lo = DVec3::ZERO;
-            hi = DVec3::ONE;
-        }
-        let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
-        let grid = WedgeGrid::build(&volumes.wedges, lo - pad, hi + pad);
+        let (lo, hi) = receiver_box(&light, &tracer.triangles);
+        let grid = WedgeGrid::build(&volumes.wedges, lo, hi);
         let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
         for (oi, o) in volumes.occluders.iter().enumerate() {
             triangle_occluder.extend(
@@ -521,9 +524,4 @@ impl CpuRenderer {
         });
         img
     }
-}
-
-/// Light-space point of a world point (re-exported convenience for tests).
-pub fn light_uv(light: &RectLight, p: DVec3) -> DVec2 {
-    light.to_light_space(p).truncate()
 }

@@ -82,17 +82,7 @@ impl BlendPass {
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = out
             .iter()
-            .map(|view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
+            .map(|view| super::cleared(view, wgpu::Color::TRANSPARENT))
             .collect();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("blend"),

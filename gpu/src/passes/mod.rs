@@ -86,3 +86,19 @@ pub fn textures_layout(device: &wgpu::Device, label: &str, n: u32) -> wgpu::Bind
         entries: &entries,
     })
 }
+
+/// A colour attachment cleared to `clear` at the start of its pass and stored at the end.
+pub fn cleared(
+    view: &wgpu::TextureView,
+    clear: wgpu::Color,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(clear),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}

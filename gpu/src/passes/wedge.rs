@@ -183,17 +183,7 @@ impl WedgePass {
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
             .iter()
-            .map(|(view, clear)| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(*clear),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
+            .map(|(view, clear)| super::cleared(view, *clear))
             .collect();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("wedge"),

@@ -5,10 +5,11 @@
 //! blend of that buffer into the final one), then the resolve.
 
 use bytemuck::Zeroable;
-use glam::Vec4;
-use penumbra_geom::Scene;
+use glam::{DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::{RectLight, Scene};
 use penumbra_volumes::Volumes;
+use penumbra_volumes::render::{receiver_box, wedge_box};
 use penumbra_volumes::shadow_volume::VolumeVertex;
 use wgpu::util::DeviceExt;
 
@@ -65,44 +66,28 @@ pub struct GpuRenderer<'a> {
     resolve: ResolvePass,
 }
 
-/// The wedges of `volumes` with their light-space bounding boxes clamped to the scene's
-/// light-space box (receivers lie in it); wedges wholly outside are dropped. Also each
-/// occluder's range of the instances (the wedges come grouped by occluder).
+/// The wedges of `volumes` with their light-space bounding boxes clipped to the receivers' box
+/// of `triangles` (world space); wedges wholly outside are dropped. Also each occluder's range of
+/// the instances (the wedges come grouped by occluder).
 pub fn wedge_instances(
-    scene: &Scene,
+    light: &RectLight,
+    triangles: &[[DVec3; 3]],
     volumes: &Volumes,
 ) -> (Vec<WedgeInstance>, Vec<std::ops::Range<u32>>) {
-    let mut lo = glam::DVec3::splat(f64::INFINITY);
-    let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
-    for t in scene.triangles() {
-        for v in t {
-            let l = scene.light.to_light_space(v);
-            lo = lo.min(l);
-            hi = hi.max(l);
-        }
-    }
-    let pad = (hi - lo).max(glam::DVec3::splat(1e-6)) * 1e-3;
-    let (lo, hi) = (lo - pad, hi + pad);
+    let (lo, hi) = receiver_box(light, triangles);
+    let f = |v: DVec3, w: f32| {
+        let v = v.as_vec3();
+        [v.x, v.y, v.z, w]
+    };
     let mut ranges = vec![0..0; volumes.occluders.len()];
     let mut out = Vec::with_capacity(volumes.wedges.len());
     for w in &volumes.wedges {
-        let inst = (|| {
-            let (blo, bhi) = penumbra_volumes::render::wedge_bounds(w, hi.z);
-            let (blo, bhi) = (blo.max(lo), bhi.min(hi));
-            if !(blo.x <= bhi.x && blo.y <= bhi.y && blo.z <= bhi.z) {
-                return None;
-            }
-            let f = |v: glam::DVec3, w: f32| {
-                let v = v.as_vec3();
-                [v.x, v.y, v.z, w]
-            };
-            Some(WedgeInstance {
-                lo: f(blo, 0.0),
-                hi: f(bhi, 0.0),
-                from: f(w.from, w.multiplicity as f32),
-                to: f(w.to, 0.0),
-            })
-        })();
+        let inst = wedge_box(w, lo, hi).map(|(blo, bhi)| WedgeInstance {
+            lo: f(blo, 0.0),
+            hi: f(bhi, 0.0),
+            from: f(w.from, w.multiplicity as f32),
+            to: f(w.to, 0.0),
+        });
         if let Some(i) = inst {
             let r = &mut ranges[w.occluder as usize];
             if r.start == r.end {
@@ -140,11 +125,10 @@ pub type VertexData = (Vec<[f32; 3]>, Vec<[f32; 4]>, Vec<std::ops::Range<u32>>);
 
 /// Eye-relative vertices of every scene triangle, and of every shadow-volume triangle in
 /// homogeneous coordinates (`w = 0` at infinity), with each occluder's range of the latter.
-pub fn vertex_data(scene: &Scene, volumes: &Volumes) -> VertexData {
+pub fn vertex_data(scene: &Scene, triangles: &[[DVec3; 3]], volumes: &Volumes) -> VertexData {
     let eye = scene.camera.eye;
     let c = scene.light.center;
-    let tris: Vec<[f32; 3]> = scene
-        .triangles()
+    let tris: Vec<[f32; 3]> = triangles
         .iter()
         .flatten()
         .map(|&v| (v - eye).as_vec3().to_array())
@@ -211,7 +195,8 @@ impl<'a> GpuRenderer<'a> {
             height: h,
             depth_or_array_layers: 1,
         };
-        let (tris, vol, vol_ranges) = vertex_data(scene, volumes);
+        let world = scene.triangles();
+        let (tris, vol, vol_ranges) = vertex_data(scene, &world, volumes);
         let radius = tris
             .iter()
             .map(|v| glam::Vec3::from(*v).length() as f64)
@@ -323,7 +308,7 @@ impl<'a> GpuRenderer<'a> {
         let cube = vbuf("unit cube", bytemuck::cast_slice(&unit_cube()));
         let (instances, inst_ranges) = match technique {
             GpuTechnique::Hard => (Vec::new(), Vec::new()),
-            _ => wedge_instances(scene, volumes),
+            _ => wedge_instances(&scene.light, &world, volumes),
         };
         let zero = [WedgeInstance::zeroed()];
         let inst = vbuf(
@@ -392,19 +377,14 @@ impl<'a> GpuRenderer<'a> {
                         .iter()
                         .enumerate()
                         .map(|(i, view)| {
-                            Some(wgpu::RenderPassColorAttachment {
+                            crate::passes::cleared(
                                 view,
-                                depth_slice: None,
-                                resolve_target: None,
-                                ops: wgpu::Operations {
-                                    load: wgpu::LoadOp::Clear(if i == 0 {
-                                        wgpu::Color::TRANSPARENT
-                                    } else {
-                                        empty_rect
-                                    }),
-                                    store: wgpu::StoreOp::Store,
+                                if i == 0 {
+                                    wgpu::Color::TRANSPARENT
+                                } else {
+                                    empty_rect
                                 },
-                            })
+                            )
                         })
                         .collect();
                     enc.begin_render_pass(&wgpu::RenderPassDescriptor {
