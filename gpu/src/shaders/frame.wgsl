@@ -36,3 +36,9 @@ fn from_light(l: vec3<f32>) -> vec3<f32> {
         + frame.light_bitangent.xyz * (l.y * frame.light_bitangent.w)
         + frame.light_normal.xyz * l.z;
 }
+
+// Clip position of vertex i (0, 1, 2) of a triangle covering the screen.
+fn fullscreen(i: u32) -> vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
+}

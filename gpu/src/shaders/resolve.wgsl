@@ -5,12 +5,6 @@
 // `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 @group(1) @binding(0) var position: texture_2d<f32>;
 
-// A triangle covering the screen.
-fn fullscreen(i: u32) -> vec4<f32> {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
-}
-
 @vertex
 fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     return fullscreen(i);
