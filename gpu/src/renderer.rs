@@ -15,7 +15,8 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameUniforms;
-use crate::passes::blend::{BUFFER_FORMAT, BlendPass, FINAL_TARGETS, SILHOUETTE_TARGETS};
+use crate::passes::blend::{BlendPass, FINAL_WORDS, Region, SILHOUETTE_FORMATS};
+use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
     DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, depth::DepthPass, frame_layout,
@@ -100,6 +101,50 @@ pub fn wedge_instances(
     (out, ranges)
 }
 
+/// The screen rectangle of `scene`'s camera that holds every pixel whose receiver lies in the
+/// light-space box `[lo, hi]` (the whole image when a corner of the box is not in front of the
+/// camera).
+pub fn screen_region(scene: &Scene, lo: DVec3, hi: DVec3) -> Region {
+    let c = &scene.camera;
+    let (w, h) = (c.width, c.height);
+    let whole = Region {
+        origin: [0, 0],
+        size: [w, h],
+    };
+    let aspect = w as f64 / h as f64;
+    let f = 1.0 / (c.fov_y_deg.to_radians() * 0.5).tan();
+    let (mut min, mut max) = (glam::DVec2::splat(f64::INFINITY), glam::DVec2::NEG_INFINITY);
+    for i in 0..8 {
+        let l = DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        let v = scene.light.from_light_space(l) - c.eye;
+        let d = c.forward.dot(v);
+        if !(d > 1e-9 * v.length()) {
+            return whole;
+        }
+        let ndc = glam::DVec2::new(c.right.dot(v) * f / aspect, c.true_up.dot(v) * f) / d;
+        // Pixels, y down.
+        let p = glam::DVec2::new(
+            (ndc.x + 1.0) * 0.5 * w as f64,
+            (1.0 - ndc.y) * 0.5 * h as f64,
+        );
+        min = min.min(p);
+        max = max.max(p);
+    }
+    // One pixel of margin for rasterisation at the box's border.
+    let x0 = (min.x - 1.0).floor().clamp(0.0, w as f64) as u32;
+    let y0 = (min.y - 1.0).floor().clamp(0.0, h as f64) as u32;
+    let x1 = (max.x + 1.0).ceil().clamp(0.0, w as f64) as u32;
+    let y1 = (max.y + 1.0).ceil().clamp(0.0, h as f64) as u32;
+    Region {
+        origin: [x0, y0],
+        size: [x1.saturating_sub(x0), y1.saturating_sub(y0)],
+    }
+}
+
 fn target(
     device: &wgpu::Device,
     label: &str,
@@ -162,7 +207,7 @@ impl<'a> GpuRenderer<'a> {
         GpuRenderer {
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
-            blend: BlendPass::new(device, &frame_layout, &wedge.stencil_layout),
+            blend: BlendPass::new(device, &frame_layout),
             wedge,
             resolve,
             frame_layout,
@@ -319,20 +364,8 @@ impl<'a> GpuRenderer<'a> {
                 &instances[..]
             }),
         );
-        let buffer = |label| target(device, label, size, BUFFER_FORMAT, sampled);
-        let empty_rect = wgpu::Color {
-            r: 1e30,
-            g: 1e30,
-            b: -1e30,
-            a: -1e30,
-        };
-        let big = wgpu::Color {
-            r: 1e30,
-            g: 1e30,
-            b: 1e30,
-            a: 1e30,
-        };
         let occlusion_view;
+        let mut final_group = None;
         match technique {
             GpuTechnique::Hard | GpuTechnique::Wedges => {
                 self.stencil.record(
@@ -345,7 +378,8 @@ impl<'a> GpuRenderer<'a> {
                     stamp(STENCIL),
                 );
                 occlusion_view = (technique == GpuTechnique::Wedges).then(|| {
-                    let v = buffer("occlusion").create_view(&Default::default());
+                    let v = target(device, "occlusion", size, OCCLUSION_FORMAT, sampled)
+                        .create_view(&Default::default());
                     self.wedge.record(
                         &mut enc,
                         &frame,
@@ -362,75 +396,96 @@ impl<'a> GpuRenderer<'a> {
                 });
             }
             GpuTechnique::WedgesBlend => {
-                // Two final buffers, ping-ponged, and one silhouette buffer.
-                let finals: [Vec<wgpu::TextureView>; 2] = [0, 1].map(|_| {
-                    (0..FINAL_TARGETS)
-                        .map(|_| buffer("final").create_view(&Default::default()))
-                        .collect()
-                });
-                let sil: Vec<wgpu::TextureView> = (0..SILHOUETTE_TARGETS)
-                    .map(|_| buffer("silhouette").create_view(&Default::default()))
-                    .collect();
-                // Start from no occlusion: areas 0, empty rectangles.
-                {
-                    let clears: Vec<Option<wgpu::RenderPassColorAttachment>> = finals[0]
-                        .iter()
-                        .enumerate()
-                        .map(|(i, view)| {
-                            crate::passes::cleared(
-                                view,
-                                if i == 0 {
-                                    wgpu::Color::TRANSPARENT
-                                } else {
-                                    empty_rect
-                                },
-                            )
-                        })
-                        .collect();
-                    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("clear final"),
-                        color_attachments: &clears,
-                        depth_stencil_attachment: None,
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                }
-                let inputs = |old: &[wgpu::TextureView]| {
-                    let entries: Vec<wgpu::BindGroupEntry> = old
-                        .iter()
-                        .chain(&sil)
-                        .enumerate()
-                        .map(|(i, v)| wgpu::BindGroupEntry {
-                            binding: i as u32,
-                            resource: wgpu::BindingResource::TextureView(v),
-                        })
-                        .collect();
-                    device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("blend inputs"),
-                        layout: &self.blend.inputs_layout,
-                        entries: &entries,
+                occlusion_view = None;
+                // One silhouette buffer, and the final buffer (zeroed at creation: no occlusion),
+                // updated in place by each blend.
+                let sil: Vec<wgpu::TextureView> = SILHOUETTE_FORMATS
+                    .iter()
+                    .map(|&f| {
+                        target(device, "silhouette", size, f, sampled)
+                            .create_view(&Default::default())
                     })
-                };
-                let groups = [inputs(&finals[0]), inputs(&finals[1])];
+                    .collect();
+                let final_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("final buffer"),
+                    size: 4 * FINAL_WORDS * (w as u64) * (h as u64),
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                });
                 let stencil_view = depth.create_view(&wgpu::TextureViewDescriptor {
                     label: Some("stencil counts"),
                     format: Some(wgpu::TextureFormat::Stencil8),
                     aspect: wgpu::TextureAspect::StencilOnly,
                     ..Default::default()
                 });
-                let stencil_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("stencil counts"),
-                    layout: &self.wedge.stencil_layout,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&stencil_view),
-                    }],
+                let stencil_group = crate::passes::bind_group(
+                    device,
+                    "stencil counts",
+                    &self.wedge.stencil_layout,
+                    &[wgpu::BindingResource::TextureView(&stencil_view)],
+                );
+                let mut inputs: Vec<wgpu::BindingResource> =
+                    sil.iter().map(wgpu::BindingResource::TextureView).collect();
+                inputs.push(wgpu::BindingResource::TextureView(&stencil_view));
+                inputs.push(final_buffer.as_entire_binding());
+                let blend_inputs = crate::passes::bind_group(
+                    device,
+                    "blend inputs",
+                    &self.blend.inputs_layout,
+                    &inputs,
+                );
+                // Each occluder's screen region: where the merged light-space box of its wedges
+                // (clipped to the receivers) projects. Its hard shadow lies inside that box too.
+                let stride = (std::mem::size_of::<Region>() as u64)
+                    .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment as u64);
+                let regions: Vec<Region> = inst_ranges
+                    .iter()
+                    .map(|r| {
+                        let boxes = &instances[r.start as usize..r.end as usize];
+                        if boxes.is_empty() {
+                            return Region::default();
+                        }
+                        let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
+                        for b in boxes {
+                            lo = lo.min(Vec4::from(b.lo).truncate());
+                            hi = hi.max(Vec4::from(b.hi).truncate());
+                        }
+                        screen_region(scene, lo.as_dvec3(), hi.as_dvec3())
+                    })
+                    .collect();
+                let mut region_bytes = vec![0u8; (stride as usize) * regions.len().max(1)];
+                for (i, r) in regions.iter().enumerate() {
+                    let at = i * stride as usize;
+                    region_bytes[at..at + std::mem::size_of::<Region>()]
+                        .copy_from_slice(bytemuck::bytes_of(r));
+                }
+                let region_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("blend regions"),
+                    contents: &region_bytes,
+                    usage: wgpu::BufferUsages::UNIFORM,
                 });
-                let mut cur = 0;
+                let region_group = crate::passes::bind_group(
+                    device,
+                    "blend region",
+                    &self.blend.region_layout,
+                    &[wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &region_buf,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<Region>() as u64),
+                    })],
+                );
+                let zero = wgpu::Color::TRANSPARENT;
+                let clears: Vec<(&wgpu::TextureView, wgpu::Color)> = sil
+                    .iter()
+                    .enumerate()
+                    // Areas and cover start at 0, encoded rectangles at 1 (empty).
+                    .map(|(i, v)| (v, if i < 2 { zero } else { wgpu::Color::WHITE }))
+                    .collect();
                 for (o, vr) in vol_ranges.iter().enumerate() {
                     let ir = inst_ranges[o].clone();
-                    if vr.is_empty() && ir.is_empty() {
+                    let region = regions[o];
+                    if ir.is_empty() || region.size[0] == 0 || region.size[1] == 0 {
+                        // No wedge reaches a receiver: neither does the occluder's shadow.
                         continue;
                     }
                     // Seed 004's three passes for this silhouette.
@@ -443,8 +498,6 @@ impl<'a> GpuRenderer<'a> {
                         &depth_view,
                         stamp(STENCIL),
                     );
-                    let t = |i: usize, c| (&sil[i], c);
-                    let zero = wgpu::Color::TRANSPARENT;
                     self.wedge.record(
                         &mut enc,
                         &frame,
@@ -453,30 +506,31 @@ impl<'a> GpuRenderer<'a> {
                         &inst,
                         ir,
                         WedgeOutput::Silhouette,
-                        &[
-                            t(0, zero),
-                            t(1, zero),
-                            t(2, big),
-                            t(3, big),
-                            t(4, big),
-                            t(5, big),
-                        ],
+                        &clears,
                         Some(&stencil_group),
                         stamp(WEDGE),
                     );
+                    let t = stamp(BLEND).map(|t| wgpu::ComputePassTimestampWrites {
+                        query_set: t.query_set,
+                        beginning_of_pass_write_index: t.beginning_of_pass_write_index,
+                        end_of_pass_write_index: t.end_of_pass_write_index,
+                    });
                     self.blend.record(
                         &mut enc,
                         &frame,
-                        &groups[cur],
-                        &finals[1 - cur],
-                        &stencil_group,
-                        stamp(BLEND),
+                        &blend_inputs,
+                        &region_group,
+                        (o as u64 * stride) as u32,
+                        region,
+                        t,
                     );
-                    cur = 1 - cur;
                 }
-                let [a, b] = finals;
-                let mut finals = [a, b];
-                occlusion_view = Some(std::mem::take(&mut finals[cur]).swap_remove(0));
+                final_group = Some(crate::passes::bind_group(
+                    device,
+                    "final buffer",
+                    &self.resolve.final_layout,
+                    &[final_buffer.as_entire_binding()],
+                ));
             }
         }
         let occlusion_group = occlusion_view.as_ref().map(&single);
@@ -484,7 +538,7 @@ impl<'a> GpuRenderer<'a> {
             &mut enc,
             &frame,
             &position_group,
-            occlusion_group.as_ref(),
+            occlusion_group.as_ref().or(final_group.as_ref()),
             blending,
             &visibility_view,
             &depth_view,

@@ -16,6 +16,9 @@ pub struct ResolvePass {
     /// Layout of a single non-filterable float texture (the receivers, group 1; the occlusion,
     /// group 2).
     pub texture_layout: wgpu::BindGroupLayout,
+    /// Layout of the final buffer of `wedges-blend` (group 2 of its resolve), a read-only storage
+    /// buffer.
+    pub final_layout: wgpu::BindGroupLayout,
 }
 
 impl ResolvePass {
@@ -37,8 +40,31 @@ impl ResolvePass {
             ],
             immediate_size: 0,
         });
+        let final_layout = super::layout(
+            device,
+            "final buffer",
+            wgpu::ShaderStages::FRAGMENT,
+            &[wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            }],
+        );
+        let blended_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("resolve blended"),
+            bind_group_layouts: &[
+                Some(frame_layout),
+                Some(&texture_layout),
+                Some(&final_layout),
+            ],
+            immediate_size: 0,
+        });
         let make = |entry: &str, compare: wgpu::CompareFunction, counted: bool| {
-            let layout = if counted { &wedge_layout } else { &layout };
+            let layout = match (counted, entry) {
+                (_, "fs_blended") => &blended_layout,
+                (true, _) => &wedge_layout,
+                (false, _) => &layout,
+            };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(entry),
                 layout: Some(layout),
@@ -68,14 +94,16 @@ impl ResolvePass {
             // Passes where MAX_COUNT <= stencil.
             wedges_at_least: make("fs_wedges", wgpu::CompareFunction::LessEqual, true),
             // The blended buffer already holds the hard shadows: count 0, every pixel.
-            blended: make("fs_wedges", wgpu::CompareFunction::Always, true),
+            blended: make("fs_blended", wgpu::CompareFunction::Always, false),
             texture_layout,
+            final_layout,
         }
     }
 
     /// Writes V into `visibility`: the hard shadow when `occlusion` is `None`, else
-    /// `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count (additive wedges) or
-    /// `n = 0` when `blended` (the final buffer of the blending, hard shadows included).
+    /// `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count (additive wedges: a group
+    /// of [`ResolvePass::texture_layout`]) or `n = 0` when `blended` (the final buffer of the
+    /// blending, hard shadows included: a group of [`ResolvePass::final_layout`]).
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,

@@ -2,6 +2,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use super::blend::SILHOUETTE_FORMATS;
+
 /// Format of the per-radial-part occlusion target (one channel per part).
 pub const OCCLUSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -37,7 +39,8 @@ pub fn unit_cube() -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// The wedge pass pipelines: additive (one target) and a silhouette buffer (six targets).
+/// The wedge pass pipelines: additive (one target) and a silhouette buffer
+/// ([`SILHOUETTE_FORMATS`]).
 pub struct WedgePass {
     pipeline: wgpu::RenderPipeline,
     silhouette: wgpu::RenderPipeline,
@@ -50,7 +53,7 @@ pub struct WedgePass {
 pub enum WedgeOutput {
     /// Signed area per part, added (`wedges`): one target, no depth-stencil attachment.
     Additive,
-    /// A silhouette buffer (6 targets), reading the silhouette's stencil counts (group 2).
+    /// A silhouette buffer ([`SILHOUETTE_FORMATS`]), reading the silhouette's stencil counts (group 2).
     Silhouette,
 }
 
@@ -89,22 +92,32 @@ impl WedgePass {
             ],
             immediate_size: 0,
         });
-        let blend = |operation| {
+        let blend = |format, operation| {
             let c = wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
                 dst_factor: wgpu::BlendFactor::One,
                 operation,
             };
             Some(wgpu::ColorTargetState {
-                format: OCCLUSION_FORMAT,
+                format,
                 blend: Some(wgpu::BlendState { color: c, alpha: c }),
                 write_mask: wgpu::ColorWrites::ALL,
             })
         };
-        let (add, min) = (
-            blend(wgpu::BlendOperation::Add),
-            blend(wgpu::BlendOperation::Min),
-        );
+        let add = blend(OCCLUSION_FORMAT, wgpu::BlendOperation::Add);
+        // Areas and cover add; the encoded rectangles (which grow inwards) take the minimum.
+        let silhouette: Vec<Option<wgpu::ColorTargetState>> = SILHOUETTE_FORMATS
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| {
+                let op = if i < 2 {
+                    wgpu::BlendOperation::Add
+                } else {
+                    wgpu::BlendOperation::Min
+                };
+                blend(f, op)
+            })
+            .collect();
         let make = |entry: &str,
                     targets: &[Option<wgpu::ColorTargetState>],
                     layout: &wgpu::PipelineLayout| {
@@ -149,14 +162,6 @@ impl WedgePass {
                 cache: None,
             })
         };
-        let silhouette = [
-            add.clone(),
-            add.clone(),
-            min.clone(),
-            min.clone(),
-            min.clone(),
-            min,
-        ];
         WedgePass {
             pipeline: make("fs", std::slice::from_ref(&add), &layout),
             silhouette: make("fs_silhouette", &silhouette, &silhouette_layout),

@@ -1,6 +1,7 @@
-// The per-frame uniforms shared by every pass; `passes::shader` prepends this file to each
-// pass's shader, so the layout is written once in WGSL (and once in Rust: `frame::FrameUniforms`,
-// whose size is asserted). Positions are eye-relative.
+// Declarations shared by every pass; `passes::shader` prepends this file to each pass's shader,
+// so each is written once in WGSL: the per-frame uniforms (and once in Rust:
+// `frame::FrameUniforms`, whose size is asserted), the light-space transforms and the radial
+// parts' rectangles. Positions are eye-relative.
 
 struct Frame {
     // Eye-relative world to clip: reversed z, infinite far plane.
@@ -41,4 +42,70 @@ fn from_light(l: vec3<f32>) -> vec3<f32> {
 fn fullscreen(i: u32) -> vec4<f32> {
     let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
     return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
+}
+
+// A rectangle as (min x, min y, max x, max y); empty when min > max.
+const BIG: f32 = 1e30;
+const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
+
+fn rect_union(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(min(a.xy, b.xy), max(a.zw, b.zw));
+}
+
+// Bounding rectangle of radial part k of the light (counter-clockwise from +x).
+fn part_rect(k: u32) -> vec4<f32> {
+    let r = array<vec4<f32>, 4>(
+        vec4<f32>(0.0, -1.0, 1.0, 1.0),
+        vec4<f32>(-1.0, 0.0, 1.0, 1.0),
+        vec4<f32>(-1.0, -1.0, 0.0, 1.0),
+        vec4<f32>(-1.0, -1.0, 1.0, 0.0),
+    );
+    return r[k];
+}
+
+// Levels of a rectangle coordinate in the visibility buffers: 8 bits per coordinate, as seed 004
+// packs them (section 4.4), relative to the part's own rectangle. Must equal
+// `penumbra_volumes::blend::RECT_LEVELS`.
+const RECT_LEVELS: f32 = 255.0;
+
+// A rectangle inside part k as four values in [0, 1] that grow inwards, (min, 1 - max) relative
+// to the part's rectangle, rounded outwards to whole levels, so the decoded rectangle still bounds
+// the region and a `Min` blend of encodings is the encoding of the union. Empty: (1, 1, 1, 1).
+fn encode_rect(r: vec4<f32>, k: u32) -> vec4<f32> {
+    if (!(r.x <= r.z && r.y <= r.w)) {
+        return vec4<f32>(1.0);
+    }
+    let t = part_rect(k);
+    let ext = t.zw - t.xy;
+    let lo = clamp((r.xy - t.xy) / ext, vec2<f32>(0.0), vec2<f32>(1.0));
+    let hi = clamp((t.zw - r.zw) / ext, vec2<f32>(0.0), vec2<f32>(1.0));
+    // The slack keeps an already-encoded rectangle's levels through decoding and encoding again.
+    return floor(vec4<f32>(lo, hi) * RECT_LEVELS + 1e-3) / RECT_LEVELS;
+}
+
+// The rectangle of an encoding (empty when the encoding is).
+fn decode_rect(e: vec4<f32>, k: u32) -> vec4<f32> {
+    let t = part_rect(k);
+    let ext = t.zw - t.xy;
+    let q = round(e * RECT_LEVELS) / RECT_LEVELS;
+    return vec4<f32>(t.xy + q.xy * ext, t.zw - q.zw * ext);
+}
+
+// The final visibility buffer of `wedges-blend`, a storage buffer of `FINAL_WORDS` words per
+// pixel: the occluded area per part as 16-bit unorm (two words) and each part's rectangle as
+// `encode_rect` in 8-bit unorm (one word per part): 24 bytes. Zeroed: no occlusion.
+const FINAL_WORDS: u32 = 6u;
+
+struct FinalTexel {
+    area: vec4<f32>,
+    rect: array<vec4<f32>, 4>,
+}
+
+fn final_index(pixel: vec2<u32>) -> u32 {
+    return (pixel.y * u32(frame.size.x) + pixel.x) * FINAL_WORDS;
+}
+
+// The occluded areas of the final buffer's first two words at `final_index`.
+fn unpack_final_area(w0: u32, w1: u32) -> vec4<f32> {
+    return vec4<f32>(unpack2x16unorm(w0), unpack2x16unorm(w1));
 }

@@ -62,3 +62,22 @@ fn fs_wedges(in: ResolveOut) -> @location(0) vec4<f32> {
     let total = 4.0 * f32(in.count) + o.x + o.y + o.z + o.w;
     return vec4<f32>(1.0 - clamp(total, 0.0, 4.0) / 4.0, 0.0, 0.0, 0.0);
 }
+
+// The final buffer of `wedges-blend` (`FINAL_WORDS` words per pixel), hard shadows included.
+@group(2) @binding(0) var<storage, read> final_buffer: array<u32>;
+
+// Blended wedges: V = 1 - clamp(Σ parts, 0, 4) / 4 from the final buffer.
+@fragment
+fn fs_blended(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
+    let l = lit(pixel);
+    if (l.x == 0.0) {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    if (l.y == 0.0) {
+        return vec4<f32>(0.0);
+    }
+    let i = final_index(vec2<u32>(pixel.xy));
+    let o = unpack_final_area(final_buffer[i], final_buffer[i + 1u]);
+    let total = o.x + o.y + o.z + o.w;
+    return vec4<f32>(1.0 - clamp(total, 0.0, 4.0) / 4.0, 0.0, 0.0, 0.0);
+}

@@ -118,10 +118,6 @@ fn meets_square(a: vec2<f32>, b: vec2<f32>) -> bool {
 // CPU's 1e-9; projected coordinates stay below about 1e6).
 const NEAR_MARGIN: f32 = 1e-6;
 
-// A rectangle as (min x, min y, max x, max y); empty when min > max.
-const BIG: f32 = 1e30;
-const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
-
 fn bbox(p: Poly) -> vec4<f32> {
     var r = EMPTY_RECT;
     for (var i = 0u; i < p.n; i++) {
@@ -170,7 +166,13 @@ fn clip_segment(s: Segment, h: vec3<f32>) -> Segment {
     return out;
 }
 
-fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>) -> Integral {
+// What the caller needs besides the areas: `RECTS_OUTER` the outer half-wedges' rectangles,
+// `RECTS_INNER` also the inner ones' near rectangles and cover (in the silhouette's hard shadow).
+const AREAS_ONLY: u32 = 0u;
+const RECTS_OUTER: u32 = 1u;
+const RECTS_INNER: u32 = 2u;
+
+fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -> Integral {
     var out: Integral;
     out.valid = false;
     if (!(p.z > 0.0)) {
@@ -210,6 +212,9 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>) -> Integral 
     let beyond = -s0 * vec3<f32>(-e.y, e.x, -cross2(e, a));
     out.area = vec4<f32>(0.0);
     out.cover = vec4<f32>(0.0);
+    let outer = out.sign > 0.0;
+    let beyond_rects = want != AREAS_ONLY && outer;
+    let near_rects = want == RECTS_INNER && !outer;
     for (var k = 0u; k < 4u; k++) {
         out.beyond[k] = EMPTY_RECT;
         out.near[k] = EMPTY_RECT;
@@ -218,25 +223,29 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>) -> Integral 
         if (cone.n < 3u) {
             continue;
         }
-        var side_seg: Segment;
-        side_seg.a = t.v[1];
-        side_seg.b = t.v[2];
-        side_seg.n = 2u;
-        let sc = clip_segment(clip_segment(side_seg, cone_a), cone_b);
-        if (sc.n > 0u) {
-            out.cover[k] = length(sc.b - sc.a);
-        }
         let r = clip(cone, beyond);
-        let near = clip(cone, -beyond);
         let ra = select(0.0, area(r), r.n >= 3u);
         if (ra > 0.0) {
             out.area[k] = edge_from.w * ra;
-            out.beyond[k] = bbox(r);
             out.valid = true;
+            if (beyond_rects) {
+                out.beyond[k] = bbox(r);
+            }
         }
-        if (near.n >= 3u) {
-            out.near[k] = bbox(near);
-            out.valid = true;
+        if (near_rects) {
+            var side_seg: Segment;
+            side_seg.a = t.v[1];
+            side_seg.b = t.v[2];
+            side_seg.n = 2u;
+            let sc = clip_segment(clip_segment(side_seg, cone_a), cone_b);
+            if (sc.n > 0u) {
+                out.cover[k] = length(sc.b - sc.a);
+            }
+            let near = clip(cone, -beyond);
+            if (near.n >= 3u) {
+                out.near[k] = bbox(near);
+                out.valid = true;
+            }
         }
     }
     return out;
@@ -257,7 +266,7 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
     if (p.w == 0.0) {
         discard;
     }
-    let i = integral(in.edge_from, in.edge_to, p.xyz);
+    let i = integral(in.edge_from, in.edge_to, p.xyz, AREAS_ONLY);
     if (!i.valid) {
         discard;
     }
@@ -265,43 +274,19 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
 }
 
 // The silhouette buffer of seed 004, in one pass split by the silhouette's stencil count: the
-// signed areas (added), the inner half-wedges' cover of each part's border (added), and one
-// rectangle per part kept by `Min` blending of its minima and of its negated maxima. Where the
-// silhouette's stencil count is zero the rectangle bounds the outer half-wedges' regions only;
-// in its hard shadow it bounds the outer regions and the inner half-wedges' near regions
-// together, which is all the blend needs (seed 004, Figure 10).
+// signed areas (added, `Rgba32Float`), the inner half-wedges' cover of each part's border
+// (added, `Rgba16Float`), and one rectangle per part, encoded in 8 bits per coordinate
+// (`encode_rect`, `Rgba8Unorm`) and kept by `Min` blending. Where the silhouette's stencil count
+// is zero the rectangle bounds the outer half-wedges' regions only; in its hard shadow it bounds
+// the outer regions and the inner half-wedges' near regions together, which is all the blend
+// needs (seed 004, Figure 10). 40 bytes per pixel.
 struct Silhouette {
     @location(0) area: vec4<f32>,
     @location(1) cover: vec4<f32>,
-    @location(2) min01: vec4<f32>,
-    @location(3) min23: vec4<f32>,
-    @location(4) negmax01: vec4<f32>,
-    @location(5) negmax23: vec4<f32>,
-}
-
-fn silhouette(in: WedgeOut, hard: bool) -> Silhouette {
-    let p = receiver(in.clip);
-    var out: Silhouette;
-    if (p.w == 0.0) {
-        discard;
-    }
-    let i = integral(in.edge_from, in.edge_to, p.xyz);
-    if (!i.valid) {
-        discard;
-    }
-    out.area = i.area * i.sign;
-    out.cover = select(vec4<f32>(0.0), i.cover, i.sign < 0.0);
-    var r = array<vec4<f32>, 4>(EMPTY_RECT, EMPTY_RECT, EMPTY_RECT, EMPTY_RECT);
-    if (i.sign > 0.0) {
-        r = i.beyond;
-    } else if (hard) {
-        r = i.near;
-    }
-    out.min01 = vec4<f32>(r[0].xy, r[1].xy);
-    out.min23 = vec4<f32>(r[2].xy, r[3].xy);
-    out.negmax01 = -vec4<f32>(r[0].zw, r[1].zw);
-    out.negmax23 = -vec4<f32>(r[2].zw, r[3].zw);
-    return out;
+    @location(2) rect0: vec4<f32>,
+    @location(3) rect1: vec4<f32>,
+    @location(4) rect2: vec4<f32>,
+    @location(5) rect3: vec4<f32>,
 }
 
 // The silhouette's stencil counts (the stencil aspect of the depth pre-pass's target).
@@ -309,6 +294,23 @@ fn silhouette(in: WedgeOut, hard: bool) -> Silhouette {
 
 @fragment
 fn fs_silhouette(in: WedgeOut) -> Silhouette {
-    let n = textureLoad(stencil_count, vec2<i32>(in.clip.xy), 0).r;
-    return silhouette(in, n != 0u);
+    let hard = textureLoad(stencil_count, vec2<i32>(in.clip.xy), 0).r != 0u;
+    let p = receiver(in.clip);
+    if (p.w == 0.0) {
+        discard;
+    }
+    let i = integral(in.edge_from, in.edge_to, p.xyz, select(RECTS_OUTER, RECTS_INNER, hard));
+    if (!i.valid) {
+        discard;
+    }
+    var out: Silhouette;
+    out.area = i.area * i.sign;
+    out.cover = i.cover;
+    // Outer half-wedges: the regions beyond their edges; inner ones (in hard shadow only): the
+    // regions between the centre and their edges. `integral` leaves the other kind empty.
+    out.rect0 = encode_rect(rect_union(i.beyond[0], i.near[0]), 0u);
+    out.rect1 = encode_rect(rect_union(i.beyond[1], i.near[1]), 1u);
+    out.rect2 = encode_rect(rect_union(i.beyond[2], i.near[2]), 2u);
+    out.rect3 = encode_rect(rect_union(i.beyond[3], i.near[3]), 3u);
+    return out;
 }
