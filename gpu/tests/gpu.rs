@@ -133,3 +133,12 @@ fn gpu_matches_cpu(gt: GpuTechnique, t: Technique) {
         assert!(c.all.p99 <= 0.02, "{name}: p99 {}", c.all.p99);
     }
 }
+
+/// Issue 4's memory bound: seed 004's four `RGBA32F`, 64 bytes per pixel, for the silhouette and
+/// final buffers of `wedges-blend` together.
+#[test]
+fn blend_visibility_buffers_take_at_most_64_bytes_per_pixel() {
+    let bytes = penumbra_gpu::passes::blend::bytes_per_pixel();
+    assert!(bytes <= 64, "{bytes} bytes per pixel");
+    assert_eq!(bytes, 40 + 24);
+}
