@@ -38,6 +38,11 @@ const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
 /// `(f/a · right·v, f · true_up·v, near · v.w, forward·v)`: depth `near / (forward·v)` is 1 on the
 /// near plane and falls to 0 at infinity, where `v.w = 0` gives exactly 0.
 pub fn view_proj(scene: &Scene, scene_radius: f64) -> Mat4 {
+    view_proj_f64(scene, scene_radius).as_mat4()
+}
+
+/// [`view_proj`] in `f64`, for the CPU's own projections of the frame.
+pub fn view_proj_f64(scene: &Scene, scene_radius: f64) -> DMat4 {
     let c = &scene.camera;
     let aspect = c.width as f64 / c.height as f64;
     let near = (scene_radius * NEAR_FRACTION).max(1e-6);
@@ -48,9 +53,7 @@ pub fn view_proj(scene: &Scene, scene_radius: f64) -> Mat4 {
         DVec4::new(0.0, 0.0, 0.0, near),
         c.forward.extend(0.0),
     ];
-    DMat4::from_cols(rows[0], rows[1], rows[2], rows[3])
-        .transpose()
-        .as_mat4()
+    DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose()
 }
 
 impl FrameUniforms {

@@ -5,7 +5,7 @@
 //! blend of that buffer into the final one), then the resolve.
 
 use bytemuck::Zeroable;
-use glam::{DVec3, Vec4};
+use glam::{DMat4, DVec2, DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{RectLight, Scene};
 use penumbra_volumes::Volumes;
@@ -14,12 +14,12 @@ use penumbra_volumes::shadow_volume::VolumeVertex;
 use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
-use crate::frame::FrameUniforms;
-use crate::passes::blend::{BlendPass, FINAL_WORDS, Region, SILHOUETTE_FORMATS};
+use crate::frame::{FrameUniforms, view_proj_f64};
+use crate::passes::blend::{BlendPass, FINAL_WORDS, Region, SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
-    DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, depth::DepthPass, frame_layout,
+    DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, bind_group, depth::DepthPass, frame_layout,
     resolve::ResolvePass, stencil::StencilPass,
 };
 
@@ -103,17 +103,15 @@ pub fn wedge_instances(
 
 /// The screen rectangle of `scene`'s camera that holds every pixel whose receiver lies in the
 /// light-space box `[lo, hi]` (the whole image when a corner of the box is not in front of the
-/// camera).
-pub fn screen_region(scene: &Scene, lo: DVec3, hi: DVec3) -> Region {
+/// camera). `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
+pub fn screen_region(scene: &Scene, view_proj: &DMat4, lo: DVec3, hi: DVec3) -> Region {
     let c = &scene.camera;
     let (w, h) = (c.width, c.height);
     let whole = Region {
         origin: [0, 0],
         size: [w, h],
     };
-    let aspect = w as f64 / h as f64;
-    let f = 1.0 / (c.fov_y_deg.to_radians() * 0.5).tan();
-    let (mut min, mut max) = (glam::DVec2::splat(f64::INFINITY), glam::DVec2::NEG_INFINITY);
+    let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
     for i in 0..8 {
         let l = DVec3::new(
             if i & 1 == 0 { lo.x } else { hi.x },
@@ -121,13 +119,13 @@ pub fn screen_region(scene: &Scene, lo: DVec3, hi: DVec3) -> Region {
             if i & 4 == 0 { lo.z } else { hi.z },
         );
         let v = scene.light.from_light_space(l) - c.eye;
-        let d = c.forward.dot(v);
-        if !(d > 1e-9 * v.length()) {
+        let clip = *view_proj * v.extend(1.0);
+        if !(clip.w > 1e-9 * v.length()) {
             return whole;
         }
-        let ndc = glam::DVec2::new(c.right.dot(v) * f / aspect, c.true_up.dot(v) * f) / d;
+        let ndc = clip.truncate().truncate() / clip.w;
         // Pixels, y down.
-        let p = glam::DVec2::new(
+        let p = DVec2::new(
             (ndc.x + 1.0) * 0.5 * w as f64,
             (1.0 - ndc.y) * 0.5 * h as f64,
         );
@@ -247,19 +245,18 @@ impl<'a> GpuRenderer<'a> {
             .map(|v| glam::Vec3::from(*v).length() as f64)
             .fold(1e-3, f64::max);
         let uniforms = FrameUniforms::new(scene, radius);
+        let camera = view_proj_f64(scene, radius);
         let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&uniforms),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let frame = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &self.frame_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buf.as_entire_binding(),
-            }],
-        });
+        let frame = bind_group(
+            device,
+            "frame",
+            &self.frame_layout,
+            &[frame_buf.as_entire_binding()],
+        );
         let vbuf = |label, data: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -299,14 +296,12 @@ impl<'a> GpuRenderer<'a> {
         let position_view = position.create_view(&Default::default());
         let visibility_view = visibility.create_view(&Default::default());
         let single = |view: &wgpu::TextureView| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("texture"),
-                layout: &self.resolve.texture_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }],
-            })
+            bind_group(
+                device,
+                "texture",
+                &self.resolve.texture_layout,
+                &[wgpu::BindingResource::TextureView(view)],
+            )
         };
         let position_group = single(&position_view);
 
@@ -418,7 +413,7 @@ impl<'a> GpuRenderer<'a> {
                     aspect: wgpu::TextureAspect::StencilOnly,
                     ..Default::default()
                 });
-                let stencil_group = crate::passes::bind_group(
+                let stencil_group = bind_group(
                     device,
                     "stencil counts",
                     &self.wedge.stencil_layout,
@@ -428,12 +423,8 @@ impl<'a> GpuRenderer<'a> {
                     sil.iter().map(wgpu::BindingResource::TextureView).collect();
                 inputs.push(wgpu::BindingResource::TextureView(&stencil_view));
                 inputs.push(final_buffer.as_entire_binding());
-                let blend_inputs = crate::passes::bind_group(
-                    device,
-                    "blend inputs",
-                    &self.blend.inputs_layout,
-                    &inputs,
-                );
+                let blend_inputs =
+                    bind_group(device, "blend inputs", &self.blend.inputs_layout, &inputs);
                 // Each occluder's screen region: where the merged light-space box of its wedges
                 // (clipped to the receivers) projects. Its hard shadow lies inside that box too.
                 let stride = (std::mem::size_of::<Region>() as u64)
@@ -450,7 +441,7 @@ impl<'a> GpuRenderer<'a> {
                             lo = lo.min(Vec4::from(b.lo).truncate());
                             hi = hi.max(Vec4::from(b.hi).truncate());
                         }
-                        screen_region(scene, lo.as_dvec3(), hi.as_dvec3())
+                        screen_region(scene, &camera, lo.as_dvec3(), hi.as_dvec3())
                     })
                     .collect();
                 let mut region_bytes = vec![0u8; (stride as usize) * regions.len().max(1)];
@@ -464,7 +455,7 @@ impl<'a> GpuRenderer<'a> {
                     contents: &region_bytes,
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-                let region_group = crate::passes::bind_group(
+                let region_group = bind_group(
                     device,
                     "blend region",
                     &self.blend.region_layout,
@@ -479,7 +470,16 @@ impl<'a> GpuRenderer<'a> {
                     .iter()
                     .enumerate()
                     // Areas and cover start at 0, encoded rectangles at 1 (empty).
-                    .map(|(i, v)| (v, if i < 2 { zero } else { wgpu::Color::WHITE }))
+                    .map(|(i, v)| {
+                        (
+                            v,
+                            if i < SILHOUETTE_ADDED {
+                                zero
+                            } else {
+                                wgpu::Color::WHITE
+                            },
+                        )
+                    })
                     .collect();
                 for (o, vr) in vol_ranges.iter().enumerate() {
                     let ir = inst_ranges[o].clone();
@@ -525,7 +525,7 @@ impl<'a> GpuRenderer<'a> {
                         t,
                     );
                 }
-                final_group = Some(crate::passes::bind_group(
+                final_group = Some(bind_group(
                     device,
                     "final buffer",
                     &self.resolve.final_layout,

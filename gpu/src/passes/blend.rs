@@ -14,6 +14,10 @@ pub const SILHOUETTE_FORMATS: [wgpu::TextureFormat; 6] = [
     wgpu::TextureFormat::Rgba8Unorm,
 ];
 
+/// The first `SILHOUETTE_ADDED` targets of [`SILHOUETTE_FORMATS`] are added (areas, cover);
+/// the others hold encoded rectangles, kept by `Min`.
+pub const SILHOUETTE_ADDED: usize = 2;
+
 /// Words (`u32`) per pixel of the final buffer, a storage buffer: areas as 16-bit unorm (2),
 /// rectangles as 8-bit unorm (4). `FINAL_WORDS` in `frame.wgsl`.
 pub const FINAL_WORDS: u64 = 6;

@@ -59,18 +59,17 @@ impl ResolvePass {
             ],
             immediate_size: 0,
         });
-        let make = |entry: &str, compare: wgpu::CompareFunction, counted: bool| {
-            let layout = match (counted, entry) {
-                (_, "fs_blended") => &blended_layout,
-                (true, _) => &wedge_layout,
-                (false, _) => &layout,
-            };
+        // `vertex`: "vs", or "vs_counted" for the draws that resolve one stencil count each.
+        let make = |vertex: &str,
+                    entry: &str,
+                    compare: wgpu::CompareFunction,
+                    layout: &wgpu::PipelineLayout| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(entry),
                 layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module: &module,
-                    entry_point: Some(if counted { "vs_counted" } else { "vs" }),
+                    entry_point: Some(vertex),
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
@@ -88,13 +87,33 @@ impl ResolvePass {
             })
         };
         ResolvePass {
-            unshadowed: make("fs_unshadowed", wgpu::CompareFunction::Equal, false),
-            shadowed: make("fs_shadowed", wgpu::CompareFunction::NotEqual, false),
-            wedges_equal: make("fs_wedges", wgpu::CompareFunction::Equal, true),
+            unshadowed: make("vs", "fs_unshadowed", wgpu::CompareFunction::Equal, &layout),
+            shadowed: make(
+                "vs",
+                "fs_shadowed",
+                wgpu::CompareFunction::NotEqual,
+                &layout,
+            ),
+            wedges_equal: make(
+                "vs_counted",
+                "fs_wedges",
+                wgpu::CompareFunction::Equal,
+                &wedge_layout,
+            ),
             // Passes where MAX_COUNT <= stencil.
-            wedges_at_least: make("fs_wedges", wgpu::CompareFunction::LessEqual, true),
+            wedges_at_least: make(
+                "vs_counted",
+                "fs_wedges",
+                wgpu::CompareFunction::LessEqual,
+                &wedge_layout,
+            ),
             // The blended buffer already holds the hard shadows: count 0, every pixel.
-            blended: make("fs_blended", wgpu::CompareFunction::Always, false),
+            blended: make(
+                "vs",
+                "fs_blended",
+                wgpu::CompareFunction::Always,
+                &blended_layout,
+            ),
             texture_layout,
             final_layout,
         }

@@ -2,7 +2,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::blend::SILHOUETTE_FORMATS;
+use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 
 /// Format of the per-radial-part occlusion target (one channel per part).
 pub const OCCLUSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -110,7 +110,7 @@ impl WedgePass {
             .iter()
             .enumerate()
             .map(|(i, &f)| {
-                let op = if i < 2 {
+                let op = if i < SILHOUETTE_ADDED {
                     wgpu::BlendOperation::Add
                 } else {
                     wgpu::BlendOperation::Min
