@@ -143,6 +143,7 @@ fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
             transform: DMat4::IDENTITY,
             mesh,
         }],
+        params: Default::default(),
     }
 }
 

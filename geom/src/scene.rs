@@ -34,6 +34,10 @@ use toml::Spanned;
 use crate::camera::{Camera, CameraError};
 use crate::light::RectLight;
 use crate::mesh::{MeshError, TriangleMesh};
+use crate::params::{
+    FractionalDiskParams, GaussianParams, MdsmParams, PcfParams, PcssParams, ShadowMapParams,
+    TechniqueParams,
+};
 
 /// Tolerance on the unit length and orthogonality of the light's normal and tangent.
 pub const UNIT_TOLERANCE: f64 = 1e-4;
@@ -90,6 +94,12 @@ struct SceneFile {
     light: Spanned<LightDesc>,
     #[serde(default)]
     mesh: Vec<Spanned<MeshDesc>>,
+    shadow_map: Option<Spanned<ShadowMapParams>>,
+    pcf: Option<Spanned<PcfParams>>,
+    pcss: Option<Spanned<PcssParams>>,
+    fractional_disk: Option<Spanned<FractionalDiskParams>>,
+    mdsm: Option<Spanned<MdsmParams>>,
+    gaussian: Option<Spanned<GaussianParams>>,
 }
 
 #[derive(Deserialize)]
@@ -150,6 +160,8 @@ pub struct Scene {
     pub light: RectLight,
     /// The meshes, in file order.
     pub meshes: Vec<SceneMesh>,
+    /// Parameters of the shadow-map techniques (defaults where the file has no table).
+    pub params: TechniqueParams,
 }
 
 /// 1-based line of byte offset `at` in `text`.
@@ -276,11 +288,35 @@ impl Scene {
                 transform,
             });
         }
+        let mut params = TechniqueParams::default();
+        let mut spans: Vec<(&str, std::ops::Range<usize>)> = Vec::new();
+        macro_rules! table {
+            ($field:ident) => {
+                if let Some(t) = &file.$field {
+                    params.$field = *t.get_ref();
+                    spans.push((stringify!($field), t.span()));
+                }
+            };
+        }
+        table!(shadow_map);
+        table!(pcf);
+        table!(pcss);
+        table!(fractional_disk);
+        table!(mdsm);
+        table!(gaussian);
+        params.validate().map_err(|e| {
+            let span = spans
+                .iter()
+                .find(|(t, _)| *t == e.table)
+                .map_or(0..0, |(_, s)| s.clone());
+            invalid(span, e.to_string())
+        })?;
         Ok(Scene {
             path: path.to_path_buf(),
             camera,
             light,
             meshes,
+            params,
         })
     }
 
@@ -339,6 +375,7 @@ impl Scene {
                     mesh: s.mesh.transformed(m),
                 })
                 .collect(),
+            params: self.params,
         }
     }
 }

@@ -3,14 +3,17 @@
 //! The device (any adapter, hardware first, Mesa's lavapipe otherwise), the depth pre-pass, the
 //! z-fail stencil pass of the shadow volumes, the penumbra-wedge pass, the blend pass and the
 //! resolve: `hard`, additive `wedges` and seed 004's `wedges-blend`, each checked against the
-//! CPU oracle of `penumbra-volumes`.
+//! CPU oracle of `penumbra-volumes`. And the shadow-map techniques of the other papers
+//! ([`shadow_maps`]): `pcf`, `pcss`, `fractional-disk`, `mdsm` and `gaussian`.
 #![warn(missing_docs)]
 
 pub mod context;
 pub mod frame;
 pub mod passes;
 pub mod renderer;
+pub mod shadow_maps;
 
 pub use context::{GpuContext, GpuError};
 pub use penumbra_volumes as volumes;
 pub use renderer::{GpuRenderer, GpuTechnique, PassTimes};
+pub use shadow_maps::{ShadowMapRenderer, ShadowTechnique};

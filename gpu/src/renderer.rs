@@ -19,8 +19,8 @@ use crate::passes::blend::{BlendPass, FINAL_WORDS, Region, SILHOUETTE_ADDED, SIL
 use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
-    DEPTH_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, bind_group, depth::DepthPass, frame_layout,
-    resolve::ResolvePass, stencil::StencilPass,
+    DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, bind_group, depth::DepthPass,
+    frame_layout, resolve::ResolvePass, stencil::StencilPass,
 };
 
 /// A technique the GPU renders.
@@ -45,14 +45,29 @@ pub struct PassTimes {
     pub wedge: f64,
     /// Blend passes (`wedges-blend` only).
     pub blend: f64,
-    /// Resolve into V.
+    /// Resolve into V (the `gaussian` technique's read-out).
     pub resolve: f64,
+    /// Light maps of the shadow-map techniques.
+    pub light_map: f64,
+    /// Their preprocessing passes (MDSM build, fractional-disk edges and propagation, Gaussian
+    /// distance map and dilation).
+    pub preprocess: f64,
+    /// Their filter passes (the V pass of `pcf`, `pcss`, `mdsm`, `fractional-disk`; the
+    /// blur passes of `gaussian`).
+    pub filter: f64,
 }
 
 impl PassTimes {
     /// Sum of the passes.
     pub fn total(&self) -> f64 {
-        self.depth + self.stencil + self.wedge + self.blend + self.resolve
+        self.depth
+            + self.stencil
+            + self.wedge
+            + self.blend
+            + self.resolve
+            + self.light_map
+            + self.preprocess
+            + self.filter
     }
 }
 
@@ -143,7 +158,7 @@ pub fn screen_region(scene: &Scene, view_proj: &DMat4, lo: DVec3, hi: DVec3) -> 
     }
 }
 
-fn target(
+pub(crate) fn target(
     device: &wgpu::Device,
     label: &str,
     size: wgpu::Extent3d,
@@ -285,6 +300,7 @@ impl<'a> GpuRenderer<'a> {
         let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
         let depth = target(device, "depth", size, DEPTH_FORMAT, sampled);
         let position = target(device, "position", size, POSITION_FORMAT, sampled);
+        let normal = target(device, "normal", size, NORMAL_FORMAT, att);
         let visibility = target(
             device,
             "visibility",
@@ -342,6 +358,7 @@ impl<'a> GpuRenderer<'a> {
             &tri_buf,
             tris.len() as u32,
             &position_view,
+            &normal.create_view(&Default::default()),
             &depth_view,
             stamp(DEPTH),
         );
@@ -579,6 +596,7 @@ impl<'a> GpuRenderer<'a> {
                     wedge: sums[WEDGE],
                     blend: sums[BLEND],
                     resolve: sums[RESOLVE],
+                    ..Default::default()
                 })
             }
         };
@@ -645,7 +663,7 @@ pub fn read_r32f(
 }
 
 /// Maps a buffer whose copies were submitted, waits, and returns its bytes.
-fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+pub(crate) fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
     let err = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
     let slice = buffer.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
@@ -665,7 +683,7 @@ fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError
 }
 
 /// Maps a (submitted) buffer and reads it as `u64`s.
-fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuError> {
+pub(crate) fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuError> {
     Ok(map_read(ctx, buffer)?
         .chunks_exact(8)
         .map(|c| u64::from_le_bytes(c.try_into().expect("8 bytes")))

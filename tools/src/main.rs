@@ -10,8 +10,10 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use penumbra_geom::image::{self, VisibilityImage};
+use penumbra_geom::params::{GaussianVariant, MdsmExtra};
 use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::{Rng, Scene};
+use penumbra_gpu::{GpuContext, PassTimes, ShadowTechnique};
 use penumbra_volumes::{CpuRenderer, Technique as VolumeTechnique};
 
 #[derive(Parser)]
@@ -37,6 +39,199 @@ enum Technique {
     Wedges,
     /// Penumbra-wedges blending (Forest, Barthe & Paulin 2006).
     WedgesBlend,
+    /// Percentage-closer filtering of a light-centre shadow map (Reeves et al. 1987; GPU).
+    Pcf,
+    /// Percentage-closer soft shadows (Fernando 2005, seed 001; GPU).
+    Pcss,
+    /// Fractional-disk soft shadows (Valient & de Boer, seed 000; GPU).
+    FractionalDisk,
+    /// Multiple-depth shadow maps (Pagot, Comba & Oliveira, seed 002; GPU).
+    Mdsm,
+    /// Multi-pass Gaussian contact-hardening shadows (seed 003; GPU).
+    Gaussian,
+}
+
+impl Technique {
+    /// The volume techniques: the GPU or the CPU oracle renders them.
+    fn is_volume(self) -> bool {
+        matches!(
+            self,
+            Technique::Hard | Technique::Wedges | Technique::WedgesBlend
+        )
+    }
+
+    /// The shadow-map technique, for those that are one (they run on the GPU only).
+    fn shadow_map(self) -> Option<ShadowTechnique> {
+        Some(match self {
+            Technique::Pcf => ShadowTechnique::Pcf,
+            Technique::Pcss => ShadowTechnique::Pcss,
+            Technique::FractionalDisk => ShadowTechnique::FractionalDisk,
+            Technique::Mdsm => ShadowTechnique::Mdsm,
+            Technique::Gaussian => ShadowTechnique::Gaussian,
+            _ => return None,
+        })
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum MdsmExtraArg {
+    /// The neighbourhood's maximum.
+    Max,
+    /// The neighbourhood's minimum.
+    Min,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum GaussianVariantArg {
+    /// PCF of the hard-shadow bit, size from D.
+    Pcf,
+    /// One separable Gaussian, size from D.
+    Single,
+    /// Several Poisson-tap Gaussian passes.
+    Multi,
+}
+
+/// Parameters of the shadow-map techniques: each overrides the key of the same name in the
+/// scene's optional table (`[shadow_map]`, `[pcf]`, `[pcss]`, `[fractional_disk]`, `[mdsm]`,
+/// `[gaussian]`; see docs/scene-format.md for the defaults).
+#[derive(clap::Args, Clone, Debug, Default)]
+struct ParamArgs {
+    /// Shadow map texels per side [shadow_map.resolution, 2048].
+    #[arg(long, help_heading = "Shadow maps")]
+    shadow_map_resolution: Option<u32>,
+    /// Constant depth bias, fraction of the receiver's light depth [shadow_map.depth_bias, 0.001].
+    #[arg(long, help_heading = "Shadow maps")]
+    depth_bias: Option<f64>,
+    /// Slope bias in texels of the receiver's plane [shadow_map.slope_bias, 1].
+    #[arg(long, help_heading = "Shadow maps")]
+    slope_bias: Option<f64>,
+    /// pcf: kernel side, 3, 4 or 5 [pcf.kernel, 3].
+    #[arg(long, help_heading = "Shadow maps")]
+    pcf_kernel: Option<u32>,
+    /// pcss: blocker-search taps per side [pcss.search, 8].
+    #[arg(long, help_heading = "Shadow maps")]
+    pcss_search: Option<u32>,
+    /// pcss: most filter taps per side [pcss.filter_max, 16].
+    #[arg(long, help_heading = "Shadow maps")]
+    pcss_filter_max: Option<u32>,
+    /// pcss: dithered 4-of-16 sampling, seed 001 section 4.4 [pcss.dither, false].
+    #[arg(long, help_heading = "Shadow maps")]
+    pcss_dither: Option<bool>,
+    /// fractional-disk: Eq. 2's a [fractional_disk.a, 2].
+    #[arg(long, help_heading = "Shadow maps")]
+    fd_a: Option<f64>,
+    /// fractional-disk: most samples per pixel [fractional_disk.max_samples, 50].
+    #[arg(long, help_heading = "Shadow maps")]
+    fd_max_samples: Option<u32>,
+    /// fractional-disk: largest disk radius, texels [fractional_disk.max_radius, 16].
+    #[arg(long, help_heading = "Shadow maps")]
+    fd_max_radius: Option<f64>,
+    /// fractional-disk: propagation passes [fractional_disk.passes, 16].
+    #[arg(long, help_heading = "Shadow maps")]
+    fd_passes: Option<u32>,
+    /// fractional-disk: edge detection's relative depth jump [fractional_disk.edge_threshold, 0.05].
+    #[arg(long, help_heading = "Shadow maps")]
+    fd_edge_threshold: Option<f64>,
+    /// fractional-disk: the disk re-test against false self-occlusion [fractional_disk.retest, true].
+    #[arg(long, help_heading = "Shadow maps")]
+    fd_retest: Option<bool>,
+    /// mdsm: depths per texel n, 1 to 3 [mdsm.depths, 3].
+    #[arg(long, help_heading = "Shadow maps")]
+    mdsm_depths: Option<u32>,
+    /// mdsm: PCF side, k = side² [mdsm.kernel, 3].
+    #[arg(long, help_heading = "Shadow maps")]
+    mdsm_kernel: Option<u32>,
+    /// mdsm: neighbourhood radius, texels [mdsm.radius, 1].
+    #[arg(long, help_heading = "Shadow maps")]
+    mdsm_radius: Option<u32>,
+    /// mdsm: extra depth of a 2-depth map [mdsm.extra, max].
+    #[arg(long, value_enum, help_heading = "Shadow maps")]
+    mdsm_extra: Option<MdsmExtraArg>,
+    /// gaussian: filter [gaussian.variant, multi].
+    #[arg(
+        long,
+        visible_alias = "variant",
+        value_enum,
+        help_heading = "Shadow maps"
+    )]
+    gaussian_variant: Option<GaussianVariantArg>,
+    /// gaussian: distance power Dp [gaussian.dp; 3 for pcf and multi, 1.9 for single].
+    #[arg(long, help_heading = "Shadow maps")]
+    gaussian_dp: Option<f64>,
+    /// gaussian: distance multiplier Dm [gaussian.dm, 200].
+    #[arg(long, help_heading = "Shadow maps")]
+    gaussian_dm: Option<f64>,
+    /// gaussian: largest kernel, odd [gaussian.max_kernel, 19].
+    #[arg(long, help_heading = "Shadow maps")]
+    gaussian_max_kernel: Option<u32>,
+    /// gaussian: passes of the multi variant [gaussian.passes, 10].
+    #[arg(long, help_heading = "Shadow maps")]
+    gaussian_passes: Option<u32>,
+    /// gaussian: Poisson taps per multi pass [gaussian.taps, 20].
+    #[arg(long, help_heading = "Shadow maps")]
+    gaussian_taps: Option<u32>,
+    /// gaussian: dilation kernel, odd, 0 = off [gaussian.dilation, 0].
+    #[arg(long, help_heading = "Shadow maps")]
+    gaussian_dilation: Option<u32>,
+}
+
+impl ParamArgs {
+    /// `scene`'s parameters with these flags applied, checked.
+    fn apply(&self, scene: &mut Scene) -> Result<()> {
+        let p = &mut scene.params;
+        macro_rules! set {
+            ($flag:ident => $($dst:tt)+) => {
+                if let Some(v) = self.$flag {
+                    p.$($dst)+ = v;
+                }
+            };
+        }
+        set!(shadow_map_resolution => shadow_map.resolution);
+        set!(depth_bias => shadow_map.depth_bias);
+        set!(slope_bias => shadow_map.slope_bias);
+        set!(pcf_kernel => pcf.kernel);
+        set!(pcss_search => pcss.search);
+        set!(pcss_filter_max => pcss.filter_max);
+        set!(pcss_dither => pcss.dither);
+        set!(fd_a => fractional_disk.a);
+        set!(fd_max_samples => fractional_disk.max_samples);
+        set!(fd_max_radius => fractional_disk.max_radius);
+        set!(fd_passes => fractional_disk.passes);
+        set!(fd_edge_threshold => fractional_disk.edge_threshold);
+        set!(fd_retest => fractional_disk.retest);
+        set!(mdsm_depths => mdsm.depths);
+        set!(mdsm_kernel => mdsm.kernel);
+        set!(mdsm_radius => mdsm.radius);
+        set!(gaussian_dm => gaussian.dm);
+        set!(gaussian_max_kernel => gaussian.max_kernel);
+        set!(gaussian_passes => gaussian.passes);
+        set!(gaussian_taps => gaussian.taps);
+        set!(gaussian_dilation => gaussian.dilation);
+        if let Some(v) = self.gaussian_dp {
+            p.gaussian.dp = Some(v);
+        }
+        if let Some(e) = self.mdsm_extra {
+            p.mdsm.extra = match e {
+                MdsmExtraArg::Max => MdsmExtra::Max,
+                MdsmExtraArg::Min => MdsmExtra::Min,
+            };
+        }
+        if let Some(v) = self.gaussian_variant {
+            p.gaussian.variant = match v {
+                GaussianVariantArg::Pcf => GaussianVariant::Pcf,
+                GaussianVariantArg::Single => GaussianVariant::Single,
+                GaussianVariantArg::Multi => GaussianVariant::Multi,
+            };
+        }
+        p.validate().map_err(|e| {
+            anyhow::anyhow!(
+                "{}: {e} (after the command line's flags, e.g. --{}-{})",
+                scene.path.display(),
+                e.table.replace('_', "-").replace("fractional-disk", "fd"),
+                e.key.replace('_', "-")
+            )
+        })
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -68,9 +263,11 @@ enum Command {
         #[arg(long)]
         png: Option<PathBuf>,
         /// Where the volume techniques (`hard`, `wedges`, `wedges-blend`) run; the references
-        /// always run on the CPU.
+        /// always run on the CPU, the shadow-map techniques on the GPU.
         #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
+        #[command(flatten)]
+        params: ParamArgs,
     },
     /// Print the surface point seen through one pixel, its exact V and its reference V.
     Probe {
@@ -125,6 +322,8 @@ enum Command {
         /// Where the volume techniques run.
         #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
+        #[command(flatten)]
+        params: ParamArgs,
     },
     /// Time a technique: the median over N frames of each GPU pass (timestamp queries) and of
     /// the whole frame (wall clock, CPU setup and readback included).
@@ -146,6 +345,8 @@ enum Command {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        params: ParamArgs,
     },
     /// Regenerate the fixture meshes and scenes.
     GenFixtures {
@@ -174,7 +375,16 @@ fn run(cli: Cli) -> Result<()> {
             samples,
             png,
             backend,
-        } => render(&scene, technique, &out, samples, png.as_deref(), backend),
+            params,
+        } => render(
+            &scene,
+            technique,
+            &out,
+            samples,
+            png.as_deref(),
+            backend,
+            &params,
+        ),
         Command::Probe {
             scene,
             pixel,
@@ -194,13 +404,15 @@ fn run(cli: Cli) -> Result<()> {
             backend,
             samples,
             json,
-        } => bench(&scene, technique, frames, backend, samples, json),
+            params,
+        } => bench(&scene, technique, frames, backend, samples, json, &params),
         Command::Accuracy {
             scenes,
             samples,
             techniques,
             backend,
-        } => accuracy(&scenes, samples, &techniques, backend),
+            params,
+        } => accuracy(&scenes, samples, &techniques, backend, &params),
         Command::GenFixtures { out } => {
             for f in fixtures::generate(&out)? {
                 println!("wrote {f}");
@@ -262,13 +474,15 @@ fn render(
     samples: usize,
     png: Option<&Path>,
     backend: Backend,
+    params: &ParamArgs,
 ) -> Result<()> {
     let per_axis = samples_per_axis(samples)?;
     let mut outputs = vec![out];
     outputs.extend(png);
     // Checked before and after loading: the scene names the meshes.
     check_outputs(&[scene_path.to_path_buf()], &outputs)?;
-    let scene = load_scene(scene_path)?;
+    let mut scene = load_scene(scene_path)?;
+    params.apply(&mut scene)?;
     check_outputs(&scene.input_files(), &outputs)?;
     for o in &outputs {
         if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -288,17 +502,14 @@ fn render(
     let gpu = select_gpu(technique, backend)?;
     let (img, triangles, detail) = match &gpu {
         Some(ctx) => {
-            let gpu_technique = gpu_technique(technique);
-            let volumes = penumbra_volumes::Volumes::build(&scene);
-            let img =
-                penumbra_gpu::GpuRenderer::new(ctx).render(&scene, &volumes, gpu_technique)?;
+            let img = GpuRenderers::new(ctx).render(&scene, technique)?.0;
             (
                 img,
                 scene.triangle_count(),
                 format!(" (gpu: {})", ctx.describe()),
             )
         }
-        None => render_image(&scene, technique, per_axis, &progress),
+        None => render_image(&scene, technique, per_axis, &progress)?,
     };
     bar.finish_and_clear();
     img.check_finite()
@@ -334,25 +545,79 @@ fn gpu_technique(t: Technique) -> penumbra_gpu::GpuTechnique {
     }
 }
 
+/// The GPU renderers of one device, each built when first needed.
+struct GpuRenderers<'a> {
+    ctx: &'a GpuContext,
+    volumes: Option<penumbra_gpu::GpuRenderer<'a>>,
+    shadow_maps: Vec<penumbra_gpu::ShadowMapRenderer<'a>>,
+}
+
+impl<'a> GpuRenderers<'a> {
+    fn new(ctx: &'a GpuContext) -> Self {
+        GpuRenderers {
+            ctx,
+            volumes: None,
+            shadow_maps: Vec::new(),
+        }
+    }
+
+    /// Renders `scene` with a GPU technique (volume or shadow map), with its pass times.
+    fn render(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+    ) -> Result<(VisibilityImage, Option<PassTimes>)> {
+        let ctx = self.ctx;
+        if let Some(t) = technique.shadow_map() {
+            let i = match self.shadow_maps.iter().position(|r| r.technique() == t) {
+                Some(i) => i,
+                None => {
+                    self.shadow_maps
+                        .push(penumbra_gpu::ShadowMapRenderer::new(ctx, t));
+                    self.shadow_maps.len() - 1
+                }
+            };
+            return Ok(self.shadow_maps[i].render_timed(scene)?);
+        }
+        if !technique.is_volume() {
+            bail!("{technique:?} is not a GPU technique");
+        }
+        let r = self
+            .volumes
+            .get_or_insert_with(|| penumbra_gpu::GpuRenderer::new(ctx));
+        let volumes = penumbra_volumes::Volumes::build(scene);
+        Ok(r.render_timed(scene, &volumes, gpu_technique(technique))?)
+    }
+}
+
 /// The GPU to render `technique` on, or `None` for the CPU, saying which on stderr.
-fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<penumbra_gpu::GpuContext>> {
-    let on_gpu = matches!(
-        technique,
-        Technique::Hard | Technique::Wedges | Technique::WedgesBlend
-    );
+fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<GpuContext>> {
+    if technique.shadow_map().is_some() {
+        if backend == Backend::Cpu {
+            bail!(
+                "--backend cpu: {technique:?} is a shadow-map technique, which runs on the GPU only (lavapipe serves where there is no GPU)"
+            );
+        }
+        let c = GpuContext::new().with_context(|| {
+            format!("{technique:?} is a shadow-map technique and needs a GPU adapter (install Mesa's lavapipe: mesa-vulkan-drivers, libvulkan1)")
+        })?;
+        eprintln!("backend: gpu, {}", c.describe());
+        return Ok(Some(c));
+    }
+    let on_gpu = technique.is_volume();
     match backend {
         Backend::Cpu => Ok(None),
         Backend::Gpu if !on_gpu => bail!(
             "--backend gpu: {technique:?} runs on the CPU only (the GPU renders the volume techniques)"
         ),
-        Backend::Gpu => Ok(Some(penumbra_gpu::GpuContext::new()?)),
+        Backend::Gpu => Ok(Some(GpuContext::new()?)),
         Backend::Auto if !on_gpu => {
             if !matches!(technique, Technique::Reference | Technique::HardReference) {
                 eprintln!("backend: cpu ({technique:?} is a CPU technique)");
             }
             Ok(None)
         }
-        Backend::Auto => match penumbra_gpu::GpuContext::new() {
+        Backend::Auto => match GpuContext::new() {
             Ok(c) => {
                 eprintln!("backend: gpu, {}", c.describe());
                 Ok(Some(c))
@@ -371,7 +636,7 @@ fn render_image(
     technique: Technique,
     per_axis: usize,
     progress: &(dyn Fn(u64) + Sync),
-) -> (VisibilityImage, usize, String) {
+) -> Result<(VisibilityImage, usize, String)> {
     let samples = per_axis * per_axis;
     match technique {
         Technique::Reference | Technique::HardReference => {
@@ -384,7 +649,7 @@ fn render_image(
                 _ => (Reference::Hard, String::new()),
             };
             let img = reference::render(scene, &tracer, reference, progress);
-            (img, tracer.triangles.len(), detail)
+            Ok((img, tracer.triangles.len(), detail))
         }
         Technique::Hard | Technique::Wedges | Technique::WedgesBlend => {
             let r = CpuRenderer::new(scene);
@@ -395,8 +660,9 @@ fn render_image(
             };
             let img = r.render(scene, t, progress);
             let detail = format!(" (cpu, {} wedges)", r.volumes.wedges.len());
-            (img, r.tracer.triangles.len(), detail)
+            Ok((img, r.tracer.triangles.len(), detail))
         }
+        _ => bail!("{technique:?} runs on the GPU only"),
     }
 }
 
@@ -510,10 +776,18 @@ fn geometry(scene_path: &Path, json: bool) -> Result<()> {
     Ok(())
 }
 
-fn accuracy(dir: &Path, samples: usize, techniques: &[Technique], backend: Backend) -> Result<()> {
+fn accuracy(
+    dir: &Path,
+    samples: usize,
+    techniques: &[Technique],
+    backend: Backend,
+    params: &ParamArgs,
+) -> Result<()> {
     let per_axis = samples_per_axis(samples)?;
-    let gpu = select_gpu(Technique::WedgesBlend, backend)?;
-    let renderer = gpu.as_ref().map(penumbra_gpu::GpuRenderer::new);
+    // The shadow-map techniques need the GPU; the volume ones take it when there is one.
+    let shadow_map = techniques.iter().find(|t| t.shadow_map().is_some());
+    let gpu = select_gpu(*shadow_map.unwrap_or(&Technique::WedgesBlend), backend)?;
+    let mut renderers = gpu.as_ref().map(GpuRenderers::new);
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("reading {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -524,7 +798,7 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique], backend: Backe
         bail!("{}: no scene files", dir.display());
     }
     println!(
-        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98); volume techniques on {}.\n",
+        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98); GPU techniques on {}.\n",
         gpu.as_ref().map_or("the CPU".to_string(), |c| c.describe())
     );
     println!(
@@ -532,23 +806,19 @@ fn accuracy(dir: &Path, samples: usize, techniques: &[Technique], backend: Backe
     );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for path in scenes {
-        let scene = load_scene(&path)?;
+        let mut scene = load_scene(&path)?;
+        params.apply(&mut scene)?;
         let name = path
             .file_stem()
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        let (truth, _, _) = render_image(&scene, Technique::Reference, per_axis, &|_| {});
-        let volumes = penumbra_volumes::Volumes::build(&scene);
+        let (truth, _, _) = render_image(&scene, Technique::Reference, per_axis, &|_| {})?;
         for &t in techniques {
             let start = std::time::Instant::now();
-            let volume_technique = matches!(
-                t,
-                Technique::Hard | Technique::Wedges | Technique::WedgesBlend
-            );
-            let img = match &renderer {
-                Some(r) if volume_technique => r.render(&scene, &volumes, gpu_technique(t))?,
-                _ => render_image(&scene, t, per_axis, &|_| {}).0,
+            let img = match renderers.as_mut() {
+                Some(r) if t.is_volume() || t.shadow_map().is_some() => r.render(&scene, t)?.0,
+                _ => render_image(&scene, t, per_axis, &|_| {})?.0,
             };
             let secs = start.elapsed().as_secs_f64();
             let c = image::compare(&img, &truth)?;
@@ -589,25 +859,25 @@ fn bench(
     backend: Backend,
     samples: usize,
     json: bool,
+    params: &ParamArgs,
 ) -> Result<()> {
     if frames == 0 {
         bail!("--frames must be at least 1");
     }
     let per_axis = samples_per_axis(samples)?;
-    let scene = load_scene(scene_path)?;
+    let mut scene = load_scene(scene_path)?;
+    params.apply(&mut scene)?;
     let gpu = select_gpu(technique, backend)?;
     let mut wall = Vec::new();
-    let mut passes: Vec<penumbra_gpu::PassTimes> = Vec::new();
+    let mut passes: Vec<PassTimes> = Vec::new();
     let device;
     match &gpu {
         Some(ctx) => {
             device = ctx.describe();
-            let t = gpu_technique(technique);
-            let volumes = penumbra_volumes::Volumes::build(&scene);
-            let r = penumbra_gpu::GpuRenderer::new(ctx);
+            let mut r = GpuRenderers::new(ctx);
             for k in 0..=frames {
                 let start = std::time::Instant::now();
-                let (_, times) = r.render_timed(&scene, &volumes, t)?;
+                let (_, times) = r.render(&scene, technique)?;
                 if k > 0 {
                     wall.push(start.elapsed().as_secs_f64() * 1e3);
                     passes.extend(times);
@@ -618,14 +888,14 @@ fn bench(
             device = format!("cpu, {} threads", rayon::current_num_threads());
             for k in 0..=frames {
                 let start = std::time::Instant::now();
-                let _ = render_image(&scene, technique, per_axis, &|_| {});
+                render_image(&scene, technique, per_axis, &|_| {})?;
                 if k > 0 {
                     wall.push(start.elapsed().as_secs_f64() * 1e3);
                 }
             }
         }
     }
-    let pass = |f: fn(&penumbra_gpu::PassTimes) -> f64| {
+    let pass = |f: fn(&PassTimes) -> f64| {
         (!passes.is_empty()).then(|| median(passes.iter().map(f).collect()))
     };
     let report = serde_json::json!({
@@ -640,6 +910,9 @@ fn bench(
             "wedge": pass(|p| p.wedge),
             "blend": pass(|p| p.blend),
             "resolve": pass(|p| p.resolve),
+            "light_map": pass(|p| p.light_map),
+            "preprocess": pass(|p| p.preprocess),
+            "filter": pass(|p| p.filter),
             "gpu_total": pass(|p| p.total()),
             "frame_wall": median(wall),
         }
@@ -655,15 +928,25 @@ fn bench(
             scene.camera.width,
             scene.camera.height
         );
+        let volume = technique.is_volume();
         for k in [
             "depth",
             "stencil",
             "wedge",
+            "blend",
+            "light_map",
+            "preprocess",
+            "filter",
             "resolve",
             "gpu_total",
             "frame_wall",
         ] {
-            if let Some(ms) = report["median_ms"][k].as_f64() {
+            let relevant = match k {
+                "stencil" | "wedge" | "blend" => volume,
+                "light_map" | "preprocess" | "filter" => !volume,
+                _ => true,
+            };
+            if let Some(ms) = report["median_ms"][k].as_f64().filter(|_| relevant) {
                 println!("  {k:<11} {ms:>10.3} ms");
             }
         }

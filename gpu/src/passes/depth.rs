@@ -1,6 +1,6 @@
 //! Depth pre-pass: drives `shaders/depth.wgsl`.
 
-use super::{DEPTH_FORMAT, POSITION_FORMAT};
+use super::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT};
 
 /// The depth pre-pass pipeline.
 pub struct DepthPass {
@@ -45,7 +45,7 @@ impl DepthPass {
                 module: &module,
                 entry_point: Some("fs"),
                 compilation_options: Default::default(),
-                targets: &[Some(POSITION_FORMAT.into())],
+                targets: &[Some(POSITION_FORMAT.into()), Some(NORMAL_FORMAT.into())],
             }),
             multiview_mask: None,
             cache: None,
@@ -53,8 +53,8 @@ impl DepthPass {
         DepthPass { pipeline }
     }
 
-    /// Clears depth to 0 (infinitely far), the stencil to 0 and positions to "no hit", then
-    /// draws `vertex_count` vertices of `vertices` (eye-relative triangles).
+    /// Clears depth to 0 (infinitely far), the stencil to 0 and positions and normals to "no
+    /// hit", then draws `vertex_count` vertices of `vertices` (eye-relative triangles).
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
@@ -63,12 +63,16 @@ impl DepthPass {
         vertices: &wgpu::Buffer,
         vertex_count: u32,
         position: &wgpu::TextureView,
+        normal: &wgpu::TextureView,
         depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("depth"),
-            color_attachments: &[super::cleared(position, wgpu::Color::TRANSPARENT)],
+            color_attachments: &[
+                super::cleared(position, wgpu::Color::TRANSPARENT),
+                super::cleared(normal, wgpu::Color::TRANSPARENT),
+            ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
                 depth_ops: Some(wgpu::Operations {

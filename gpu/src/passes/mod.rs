@@ -2,6 +2,7 @@
 
 pub mod blend;
 pub mod depth;
+pub mod fullscreen;
 pub mod resolve;
 pub mod stencil;
 pub mod wedge;
@@ -22,6 +23,9 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32FloatS
 
 /// Format of the eye-relative position target written by the depth pre-pass.
 pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Format of the camera-facing geometric normal written by the depth pre-pass.
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// Format of the visibility target.
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;

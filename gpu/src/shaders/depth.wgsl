@@ -1,6 +1,8 @@
 // Depth pre-pass (seed 004, section 4: the visibility buffer needs the receivers' depth).
 // Every scene triangle, both sides, into a Depth32FloatStencil8 target with reversed z, and the
-// eye-relative surface position P into an Rgba32Float target (w = 1 where something was hit).
+// eye-relative surface position P into an Rgba32Float target (w = 1 where something was hit),
+// and the surface's geometric normal, turned to face the camera, into an Rgba16Float target (the
+// shadow-map techniques' receiver planes).
 
 // `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 
@@ -19,7 +21,23 @@ fn vs(@location(0) rel: vec3<f32>) -> VertexOut {
     return out;
 }
 
+struct DepthOut {
+    @location(0) position: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+}
+
 @fragment
-fn fs(in: VertexOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(in.rel, 1.0);
+fn fs(in: VertexOut) -> DepthOut {
+    // The triangle's plane from the screen derivatives of P (all of one triangle, helper lanes
+    // included), oriented towards the eye (P is eye-relative).
+    var n = cross(dpdx(in.rel), dpdy(in.rel));
+    let len = length(n);
+    n = select(vec3<f32>(0.0), n / len, len > 0.0);
+    if (dot(n, in.rel) > 0.0) {
+        n = -n;
+    }
+    var out: DepthOut;
+    out.position = vec4<f32>(in.rel, 1.0);
+    out.normal = vec4<f32>(n, 1.0);
+    return out;
 }

@@ -1,0 +1,209 @@
+//! The passes of the shadow-map techniques: each technique's WGSL file (`pcf.wgsl`,
+//! `pcss.wgsl`, `mdsm.wgsl`, `fractional_disk.wgsl`, `gaussian.wgsl`) holds its passes as
+//! fragment entry points drawn over a full-screen triangle, with `shadow.wgsl` prepended. They
+//! share one bind group (group 1): the technique's uniforms, the receivers' positions and
+//! normals, and three input images.
+
+/// The declarations shared by the shadow-map techniques' shaders.
+pub const SHADOW_WGSL: &str = include_str!("../shaders/shadow.wgsl");
+
+/// The shaders compiled with [`SHADOW_WGSL`] prepended (file stems in `src/shaders`).
+pub const SHADOW_MAP_SHADERS: &[&str] = &[
+    "light_map",
+    "pcf",
+    "pcss",
+    "mdsm",
+    "fractional_disk",
+    "gaussian",
+];
+
+/// Compiles a shadow-map technique's WGSL with the frame and shadow declarations prepended.
+pub fn shadow_shader(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+    super::shader(device, label, &format!("{SHADOW_WGSL}\n{source}"))
+}
+
+/// Number of input images of the shared group (`map0`, `map1`, `map2`).
+pub const INPUT_IMAGES: usize = 3;
+
+/// Layout of group 1: the uniforms (binding 0), positions, normals and the input images.
+pub fn shadow_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let mut entries = vec![wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }];
+    entries.extend((0..2 + INPUT_IMAGES).map(|_| super::float_texture()));
+    super::layout(
+        device,
+        "shadow inputs",
+        wgpu::ShaderStages::VERTEX_FRAGMENT,
+        &entries,
+    )
+}
+
+/// One full-screen pass: a fragment entry point writing one colour target.
+pub struct FullscreenPass {
+    pipeline: wgpu::RenderPipeline,
+    label: String,
+}
+
+impl FullscreenPass {
+    /// The pass of `entry` in `module`, writing `format`.
+    pub fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        entry: &str,
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(entry),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        FullscreenPass {
+            pipeline,
+            label: entry.to_string(),
+        }
+    }
+
+    /// Draws the pass over all of `target`.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::BindGroup,
+        inputs: &wgpu::BindGroup,
+        target: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(&self.label),
+            color_attachments: &[super::cleared(target, wgpu::Color::TRANSPARENT)],
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame, &[]);
+        pass.set_bind_group(1, inputs, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+/// Format of the light maps' depth test target.
+pub const LIGHT_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Format of a light map: the linear light depth.
+pub const LIGHT_MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// The light map pass (`light_map.wgsl`): the scene from the light's centre.
+pub struct LightMapPass {
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl LightMapPass {
+    /// Builds the pipeline (same layouts as the full-screen passes).
+    pub fn new(device: &wgpu::Device, layout: &wgpu::PipelineLayout) -> Self {
+        let module = shadow_shader(
+            device,
+            "light map",
+            include_str!("../shaders/light_map.wgsl"),
+        );
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("light map"),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_light"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 12,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                })],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: LIGHT_DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_light"),
+                compilation_options: Default::default(),
+                targets: &[Some(LIGHT_MAP_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        LightMapPass { pipeline }
+    }
+
+    /// Clears the map to BIG (no surface) and the depth to 0, then draws `vertex_count` vertices
+    /// of `vertices` (eye-relative triangles).
+    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::BindGroup,
+        inputs: &wgpu::BindGroup,
+        vertices: &wgpu::Buffer,
+        vertex_count: u32,
+        map: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let big = wgpu::Color {
+            r: 1e30,
+            g: 0.0,
+            b: 0.0,
+            a: 0.0,
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("light map"),
+            color_attachments: &[super::cleared(map, big)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame, &[]);
+        pass.set_bind_group(1, inputs, &[]);
+        pass.set_vertex_buffer(0, vertices.slice(..));
+        if vertex_count > 0 {
+            pass.draw(0..vertex_count, 0..1);
+        }
+    }
+}

@@ -1,0 +1,191 @@
+// Declarations shared by the shadow-map techniques (pcf, pcss, fractional-disk, mdsm,
+// gaussian); `passes::shadow_shader` prepends this file (after frame.wgsl) to each of their
+// shaders. The light map is a perspective view from the light's centre along its normal, fitted
+// to the scene: texel (u, v) looks along light-space direction (a, b, 1) with
+// (a, b) = frustum.xy + (u, 1 - v) * (frustum.zw - frustum.xy). Texels store the linear light
+// depth z = dot(X - c, n) of the nearest surface (BIG where none), read with textureLoad only.
+
+struct Shadow {
+    // The frustum in slopes (x/z, y/z) of light space: (min a, min b, max a, max b).
+    frustum: vec4<f32>,
+    // Map width and height in texels, then two unused lanes.
+    map: vec4<f32>,
+    // Projection near depth, nearest and farthest light depth of the scene, constant depth bias
+    // (fraction of the receiver's depth).
+    depth: vec4<f32>,
+    // Light half sides hx, hy (world), radius of the disk of equal area, slope bias (texels).
+    light: vec4<f32>,
+    // Technique parameters (each shader names its lanes).
+    params: vec4<f32>,
+    iparams: vec4<u32>,
+    // Per-pass filter taps (gaussian multi): offset in pixels (xy), weight (z).
+    taps: array<vec4<f32>, 64>,
+}
+
+@group(1) @binding(0) var<uniform> shadow: Shadow;
+// Eye-relative receiver position P (w = 1 where the camera ray hit something).
+@group(1) @binding(1) var position: texture_2d<f32>;
+// The receiver's geometric normal, facing the camera (xyz; w = 1 where hit).
+@group(1) @binding(2) var normal_map: texture_2d<f32>;
+// The technique's inputs: light maps or intermediate images (unused ones are dummies).
+@group(1) @binding(3) var map0: texture_2d<f32>;
+@group(1) @binding(4) var map1: texture_2d<f32>;
+@group(1) @binding(5) var map2: texture_2d<f32>;
+
+const PI: f32 = 3.14159265358979;
+
+// World-unit light coordinates of an eye-relative position: along the tangent, the bitangent
+// and the normal (the light depth z).
+fn light_coords(rel: vec3<f32>) -> vec3<f32> {
+    let d = rel - frame.light_center.xyz;
+    return vec3<f32>(
+        dot(d, frame.light_tangent.xyz),
+        dot(d, frame.light_bitangent.xyz),
+        dot(d, frame.light_normal.xyz),
+    );
+}
+
+fn light_dir(rel: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(
+        dot(rel, frame.light_tangent.xyz),
+        dot(rel, frame.light_bitangent.xyz),
+        dot(rel, frame.light_normal.xyz),
+    );
+}
+
+fn frustum_extent() -> vec2<f32> {
+    return shadow.frustum.zw - shadow.frustum.xy;
+}
+
+// Map uv (v down) of a light-space point in front of the light.
+fn map_uv(l: vec3<f32>) -> vec2<f32> {
+    let f = (l.xy / l.z - shadow.frustum.xy) / frustum_extent();
+    return vec2<f32>(f.x, 1.0 - f.y);
+}
+
+// Light-space direction (a, b, 1) that map uv looks along.
+fn uv_dir(uv: vec2<f32>) -> vec3<f32> {
+    return vec3<f32>(shadow.frustum.xy + vec2<f32>(uv.x, 1.0 - uv.y) * frustum_extent(), 1.0);
+}
+
+// uv per world length at light depth z, per axis.
+fn uv_per_world(z: f32) -> vec2<f32> {
+    return 1.0 / (z * frustum_extent());
+}
+
+fn map_size() -> vec2<f32> {
+    return shadow.map.xy;
+}
+
+fn inside_map(uv: vec2<f32>) -> bool {
+    return all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0));
+}
+
+fn texel_of(uv: vec2<f32>) -> vec2<i32> {
+    return vec2<i32>(floor(uv * map_size()));
+}
+
+fn texel_center(t: vec2<i32>) -> vec2<f32> {
+    return (vec2<f32>(t) + 0.5) / map_size();
+}
+
+// Depth of map0 at a texel; BIG outside the map (no occluder).
+fn depth_at(t: vec2<i32>) -> f32 {
+    let size = vec2<i32>(map_size());
+    if (any(t < vec2<i32>(0)) || any(t >= size)) {
+        return BIG;
+    }
+    return textureLoad(map0, t, 0).r;
+}
+
+fn depth_uv(uv: vec2<f32>) -> f32 {
+    if (!inside_map(uv)) {
+        return BIG;
+    }
+    return depth_at(texel_of(uv));
+}
+
+// A camera pixel's receiver, in light space.
+struct Receiver {
+    // 0: nothing hit (V = 1); 1: in front of the light and facing it (the map decides);
+    // 2: not strictly in front of the light's plane (V = 0).
+    kind: u32,
+    // Light coordinates of P.
+    l: vec3<f32>,
+    // Light-space normal, facing the camera.
+    n: vec3<f32>,
+    // Map uv of P.
+    uv: vec2<f32>,
+}
+
+fn receiver(pixel: vec2<i32>) -> Receiver {
+    var r: Receiver;
+    let p = textureLoad(position, pixel, 0);
+    if (p.w == 0.0) {
+        r.kind = 0u;
+        return r;
+    }
+    r.l = light_coords(p.xyz);
+    r.n = light_dir(textureLoad(normal_map, pixel, 0).xyz);
+    r.uv = map_uv(r.l);
+    r.kind = 1u;
+    // The scene format's rule: only points strictly on the emitting side are lit. (A surface
+    // does not shadow itself: V is what the point sees of the light, whichever way it faces,
+    // as the reference defines it.)
+    if (r.l.z <= 0.0) {
+        r.kind = 2u;
+    }
+    return r;
+}
+
+// The depth of the receiver's tangent plane along the direction of map uv ("receiver-plane
+// depth"), so that a tap far from P is compared with its own plane rather than with P's depth:
+// this removes acne under wide kernels on sloped receivers. 0 where the plane is seen edge-on
+// from the light or recedes beyond 4 times P's depth there.
+fn plane_depth_or_0(r: Receiver, uv: vec2<f32>) -> f32 {
+    let den = dot(r.n, uv_dir(uv));
+    let z = dot(r.n, r.l) / den;
+    if (!(abs(den) > 1e-6) || !(z > 0.0) || z > r.l.z * 4.0) {
+        return 0.0;
+    }
+    return z;
+}
+
+// `plane_depth_or_0`, P's own depth where that is 0.
+fn plane_depth(r: Receiver, uv: vec2<f32>) -> f32 {
+    let z = plane_depth_or_0(r, uv);
+    return select(r.l.z, z, z > 0.0);
+}
+
+// Largest slope of a receiver's plane that the bias follows (depth change per unit of lateral
+// distance); steeper planes, and planes seen edge-on, take this one.
+const MAX_SLOPE: f32 = 10.0;
+
+// The depth a stored value must fall below for the receiver at map uv to count as occluded
+// there: the plane's depth minus the bias, the constant part a fraction of the depth and the
+// slope part the plane's depth change across `texels` texels.
+fn threshold_across(r: Receiver, uv: vec2<f32>, texels: f32) -> f32 {
+    let step = 1.0 / map_size();
+    let z = plane_depth_or_0(r, uv);
+    let zx = plane_depth_or_0(r, uv + vec2<f32>(step.x, 0.0));
+    let zy = plane_depth_or_0(r, uv + vec2<f32>(0.0, step.y));
+    // The plane's depth change across one texel, at most MAX_SLOPE texel widths.
+    let texel_world = r.l.z * max(step.x * frustum_extent().x, step.y * frustum_extent().y);
+    var dz = MAX_SLOPE * texel_world;
+    if (z > 0.0 && zx > 0.0 && zy > 0.0) {
+        dz = min(max(abs(zx - z), abs(zy - z)), dz);
+    }
+    let zp = select(r.l.z, z, z > 0.0);
+    return zp - shadow.depth.w * zp - texels * dz;
+}
+
+// `threshold_across` with the slope bias of the parameters.
+fn occlusion_threshold(r: Receiver, uv: vec2<f32>) -> f32 {
+    return threshold_across(r, uv, shadow.light.w);
+}
+
+// Fullscreen vertex stage of every pass of these techniques.
+@vertex
+fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen(i);
+}

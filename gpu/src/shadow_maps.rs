@@ -1,0 +1,1061 @@
+//! The shadow-map techniques of seeds 000-003 and Reeves et al.'s PCF, on the same scenes and
+//! with the same `V` output as the volume techniques: the depth pre-pass (receivers' positions
+//! and normals), a light map from the light's centre fitted to the scene, the technique's own
+//! passes, and a full-screen pass writing V.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{DVec2, DVec3};
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::params::{GaussianVariant, MdsmExtra, TechniqueParams, equal_area_radius};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene};
+use wgpu::util::DeviceExt;
+
+use crate::context::{GpuContext, GpuError};
+use crate::frame::FrameUniforms;
+use crate::passes::fullscreen::{
+    FullscreenPass, INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT, LightMapPass,
+    shadow_layout, shadow_shader,
+};
+use crate::passes::{
+    DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, bind_group, depth::DepthPass,
+    frame_layout,
+};
+use crate::renderer::{PassTimes, read_r32f, read_u64, target};
+
+/// A shadow-map technique.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowTechnique {
+    /// Reeves, Salesin & Cook 1987: a fixed PCF kernel.
+    Pcf,
+    /// Fernando 2005 as seed 001 describes it.
+    Pcss,
+    /// Valient & de Boer (seed 000).
+    FractionalDisk,
+    /// Pagot, Comba & Oliveira (seed 002).
+    Mdsm,
+    /// Multi-pass Gaussian contact hardening (seed 003).
+    Gaussian,
+}
+
+/// Size of the noise map of `fractional-disk` (texels per side) and of each Poisson row.
+pub const NOISE_SIZE: usize = 64;
+
+/// Most taps of a `gaussian` multi pass.
+pub const MAX_TAPS: usize = 64;
+
+/// The uniforms of every shadow-map pass (`struct Shadow` in `shadow.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ShadowUniforms {
+    /// The light frustum in slopes: min x/z, min y/z, max x/z, max y/z.
+    pub frustum: [f32; 4],
+    /// Map width and height in texels.
+    pub map: [f32; 4],
+    /// Projection near depth, nearest and farthest light depth of the scene, constant bias.
+    pub depth: [f32; 4],
+    /// Light half sides, equal-area disk radius, slope bias in texels.
+    pub light: [f32; 4],
+    /// Technique parameters (see each shader).
+    pub params: [f32; 4],
+    /// Technique integer parameters (see each shader).
+    pub iparams: [u32; 4],
+    /// `gaussian` multi taps: offset in pixels, weight.
+    pub taps: [[f32; 4]; MAX_TAPS],
+}
+
+const _: () = assert!(std::mem::size_of::<ShadowUniforms>() == 96 + 16 * MAX_TAPS);
+
+/// The light map's frustum: a perspective from the light's centre along its normal, in light
+/// space (world units along the tangent, the bitangent and the normal), fitted to the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightFrustum {
+    /// Smallest slopes (x/z, y/z).
+    pub lo: DVec2,
+    /// Largest slopes.
+    pub hi: DVec2,
+    /// Projection near plane: geometry nearer to the light's plane is not in the map.
+    pub near: f64,
+    /// Nearest light depth of the scene in front of the near plane.
+    pub z_min: f64,
+    /// Farthest light depth of the scene.
+    pub z_max: f64,
+}
+
+/// Largest slope of the frustum, |x/z| and |y/z| (about 83 degrees off the normal): beyond, a
+/// map of finite resolution would spend its texels on grazing geometry.
+pub const MAX_SLOPE: f64 = 8.0;
+
+impl LightFrustum {
+    /// The frustum that holds every part of `triangles` (world space) at least `near` in front
+    /// of the light's plane, `near` being 1e-3 of the scene's depth, slopes capped at
+    /// [`MAX_SLOPE`]. `None` when nothing lies in front of the light.
+    pub fn fit(light: &RectLight, triangles: &[[DVec3; 3]]) -> Option<LightFrustum> {
+        let to_light = |p: DVec3| {
+            let d = p - light.center;
+            DVec3::new(
+                d.dot(light.tangent),
+                d.dot(light.bitangent),
+                d.dot(light.normal),
+            )
+        };
+        let z_max = triangles
+            .iter()
+            .flatten()
+            .map(|&p| to_light(p).z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if !(z_max > 0.0) {
+            return None;
+        }
+        let near = z_max * 1e-3;
+        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        let mut z_min = f64::INFINITY;
+        let mut add = |l: DVec3| {
+            let s = (l.truncate() / l.z).clamp(DVec2::splat(-MAX_SLOPE), DVec2::splat(MAX_SLOPE));
+            lo = lo.min(s);
+            hi = hi.max(s);
+            z_min = z_min.min(l.z);
+        };
+        for t in triangles {
+            let l = t.map(to_light);
+            for i in 0..3 {
+                let (a, b) = (l[i], l[(i + 1) % 3]);
+                if a.z >= near {
+                    add(a);
+                }
+                // Where the edge crosses the near plane.
+                if (a.z - near) * (b.z - near) < 0.0 {
+                    add(a + (b - a) * ((near - a.z) / (b.z - a.z)));
+                }
+            }
+        }
+        // Half a percent of margin, so that nothing falls on the border texels' far edge.
+        let pad = (hi - lo).max(DVec2::splat(1e-6)) * 0.005;
+        Some(LightFrustum {
+            lo: lo - pad,
+            hi: hi + pad,
+            near,
+            z_min,
+            z_max,
+        })
+    }
+}
+
+/// The triangles of `scene` that the back-face ("second-depth") map of `fractional-disk` draws
+/// (seed 000, "Shadow map generation": "we render only polygons facing away from the light"):
+/// those of closed, consistently oriented meshes whose outward normal points away from the
+/// light's centre, and every triangle of the other meshes, which occlude from both sides.
+pub fn back_faces(scene: &Scene) -> Vec<[DVec3; 3]> {
+    let c = scene.light.center;
+    let mut out = Vec::new();
+    for m in &scene.meshes {
+        let mesh = &m.mesh;
+        let tris = (0..mesh.triangles.len()).map(|t| mesh.triangle(t));
+        let he = HalfEdgeMesh::build(mesh);
+        if !he.is_closed() || he.has_inconsistent_orientation() {
+            out.extend(tris);
+            continue;
+        }
+        // Outward when the signed volume is positive.
+        let volume: f64 = mesh
+            .triangles
+            .iter()
+            .map(|&[a, b, c]| {
+                let p = &mesh.positions;
+                p[a as usize].dot(p[b as usize].cross(p[c as usize]))
+            })
+            .sum();
+        let sign = volume.signum();
+        out.extend(tris.filter(|t| {
+            let n = (t[1] - t[0]).cross(t[2] - t[0]) * sign;
+            n.dot((t[0] + t[1] + t[2]) / 3.0 - c) > 0.0
+        }));
+    }
+    out
+}
+
+/// The noise map of `fractional-disk` ("Noise map generation"), `NOISE_SIZE`² texels, row-major:
+/// each row's RG a Poisson disk set in the unit disk (best candidate of 30, so every prefix is
+/// spread), stored as `0.5 o + 0.5`; BA uniform in [0, 1), the per-pixel start. Deterministic.
+pub fn noise_map() -> Vec<[f32; 4]> {
+    let mut rng = Rng::new(0x5eed_0000);
+    let mut out = Vec::with_capacity(NOISE_SIZE * NOISE_SIZE);
+    for _ in 0..NOISE_SIZE {
+        let row = best_candidates(&mut rng, NOISE_SIZE, false, |r| {
+            let a = r.range(0.0, std::f64::consts::TAU);
+            DVec2::new(a.cos(), a.sin()) * r.next_f64().sqrt()
+        });
+        for o in row {
+            let o = o * 0.5 + 0.5;
+            out.push([
+                o.x as f32,
+                o.y as f32,
+                rng.next_f64() as f32,
+                rng.next_f64() as f32,
+            ]);
+        }
+    }
+    out
+}
+
+/// `n` points by Mitchell's best candidate: each the farthest, of 30 drawn by `draw`, from
+/// those before; the first at the origin when `origin_first`.
+fn best_candidates(
+    rng: &mut Rng,
+    n: usize,
+    origin_first: bool,
+    draw: impl Fn(&mut Rng) -> DVec2,
+) -> Vec<DVec2> {
+    let mut pts: Vec<DVec2> = Vec::with_capacity(n);
+    if origin_first {
+        pts.push(DVec2::ZERO);
+    }
+    while pts.len() < n {
+        let best = (0..30)
+            .map(|_| draw(rng))
+            .map(|c| {
+                let d = pts
+                    .iter()
+                    .map(|p| p.distance(c))
+                    .fold(f64::INFINITY, f64::min);
+                (c, d)
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("30 candidates")
+            .0;
+        pts.push(best);
+    }
+    pts
+}
+
+/// Seed 003's table of Poisson points in [-1, 1]² ("The first point is fixed at the origin so
+/// the center texel is always examined"), deterministic.
+pub fn poisson_taps() -> Vec<DVec2> {
+    let mut rng = Rng::new(0x9a55_0003);
+    best_candidates(&mut rng, MAX_TAPS, true, |r| {
+        DVec2::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0))
+    })
+}
+
+/// The kernel side of `gaussian` multi pass `pass` (0-based): 3, growing by 2 per pass up to
+/// `max_kernel` ("starting from 3x3 and going up to 19x19", Fig. 5G).
+pub fn multi_pass_kernel(pass: u32, max_kernel: u32) -> u32 {
+    (3 + 2 * pass).min(max_kernel)
+}
+
+/// The taps of `gaussian` multi pass `pass`: the first `taps` Poisson points scaled to the
+/// pass's kernel and rounded to whole pixels, with Gaussian weights (sigma = size / 3) of the
+/// rounded offsets, normalised to sum 1.
+pub fn multi_pass_taps(pass: u32, max_kernel: u32, taps: usize) -> Vec<[f32; 4]> {
+    let ks = multi_pass_kernel(pass, max_kernel) as f64;
+    let sigma = ks / 3.0;
+    let half = (ks - 1.0) / 2.0;
+    let pts: Vec<(DVec2, f64)> = poisson_taps()
+        .into_iter()
+        .take(taps)
+        .map(|p| {
+            let o = (p * half).round();
+            (o, (-o.length_squared() / (2.0 * sigma * sigma)).exp())
+        })
+        .collect();
+    let sum: f64 = pts.iter().map(|p| p.1).sum();
+    pts.iter()
+        .map(|(o, w)| [o.x as f32, o.y as f32, (w / sum) as f32, 0.0])
+        .collect()
+}
+
+/// The uniforms of `technique` for `scene` (before per-pass taps).
+pub fn uniforms(
+    scene: &Scene,
+    frustum: &LightFrustum,
+    technique: ShadowTechnique,
+    params: &TechniqueParams,
+) -> ShadowUniforms {
+    let h = scene.light.half_size();
+    let res = params.shadow_map.resolution as f32;
+    let mut u = ShadowUniforms {
+        frustum: [
+            frustum.lo.x as f32,
+            frustum.lo.y as f32,
+            frustum.hi.x as f32,
+            frustum.hi.y as f32,
+        ],
+        map: [res, res, 0.0, 0.0],
+        depth: [
+            frustum.near as f32,
+            frustum.z_min as f32,
+            frustum.z_max as f32,
+            params.shadow_map.depth_bias as f32,
+        ],
+        light: [
+            h.x as f32,
+            h.y as f32,
+            equal_area_radius(h.x, h.y) as f32,
+            params.shadow_map.slope_bias as f32,
+        ],
+        params: [0.0; 4],
+        iparams: [0; 4],
+        taps: [[0.0; 4]; MAX_TAPS],
+    };
+    match technique {
+        ShadowTechnique::Pcf => u.iparams[0] = params.pcf.kernel,
+        ShadowTechnique::Pcss => {
+            let p = &params.pcss;
+            u.iparams = [p.search, p.filter_max, p.dither as u32, 0];
+        }
+        ShadowTechnique::FractionalDisk => {
+            let p = &params.fractional_disk;
+            u.params = [
+                p.a as f32,
+                p.max_radius as f32,
+                p.edge_threshold as f32,
+                p.retest as u32 as f32,
+            ];
+            u.iparams = [p.max_samples, p.passes, 0, 0];
+        }
+        ShadowTechnique::Mdsm => {
+            let p = &params.mdsm;
+            u.iparams = [
+                p.depths,
+                p.kernel,
+                p.radius,
+                (p.extra == MdsmExtra::Max) as u32,
+            ];
+        }
+        ShadowTechnique::Gaussian => {
+            let p = &params.gaussian;
+            u.params = [
+                p.distance_power() as f32,
+                p.dm as f32,
+                (frustum.z_max - frustum.z_min).max(1e-9) as f32,
+                0.0,
+            ];
+            u.iparams = [p.max_kernel, p.taps, p.dilation, 0];
+        }
+    }
+    u
+}
+
+/// Which passes' times a pass adds to.
+#[derive(Clone, Copy)]
+enum Kind {
+    Depth,
+    LightMap,
+    Preprocess,
+    Filter,
+    Resolve,
+}
+
+/// The pipelines of one shadow-map technique, built once per device.
+pub struct ShadowMapRenderer<'a> {
+    ctx: &'a GpuContext,
+    technique: ShadowTechnique,
+    frame_layout: wgpu::BindGroupLayout,
+    shadow_layout: wgpu::BindGroupLayout,
+    depth: DepthPass,
+    light: LightMapPass,
+    passes: Vec<(&'static str, FullscreenPass)>,
+}
+
+/// The passes of each technique: (entry point, target format).
+fn technique_passes(
+    t: ShadowTechnique,
+) -> (&'static str, Vec<(&'static str, wgpu::TextureFormat)>) {
+    let r = VISIBILITY_FORMAT;
+    let rgba = wgpu::TextureFormat::Rgba32Float;
+    match t {
+        ShadowTechnique::Pcf => (include_str!("shaders/pcf.wgsl"), vec![("fs_pcf", r)]),
+        ShadowTechnique::Pcss => (include_str!("shaders/pcss.wgsl"), vec![("fs_pcss", r)]),
+        ShadowTechnique::Mdsm => (
+            include_str!("shaders/mdsm.wgsl"),
+            vec![("fs_build", rgba), ("fs_mdsm", r), ("fs_probe", r)],
+        ),
+        ShadowTechnique::FractionalDisk => (
+            include_str!("shaders/fractional_disk.wgsl"),
+            vec![
+                ("fs_edges", rgba),
+                ("fs_propagate", rgba),
+                ("fs_fractional_disk", r),
+                ("fs_probe_count", r),
+            ],
+        ),
+        ShadowTechnique::Gaussian => (
+            include_str!("shaders/gaussian.wgsl"),
+            vec![
+                ("fs_distance", rgba),
+                ("fs_dilate_h", rgba),
+                ("fs_dilate_v", rgba),
+                ("fs_pcf", rgba),
+                ("fs_single_h", rgba),
+                ("fs_single_v", rgba),
+                ("fs_multi", rgba),
+                ("fs_readout", r),
+            ],
+        ),
+    }
+}
+
+/// A 2D texture of `size` texels.
+fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    target(
+        device,
+        label,
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        format,
+        usage,
+    )
+}
+
+fn view(t: &wgpu::Texture) -> wgpu::TextureView {
+    t.create_view(&Default::default())
+}
+
+impl<'a> ShadowMapRenderer<'a> {
+    /// Builds the pipelines of `technique` on `ctx`'s device.
+    pub fn new(ctx: &'a GpuContext, technique: ShadowTechnique) -> Self {
+        let device = &ctx.device;
+        let frame_layout = frame_layout(device);
+        let shadow_layout = shadow_layout(device);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shadow map"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&shadow_layout)],
+            immediate_size: 0,
+        });
+        let (source, entries) = technique_passes(technique);
+        let module = shadow_shader(device, "shadow technique", source);
+        let passes = entries
+            .into_iter()
+            .map(|(e, f)| (e, FullscreenPass::new(device, &layout, &module, e, f)))
+            .collect();
+        ShadowMapRenderer {
+            depth: DepthPass::new(device, &frame_layout),
+            light: LightMapPass::new(device, &layout),
+            ctx,
+            technique,
+            frame_layout,
+            shadow_layout,
+            passes,
+        }
+    }
+
+    /// The technique these pipelines render.
+    pub fn technique(&self) -> ShadowTechnique {
+        self.technique
+    }
+
+    fn pass(&self, entry: &str) -> &FullscreenPass {
+        &self
+            .passes
+            .iter()
+            .find(|(e, _)| *e == entry)
+            .unwrap_or_else(|| panic!("{entry} is a pass of {:?}", self.technique))
+            .1
+    }
+
+    /// Renders V of `scene` with the parameters of `scene.params`.
+    pub fn render(&self, scene: &Scene) -> Result<VisibilityImage, GpuError> {
+        Ok(self.render_timed(scene)?.0)
+    }
+
+    /// [`ShadowMapRenderer::render`], with the GPU time of each kind of pass when the device
+    /// has timestamp queries (the light maps, the preprocessing passes, the filter passes, the
+    /// read-out).
+    pub fn render_timed(
+        &self,
+        scene: &Scene,
+    ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+        let device = &self.ctx.device;
+        let params = &scene.params;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let world = scene.triangles();
+        let eye = scene.camera.eye;
+        let rel = |ts: &[[DVec3; 3]]| -> Vec<[f32; 3]> {
+            ts.iter()
+                .flatten()
+                .map(|&v| (v - eye).as_vec3().to_array())
+                .collect()
+        };
+        let tris = rel(&world);
+        let radius = tris
+            .iter()
+            .map(|v| glam::Vec3::from(*v).length() as f64)
+            .fold(1e-3, f64::max);
+        let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&FrameUniforms::new(scene, radius)),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let frame = bind_group(
+            device,
+            "frame",
+            &self.frame_layout,
+            &[frame_buf.as_entire_binding()],
+        );
+        // Nothing in front of the light: a frustum that no receiver falls in (every receiver is
+        // then behind the light's plane, V = 0, or lit).
+        let frustum = LightFrustum::fit(&scene.light, &world).unwrap_or(LightFrustum {
+            lo: DVec2::splat(-1.0),
+            hi: DVec2::splat(1.0),
+            near: 1.0,
+            z_min: 1.0,
+            z_max: 2.0,
+        });
+        let base = uniforms(scene, &frustum, self.technique, params);
+        let uniform = |u: &ShadowUniforms| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("shadow uniforms"),
+                contents: bytemuck::bytes_of(u),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        };
+        let base_buf = uniform(&base);
+        let vbuf = |label, data: &[[f32; 3]]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(if data.is_empty() { &[[0f32; 3]] } else { data }),
+                usage: wgpu::BufferUsages::VERTEX,
+            })
+        };
+
+        let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
+        let screen = (w, h);
+        let res = params.shadow_map.resolution;
+        let map_size = (res, res);
+        let depth = texture(device, "depth", screen, DEPTH_FORMAT, att);
+        let position = texture(device, "position", screen, POSITION_FORMAT, sampled);
+        let normal = texture(device, "normal", screen, NORMAL_FORMAT, sampled);
+        let visibility = texture(
+            device,
+            "visibility",
+            screen,
+            VISIBILITY_FORMAT,
+            att | wgpu::TextureUsages::COPY_SRC,
+        );
+        let dummy = texture(device, "unused", (1, 1), LIGHT_MAP_FORMAT, sampled);
+        let (position_view, normal_view, dummy_view) =
+            (view(&position), view(&normal), view(&dummy));
+        let light_depth = texture(device, "light depth", map_size, LIGHT_DEPTH_FORMAT, att);
+        let light_depth_view = view(&light_depth);
+        let map = texture(device, "light map", map_size, LIGHT_MAP_FORMAT, sampled);
+        let map_view = view(&map);
+        // Group 1 with `buffer` and up to three input images.
+        let inputs = |buffer: &wgpu::Buffer, images: &[&wgpu::TextureView]| {
+            let mut r = vec![
+                buffer.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&position_view),
+                wgpu::BindingResource::TextureView(&normal_view),
+            ];
+            for i in 0..INPUT_IMAGES {
+                r.push(wgpu::BindingResource::TextureView(
+                    images.get(i).copied().unwrap_or(&dummy_view),
+                ));
+            }
+            bind_group(device, "shadow inputs", &self.shadow_layout, &r)
+        };
+
+        // Timestamp queries: two per pass.
+        let passes = 8 + params.fractional_disk.passes as usize + params.gaussian.passes as usize;
+        let queries = self.ctx.timestamps.then(|| {
+            device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass times"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * passes as u32,
+            })
+        });
+        let mut kinds: Vec<Kind> = Vec::with_capacity(passes);
+        let mut stamp = |kind: Kind| {
+            let i = kinds.len() as u32;
+            kinds.push(kind);
+            queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(2 * i),
+                end_of_pass_write_index: Some(2 * i + 1),
+            })
+        };
+
+        let mut enc = device.create_command_encoder(&Default::default());
+        let tri_buf = vbuf("scene triangles", &tris);
+        self.depth.record(
+            &mut enc,
+            &frame,
+            &tri_buf,
+            tris.len() as u32,
+            &position_view,
+            &normal_view,
+            &view(&depth),
+            stamp(Kind::Depth),
+        );
+        let base_group = inputs(&base_buf, &[]);
+        // The light map: every triangle, or the back faces for fractional-disk.
+        let casters = if self.technique == ShadowTechnique::FractionalDisk {
+            rel(&back_faces(scene))
+        } else {
+            tris.clone()
+        };
+        let caster_buf = vbuf("light map triangles", &casters);
+        self.light.record(
+            &mut enc,
+            &frame,
+            &base_group,
+            &caster_buf,
+            casters.len() as u32,
+            &map_view,
+            &light_depth_view,
+            stamp(Kind::LightMap),
+        );
+        let vis_view = view(&visibility);
+        let rgba = wgpu::TextureFormat::Rgba32Float;
+        let mut keep: Vec<wgpu::Buffer> = Vec::new();
+        match self.technique {
+            ShadowTechnique::Pcf | ShadowTechnique::Pcss => {
+                let entry = if self.technique == ShadowTechnique::Pcf {
+                    "fs_pcf"
+                } else {
+                    "fs_pcss"
+                };
+                self.pass(entry).record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view]),
+                    &vis_view,
+                    stamp(Kind::Filter),
+                );
+            }
+            ShadowTechnique::Mdsm => {
+                let multi = view(&texture(device, "mdsm", map_size, rgba, sampled));
+                self.pass("fs_build").record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view]),
+                    &multi,
+                    stamp(Kind::Preprocess),
+                );
+                self.pass("fs_mdsm").record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view, &multi]),
+                    &vis_view,
+                    stamp(Kind::Filter),
+                );
+            }
+            ShadowTechnique::FractionalDisk => {
+                let ping = [
+                    view(&texture(device, "fd ping", map_size, rgba, sampled)),
+                    view(&texture(device, "fd pong", map_size, rgba, sampled)),
+                ];
+                self.pass("fs_edges").record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view]),
+                    &ping[0],
+                    stamp(Kind::Preprocess),
+                );
+                let n = params.fractional_disk.passes as usize;
+                for p in 0..n {
+                    self.pass("fs_propagate").record(
+                        &mut enc,
+                        &frame,
+                        &inputs(&base_buf, &[&map_view, &ping[p % 2]]),
+                        &ping[(p + 1) % 2],
+                        stamp(Kind::Preprocess),
+                    );
+                }
+                let noise = device.create_texture_with_data(
+                    &self.ctx.queue,
+                    &wgpu::TextureDescriptor {
+                        label: Some("noise"),
+                        size: wgpu::Extent3d {
+                            width: NOISE_SIZE as u32,
+                            height: NOISE_SIZE as u32,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: rgba,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    },
+                    Default::default(),
+                    bytemuck::cast_slice(&noise_map()),
+                );
+                self.pass("fs_fractional_disk").record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view, &ping[n % 2], &view(&noise)]),
+                    &vis_view,
+                    stamp(Kind::Filter),
+                );
+            }
+            ShadowTechnique::Gaussian => {
+                let ping = [
+                    view(&texture(device, "gaussian ping", screen, rgba, sampled)),
+                    view(&texture(device, "gaussian pong", screen, rgba, sampled)),
+                ];
+                self.pass("fs_distance").record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view]),
+                    &ping[0],
+                    stamp(Kind::Preprocess),
+                );
+                let g = &params.gaussian;
+                let mut cur = 0;
+                let mut run = |enc: &mut wgpu::CommandEncoder,
+                               entry: &str,
+                               buf: &wgpu::Buffer,
+                               kind: Kind,
+                               cur: &mut usize| {
+                    self.pass(entry).record(
+                        enc,
+                        &frame,
+                        &inputs(buf, &[&map_view, &ping[*cur]]),
+                        &ping[1 - *cur],
+                        stamp(kind),
+                    );
+                    *cur = 1 - *cur;
+                };
+                if g.dilation > 0 {
+                    run(
+                        &mut enc,
+                        "fs_dilate_h",
+                        &base_buf,
+                        Kind::Preprocess,
+                        &mut cur,
+                    );
+                    run(
+                        &mut enc,
+                        "fs_dilate_v",
+                        &base_buf,
+                        Kind::Preprocess,
+                        &mut cur,
+                    );
+                }
+                match g.variant {
+                    GaussianVariant::Pcf => {
+                        run(&mut enc, "fs_pcf", &base_buf, Kind::Filter, &mut cur)
+                    }
+                    GaussianVariant::Single => {
+                        run(&mut enc, "fs_single_h", &base_buf, Kind::Filter, &mut cur);
+                        run(&mut enc, "fs_single_v", &base_buf, Kind::Filter, &mut cur);
+                    }
+                    GaussianVariant::Multi => {
+                        for p in 0..g.passes {
+                            let mut u = base;
+                            for (slot, t) in u.taps.iter_mut().zip(multi_pass_taps(
+                                p,
+                                g.max_kernel,
+                                g.taps as usize,
+                            )) {
+                                *slot = t;
+                            }
+                            let buf = uniform(&u);
+                            run(&mut enc, "fs_multi", &buf, Kind::Filter, &mut cur);
+                            keep.push(buf);
+                        }
+                    }
+                }
+                self.pass("fs_readout").record(
+                    &mut enc,
+                    &frame,
+                    &inputs(&base_buf, &[&map_view, &ping[cur]]),
+                    &vis_view,
+                    stamp(Kind::Resolve),
+                );
+            }
+        }
+
+        let used = kinds.len() as u32;
+        let stamps = queries.as_ref().map(|q| {
+            let bytes = 16 * used as u64;
+            let resolved = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pass times"),
+                size: bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pass times readback"),
+                size: bytes,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            enc.resolve_query_set(q, 0..2 * used, &resolved, 0);
+            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
+            read
+        });
+        let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
+        drop(keep);
+        let times = match stamps {
+            None => None,
+            Some(read) => {
+                let t = read_u64(self.ctx, &read)?;
+                let period = self.ctx.queue.get_timestamp_period() as f64 * 1e-6;
+                let mut times = PassTimes::default();
+                for (i, k) in kinds.iter().enumerate() {
+                    let ms = t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period;
+                    *match k {
+                        Kind::Depth => &mut times.depth,
+                        Kind::LightMap => &mut times.light_map,
+                        Kind::Preprocess => &mut times.preprocess,
+                        Kind::Filter => &mut times.filter,
+                        Kind::Resolve => &mut times.resolve,
+                    } += ms;
+                }
+                Some(times)
+            }
+        };
+        Ok((
+            VisibilityImage {
+                width: w,
+                height: h,
+                data,
+            },
+            times,
+        ))
+    }
+
+    /// Runs probe pass `entry` (`fs_probe` of `mdsm`, `fs_probe_count` of `fractional-disk`)
+    /// over a `size` image with `base` uniforms and `map` (`R32Float` texels, row-major, the
+    /// map's size from `base.map`) as the base light map; `mdsm`'s build pass runs first. Returns
+    /// the probe image, row-major. For the property tests of the techniques' shaders.
+    pub fn probe(
+        &self,
+        entry: &str,
+        base: &ShadowUniforms,
+        map: &[f32],
+        size: (u32, u32),
+    ) -> Result<Vec<f32>, GpuError> {
+        let device = &self.ctx.device;
+        let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let map_size = (base.map[0] as u32, base.map[1] as u32);
+        let base_map = device.create_texture_with_data(
+            &self.ctx.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("probe map"),
+                size: wgpu::Extent3d {
+                    width: map_size.0,
+                    height: map_size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: LIGHT_MAP_FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            Default::default(),
+            bytemuck::cast_slice(map),
+        );
+        let base_view = view(&base_map);
+        let dummy = view(&texture(
+            device,
+            "unused",
+            (1, 1),
+            LIGHT_MAP_FORMAT,
+            sampled,
+        ));
+        let buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("probe uniforms"),
+            contents: bytemuck::bytes_of(base),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        // The frame is unused by the probes but part of the layout.
+        let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: &[0u8; std::mem::size_of::<FrameUniforms>()],
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let frame = bind_group(
+            device,
+            "frame",
+            &self.frame_layout,
+            &[frame_buf.as_entire_binding()],
+        );
+        let group = |images: [&wgpu::TextureView; 3]| {
+            let mut r = vec![
+                buf.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&dummy),
+                wgpu::BindingResource::TextureView(&dummy),
+            ];
+            r.extend(images.map(wgpu::BindingResource::TextureView));
+            bind_group(device, "probe inputs", &self.shadow_layout, &r)
+        };
+        let mut enc = device.create_command_encoder(&Default::default());
+        let built = (self.technique == ShadowTechnique::Mdsm).then(|| {
+            let v = view(&texture(
+                device,
+                "mdsm",
+                map_size,
+                wgpu::TextureFormat::Rgba32Float,
+                sampled,
+            ));
+            self.pass("fs_build").record(
+                &mut enc,
+                &frame,
+                &group([&base_view, &dummy, &dummy]),
+                &v,
+                None,
+            );
+            v
+        });
+        let out = texture(
+            device,
+            "probe",
+            size,
+            VISIBILITY_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let images = [&base_view, built.as_ref().unwrap_or(&dummy), &dummy];
+        self.pass(entry)
+            .record(&mut enc, &frame, &group(images), &view(&out), None);
+        read_r32f(self.ctx, &mut enc, &out, size.0, size.1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn noise_rows_are_spread_disk_sets_with_uniform_starts() {
+        let n = noise_map();
+        assert_eq!(n.len(), NOISE_SIZE * NOISE_SIZE);
+        for row in n.chunks(NOISE_SIZE) {
+            let pts: Vec<DVec2> = row
+                .iter()
+                .map(|t| DVec2::new(t[0] as f64, t[1] as f64) * 2.0 - 1.0)
+                .collect();
+            assert!(pts.iter().all(|p| p.length() <= 1.0 + 1e-6));
+            let min = pts
+                .iter()
+                .enumerate()
+                .flat_map(|(i, a)| pts[i + 1..].iter().map(move |b| a.distance(*b)))
+                .fold(f64::INFINITY, f64::min);
+            assert!(min >= 0.12, "row's closest pair {min}");
+            assert!(
+                row.iter()
+                    .all(|t| (0.0..1.0).contains(&t[2]) && (0.0..1.0).contains(&t[3]))
+            );
+        }
+        assert_eq!(n, noise_map(), "deterministic");
+    }
+
+    #[test]
+    fn poisson_taps_start_at_the_origin_and_spread() {
+        let p = poisson_taps();
+        assert_eq!(p.len(), MAX_TAPS);
+        assert_eq!(p[0], DVec2::ZERO);
+        assert!(p.iter().all(|q| q.abs().max_element() <= 1.0));
+        let first: Vec<_> = p[..20].to_vec();
+        let min = first
+            .iter()
+            .enumerate()
+            .flat_map(|(i, a)| first[i + 1..].iter().map(move |b| a.distance(*b)))
+            .fold(f64::INFINITY, f64::min);
+        assert!(min >= 0.25, "first 20 taps' closest pair {min}");
+    }
+
+    #[test]
+    fn multi_pass_weights_are_normalised_gaussians_on_growing_kernels() {
+        assert_eq!(multi_pass_kernel(0, 19), 3);
+        assert_eq!(multi_pass_kernel(3, 19), 9);
+        assert_eq!(multi_pass_kernel(20, 19), 19);
+        for pass in 0..10 {
+            let t = multi_pass_taps(pass, 19, 20);
+            let sum: f32 = t.iter().map(|w| w[2]).sum();
+            assert!((sum - 1.0).abs() < 1e-6);
+            // The origin's weight is the largest, and weights fall with distance.
+            assert_eq!([t[0][0], t[0][1]], [0.0, 0.0]);
+            let half = (multi_pass_kernel(pass, 19) as f32 - 1.0) / 2.0;
+            for a in &t {
+                assert!(a[0].abs() <= half && a[1].abs() <= half);
+                for b in &t {
+                    if a[0].hypot(a[1]) < b[0].hypot(b[1]) {
+                        assert!(a[2] >= b[2]);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn light_frustum_holds_every_point_in_front_of_the_light() {
+        let light = RectLight::new(
+            DVec3::new(0.0, 5.0, 0.0),
+            DVec3::NEG_Y,
+            DVec3::X,
+            DVec2::new(2.0, 1.0),
+        );
+        let tris = [
+            [
+                DVec3::new(-3.0, 0.0, -2.0),
+                DVec3::new(4.0, 0.0, -2.0),
+                DVec3::new(0.0, 0.0, 6.0),
+            ],
+            // Crosses the light's plane: clipped at the near plane.
+            [
+                DVec3::new(0.5, 4.0, 0.0),
+                DVec3::new(1.0, 6.0, 0.0),
+                DVec3::new(0.0, 4.0, 0.5),
+            ],
+        ];
+        let f = LightFrustum::fit(&light, &tris).unwrap();
+        assert!((f.z_max - 5.0).abs() < 1e-12);
+        assert!(f.near > 0.0 && f.z_min >= f.near * (1.0 - 1e-9) && f.z_min < 1.0 + 1e-9);
+        for p in tris.iter().flatten() {
+            let d = *p - light.center;
+            let l = DVec3::new(
+                d.dot(light.tangent),
+                d.dot(light.bitangent),
+                d.dot(light.normal),
+            );
+            if l.z >= f.near {
+                let s = l.truncate() / l.z;
+                if s.abs().max_element() < MAX_SLOPE {
+                    assert!(
+                        s.cmpge(f.lo).all() && s.cmple(f.hi).all(),
+                        "{p} at slope {s}"
+                    );
+                }
+            }
+        }
+        assert!(LightFrustum::fit(&light, &[[DVec3::new(0.0, 9.0, 0.0); 3]]).is_none());
+    }
+
+    #[test]
+    fn back_faces_keep_a_closed_mesh_s_far_side_and_all_of_an_open_one() {
+        let scene = Scene::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../fixtures/scenes/sphere-over-plane.toml"
+        )))
+        .unwrap();
+        let back = back_faces(&scene);
+        let ground = scene.meshes[0].mesh.triangles.len();
+        let sphere = scene.meshes[1].mesh.triangles.len();
+        // The whole ground, and about half of the sphere: the half away from the light.
+        assert!(back.len() > ground + sphere / 3 && back.len() < ground + 2 * sphere / 3);
+        let c = scene.light.center;
+        let centre = DVec3::new(0.0, 1.6, 0.0);
+        // The sphere's own normal, not the mesh's winding, says which faces look away.
+        for t in &back[ground..] {
+            let m = (t[0] + t[1] + t[2]) / 3.0;
+            let n = (m - centre).normalize();
+            assert!(
+                n.dot((m - c).normalize()) > -0.05,
+                "a back face faces the light: {m}"
+            );
+        }
+    }
+}
