@@ -19,7 +19,8 @@ pub struct FrameUniforms {
     pub light_center: [f32; 4],
     /// Light normal (`w` unused).
     pub light_normal: [f32; 4],
-    /// Image width and height in pixels, then two unused lanes.
+    /// Image width and height in pixels; the number of leading scene vertices that belong to
+    /// closed meshes wound outwards (0 but for the shadow-map techniques); one unused lane.
     pub size: [f32; 4],
     /// Light tangent and half the first side.
     pub light_tangent: [f32; 4],

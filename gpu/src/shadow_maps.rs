@@ -140,22 +140,19 @@ impl LightFrustum {
     }
 }
 
-/// The triangles of `scene` that the back-face ("second-depth") map of `fractional-disk` draws
-/// (seed 000, "Shadow map generation": "we render only polygons facing away from the light"):
-/// those of closed, consistently oriented meshes whose outward normal points away from the
-/// light's centre, and every triangle of the other meshes, which occlude from both sides.
-pub fn back_faces(scene: &Scene) -> Vec<[DVec3; 3]> {
-    let c = scene.light.center;
-    let mut out = Vec::new();
+/// The triangles of `scene`, those of closed and consistently oriented meshes first and wound
+/// outwards (counter-clockwise seen from outside; the signed volume says which way is out), then
+/// the others; and how many are closed.
+pub fn closed_first(scene: &Scene) -> (Vec<[DVec3; 3]>, usize) {
+    let (mut closed, mut open) = (Vec::new(), Vec::new());
     for m in &scene.meshes {
         let mesh = &m.mesh;
         let tris = (0..mesh.triangles.len()).map(|t| mesh.triangle(t));
         let he = HalfEdgeMesh::build(mesh);
         if !he.is_closed() || he.has_inconsistent_orientation() {
-            out.extend(tris);
+            open.extend(tris);
             continue;
         }
-        // Outward when the signed volume is positive.
         let volume: f64 = mesh
             .triangles
             .iter()
@@ -164,13 +161,25 @@ pub fn back_faces(scene: &Scene) -> Vec<[DVec3; 3]> {
                 p[a as usize].dot(p[b as usize].cross(p[c as usize]))
             })
             .sum();
-        let sign = volume.signum();
-        out.extend(tris.filter(|t| {
-            let n = (t[1] - t[0]).cross(t[2] - t[0]) * sign;
-            n.dot((t[0] + t[1] + t[2]) / 3.0 - c) > 0.0
-        }));
+        closed.extend(tris.map(|[a, b, c]| if volume < 0.0 { [a, c, b] } else { [a, b, c] }));
     }
-    out
+    let n = closed.len();
+    closed.extend(open);
+    (closed, n)
+}
+
+/// The triangles of `scene` that the back-face ("second-depth") map of `fractional-disk` draws
+/// (seed 000, "Shadow map generation": "we render only polygons facing away from the light"):
+/// those of closed, consistently oriented meshes whose outward normal points away from the
+/// light's centre, and every triangle of the other meshes, which occlude from both sides.
+pub fn back_faces(scene: &Scene) -> Vec<[DVec3; 3]> {
+    let c = scene.light.center;
+    let (tris, closed) = closed_first(scene);
+    tris.into_iter()
+        .enumerate()
+        .filter(|(i, t)| *i >= closed || (t[1] - t[0]).cross(t[2] - t[0]).dot(t[0] - c) > 0.0)
+        .map(|(_, t)| t)
+        .collect()
 }
 
 /// The noise map of `fractional-disk` ("Noise map generation"), `NOISE_SIZE`² texels, row-major:
@@ -476,7 +485,7 @@ impl<'a> ShadowMapRenderer<'a> {
         let device = &self.ctx.device;
         let params = &scene.params;
         let (w, h) = (scene.camera.width, scene.camera.height);
-        let world = scene.triangles();
+        let (world, closed) = closed_first(scene);
         let eye = scene.camera.eye;
         let rel = |ts: &[[DVec3; 3]]| -> Vec<[f32; 3]> {
             ts.iter()
@@ -491,7 +500,10 @@ impl<'a> ShadowMapRenderer<'a> {
             .fold(1e-3, f64::max);
         let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
-            contents: bytemuck::bytes_of(&FrameUniforms::new(scene, radius)),
+            contents: bytemuck::bytes_of(&FrameUniforms {
+                size: [w as f32, h as f32, 3.0 * closed as f32, 0.0],
+                ..FrameUniforms::new(scene, radius)
+            }),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let frame = bind_group(
@@ -1048,8 +1060,9 @@ mod tests {
         assert!(back.len() > ground + sphere / 3 && back.len() < ground + 2 * sphere / 3);
         let c = scene.light.center;
         let centre = DVec3::new(0.0, 1.6, 0.0);
-        // The sphere's own normal, not the mesh's winding, says which faces look away.
-        for t in &back[ground..] {
+        // The sphere's own normal, not the mesh's winding, says which faces look away. (Closed
+        // meshes come first.)
+        for t in &back[..back.len() - ground] {
             let m = (t[0] + t[1] + t[2]) / 3.0;
             let n = (m - centre).normalize();
             assert!(

@@ -11,13 +11,16 @@ struct VertexOut {
     // exactly the same depths.
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) rel: vec3<f32>,
+    // 1 for triangles of closed meshes, wound outwards: the first `frame.size.z` vertices.
+    @location(1) @interpolate(flat) closed: u32,
 }
 
 @vertex
-fn vs(@location(0) rel: vec3<f32>) -> VertexOut {
+fn vs(@location(0) rel: vec3<f32>, @builtin(vertex_index) i: u32) -> VertexOut {
     var out: VertexOut;
     out.clip = frame.view_proj * vec4<f32>(rel, 1.0);
     out.rel = rel;
+    out.closed = select(0u, 1u, f32(i) < frame.size.z);
     return out;
 }
 
@@ -26,10 +29,12 @@ struct DepthOut {
     @location(1) normal: vec4<f32>,
 }
 
+// The normal target: the triangle's plane from the screen derivatives of P (all of one
+// triangle, helper lanes included), facing the eye (P is eye-relative), w = 1; for a closed
+// mesh's triangle the outward normal instead (the eye-facing one, reversed where the eye sees the
+// triangle's back), w = 2.
 @fragment
-fn fs(in: VertexOut) -> DepthOut {
-    // The triangle's plane from the screen derivatives of P (all of one triangle, helper lanes
-    // included), oriented towards the eye (P is eye-relative).
+fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> DepthOut {
     var n = cross(dpdx(in.rel), dpdy(in.rel));
     let len = length(n);
     n = select(vec3<f32>(0.0), n / len, len > 0.0);
@@ -39,5 +44,8 @@ fn fs(in: VertexOut) -> DepthOut {
     var out: DepthOut;
     out.position = vec4<f32>(in.rel, 1.0);
     out.normal = vec4<f32>(n, 1.0);
+    if (in.closed == 1u) {
+        out.normal = vec4<f32>(select(-n, n, front), 2.0);
+    }
     return out;
 }

@@ -10,7 +10,8 @@ struct Frame {
     light_center: vec4<f32>,
     // Light normal.
     light_normal: vec4<f32>,
-    // Image width, height in pixels.
+    // Image width, height in pixels; z: how many leading scene vertices belong to closed
+    // meshes wound outwards (depth pre-pass; 0 but for the shadow-map techniques).
     size: vec4<f32>,
     // Light tangent (xyz) and half the first side (w).
     light_tangent: vec4<f32>,

@@ -2,9 +2,9 @@
 // blocker search, penumbra estimate, variable PCF (its section 2.1.4: "Blocker search, Penumbra
 // estimation and filtering").
 // 1. Blocker search (4.2.1): an iparams.x^2 grid over the region where a blocker can hide part of
-//    the light from P, the light rectangle shrunk by (d_R - z)/d_R about P's projection at the
-//    nearest caster depth z = depth.y; d_B = mean depth of the taps nearer than P's plane
-//    whose depth puts them inside that pyramid.
+//    the light from P, the light rectangle shrunk by (d_R - z)/d_R about P's projection, z the
+//    nearest blocker depth (found by a first round); d_B = mean depth of the taps nearer than P's
+//    plane whose depth puts them inside that pyramid.
 //    No blocker: lit.
 // 2. Penumbra width (Eq. 2): w = (d_R - d_B) * w_light / d_B, per axis of the rectangle light.
 // 3. PCF over a box of half-width w / 2 on the receiver (the light's own shape, so exact for
@@ -14,6 +14,13 @@
 
 fn cell(i: u32, n: u32) -> f32 {
     return (f32(i) + 0.5) / f32(n) * 2.0 - 1.0;
+}
+
+// Half extents in uv of the section at depth z of the pyramid from a receiver at depth zr to the
+// light (half sides h): the light shrunk by (zr - z) / zr, seen from the light's centre; at most
+// a quarter of the map.
+fn search_region(h: vec2<f32>, zr: f32, z: f32) -> vec2<f32> {
+    return min(h * max(zr - z, 0.0) / zr * uv_per_world(z), vec2<f32>(0.25));
 }
 
 fn tap_lit(r: Receiver, uv: vec2<f32>) -> f32 {
@@ -28,10 +35,31 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let zr = r.l.z;
     let h = shadow.light.xy;
-    // 1. Blocker search.
-    let zmin = min(shadow.depth.y, zr);
-    let search = min(h * (zr - zmin) / zr * uv_per_world(zmin), vec2<f32>(0.25));
+    // 1. Blocker search, in two rounds. The first, over a 2ns x 2ns grid, covers the pyramid
+    // from P to the light cut at the scene's nearest depth (depth.y; clamped to a quarter of the
+    // map) and finds the nearest depth in front of P's plane there; the second, ns x ns, cuts
+    // the pyramid at
+    // that depth and averages the taps nearer than P's plane that also lie inside the pyramid
+    // at their own depth. (A receiver sloping towards the light, as in `tilted-light`, brings
+    // the scene's nearest depth close to the light, and a single round over that region is too
+    // sparse to find the blockers that matter.)
     let ns = shadow.iparams.x;
+    var nearest = BIG;
+    let first = search_region(h, zr, min(shadow.depth.y, zr));
+    let n1 = 2u * ns;
+    for (var j = 0u; j < n1; j++) {
+        for (var i = 0u; i < n1; i++) {
+            let uv = r.uv + vec2<f32>(cell(i, n1), cell(j, n1)) * first;
+            let z = depth_uv(uv);
+            if (z < occlusion_threshold(r, uv)) {
+                nearest = min(nearest, z);
+            }
+        }
+    }
+    if (nearest >= BIG) {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    let search = search_region(h, zr, nearest);
     var sum = 0.0;
     var blockers = 0u;
     for (var j = 0u; j < ns; j++) {
@@ -39,12 +67,7 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
             let o = vec2<f32>(cell(i, ns), cell(j, ns)) * search;
             let uv = r.uv + o;
             let z = depth_uv(uv);
-            // A blocker: in front of the receiver's plane, and inside the pyramid from P to the
-            // light at its own depth (the search region is that pyramid's widest section, at
-            // the scene's nearest depth, which a receiver sloping towards the light can make
-            // far too wide).
-            let reach = h * (zr - z) / zr * uv_per_world(z);
-            if (z < occlusion_threshold(r, uv) && all(abs(o) <= reach)) {
+            if (z < occlusion_threshold(r, uv) && all(abs(o) <= search_region(h, zr, z))) {
                 sum += z;
                 blockers += 1u;
             }

@@ -25,7 +25,8 @@ struct Shadow {
 @group(1) @binding(0) var<uniform> shadow: Shadow;
 // Eye-relative receiver position P (w = 1 where the camera ray hit something).
 @group(1) @binding(1) var position: texture_2d<f32>;
-// The receiver's geometric normal, facing the camera (xyz; w = 1 where hit).
+// The receiver's geometric normal (xyz): outward on closed meshes (w = 2), facing the camera
+// elsewhere (w = 1); w = 0 where nothing was hit.
 @group(1) @binding(2) var normal_map: texture_2d<f32>;
 // The technique's inputs: light maps or intermediate images (unused ones are dummies).
 @group(1) @binding(3) var map0: texture_2d<f32>;
@@ -108,11 +109,12 @@ fn depth_uv(uv: vec2<f32>) -> f32 {
 // A camera pixel's receiver, in light space.
 struct Receiver {
     // 0: nothing hit (V = 1); 1: in front of the light and facing it (the map decides);
-    // 2: not strictly in front of the light's plane (V = 0).
+    // 2: not strictly in front of the light's plane, or on a closed mesh and facing away from
+    // the whole light (V = 0).
     kind: u32,
     // Light coordinates of P.
     l: vec3<f32>,
-    // Light-space normal, facing the camera.
+    // Light-space normal: outward on closed meshes, facing the camera elsewhere.
     n: vec3<f32>,
     // Map uv of P.
     uv: vec2<f32>,
@@ -129,11 +131,27 @@ fn receiver(pixel: vec2<i32>) -> Receiver {
     r.n = light_dir(textureLoad(normal_map, pixel, 0).xyz);
     r.uv = map_uv(r.l);
     r.kind = 1u;
-    // The scene format's rule: only points strictly on the emitting side are lit. (A surface
-    // does not shadow itself: V is what the point sees of the light, whichever way it faces,
-    // as the reference defines it.)
+    // The scene format's rule: only points strictly on the emitting side are lit.
     if (r.l.z <= 0.0) {
         r.kind = 2u;
+    }
+    // A point of a closed mesh whose outward normal faces away from every point of the light
+    // sees none of it: its rays to the light enter the solid. (An open surface does not shadow
+    // itself: V is what the point sees, whichever way it faces, as the reference defines it.)
+    let nw = textureLoad(normal_map, pixel, 0).w;
+    if (nw > 1.5) {
+        var front = false;
+        for (var i = 0u; i < 4u; i++) {
+            let c = vec3<f32>(
+                select(-1.0, 1.0, (i & 1u) != 0u) * shadow.light.x,
+                select(-1.0, 1.0, (i & 2u) != 0u) * shadow.light.y,
+                0.0,
+            );
+            front = front || dot(r.n, c - r.l) > 0.0;
+        }
+        if (!front) {
+            r.kind = 2u;
+        }
     }
     return r;
 }
