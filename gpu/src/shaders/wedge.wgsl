@@ -134,10 +134,13 @@ struct Integral {
     sign: f32,
     // m · |R_e ∩ T_k|.
     area: vec4<f32>,
-    // Bounding rectangles of R_e ∩ T_k (beyond the edge) and of the cone's part between the
-    // centre and the edge (near), per part.
-    beyond: array<vec4<f32>, 4>,
-    near: array<vec4<f32>, 4>,
+    // Per part, the bounding rectangle of R_e ∩ T_k (beyond the edge) for an outer half-wedge,
+    // or of the cone's part between the centre and the edge (near) for an inner one. Four
+    // fields, not an array: an array indexed by the loop's k lives in memory on CPU drivers.
+    rect0: vec4<f32>,
+    rect1: vec4<f32>,
+    rect2: vec4<f32>,
+    rect3: vec4<f32>,
     // Length of the part's outer side inside the cone over the edge.
     cover: vec4<f32>,
 }
@@ -215,9 +218,12 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
     let outer = out.sign > 0.0;
     let beyond_rects = want != AREAS_ONLY && outer;
     let near_rects = want == RECTS_INNER && !outer;
+    out.rect0 = EMPTY_RECT;
+    out.rect1 = EMPTY_RECT;
+    out.rect2 = EMPTY_RECT;
+    out.rect3 = EMPTY_RECT;
     for (var k = 0u; k < 4u; k++) {
-        out.beyond[k] = EMPTY_RECT;
-        out.near[k] = EMPTY_RECT;
+        var rect = EMPTY_RECT;
         let t = part(k);
         let cone = clip(clip(t, cone_a), cone_b);
         if (cone.n < 3u) {
@@ -229,7 +235,7 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
             out.area[k] = edge_from.w * ra;
             out.valid = true;
             if (beyond_rects) {
-                out.beyond[k] = bbox(r);
+                rect = bbox(r);
             }
         }
         if (near_rects) {
@@ -243,9 +249,15 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
             }
             let near = clip(cone, -beyond);
             if (near.n >= 3u) {
-                out.near[k] = bbox(near);
+                rect = bbox(near);
                 out.valid = true;
             }
+        }
+        if (beyond_rects || near_rects) {
+            out.rect0 = select(out.rect0, rect, k == 0u);
+            out.rect1 = select(out.rect1, rect, k == 1u);
+            out.rect2 = select(out.rect2, rect, k == 2u);
+            out.rect3 = select(out.rect3, rect, k == 3u);
         }
     }
     return out;
@@ -307,10 +319,10 @@ fn fs_silhouette(in: WedgeOut) -> Silhouette {
     out.area = i.area * i.sign;
     out.cover = i.cover;
     // Outer half-wedges: the regions beyond their edges; inner ones (in hard shadow only): the
-    // regions between the centre and their edges. `integral` leaves the other kind empty.
-    out.rect0 = encode_rect(rect_union(i.beyond[0], i.near[0]), 0u);
-    out.rect1 = encode_rect(rect_union(i.beyond[1], i.near[1]), 1u);
-    out.rect2 = encode_rect(rect_union(i.beyond[2], i.near[2]), 2u);
-    out.rect3 = encode_rect(rect_union(i.beyond[3], i.near[3]), 3u);
+    // regions between the centre and their edges.
+    out.rect0 = encode_rect(i.rect0, 0u);
+    out.rect1 = encode_rect(i.rect1, 1u);
+    out.rect2 = encode_rect(i.rect2, 2u);
+    out.rect3 = encode_rect(i.rect3, 3u);
     return out;
 }
