@@ -62,14 +62,46 @@ fn clip(p: Poly, h: vec3<f32>) -> Poly {
     return out;
 }
 
-fn area(p: Poly) -> f32 {
-    var s = 0.0;
+// The area and bounding rectangle of `clip(p, h)`, computed while clipping, without storing
+// the clipped polygon (CPU drivers keep polygons, indexed at run time, in memory).
+struct Measure {
+    area: f32,
+    rect: vec4<f32>,
+    n: u32,
+}
+
+fn measure_clip(p: Poly, h: vec3<f32>) -> Measure {
+    var m: Measure;
+    m.n = 0u;
+    m.rect = EMPTY_RECT;
+    var twice = 0.0;
+    var first = vec2<f32>(0.0);
+    var prev = vec2<f32>(0.0);
     for (var i = 0u; i < p.n; i++) {
         let a = p.v[i];
         let b = p.v[(i + 1u) % p.n];
-        s += a.x * b.y - a.y * b.x;
+        let fa = dot(h.xy, a) + h.z;
+        let fb = dot(h.xy, b) + h.z;
+        for (var e = 0u; e < 2u; e++) {
+            // e = 0: the vertex a if kept; e = 1: the crossing of a-b if any.
+            let keep = select((fa >= 0.0) != (fb >= 0.0), fa >= 0.0, e == 0u);
+            if (!keep || m.n >= MAX_POLY) {
+                continue;
+            }
+            let x = select(a + (b - a) * (fa / (fa - fb)), a, e == 0u);
+            if (m.n == 0u) {
+                first = x;
+            } else {
+                twice += prev.x * x.y - prev.y * x.x;
+            }
+            prev = x;
+            m.rect = vec4<f32>(min(m.rect.xy, x), max(m.rect.zw, x));
+            m.n += 1u;
+        }
     }
-    return 0.5 * abs(s);
+    twice += prev.x * first.y - prev.y * first.x;
+    m.area = select(0.0, 0.5 * abs(twice), m.n >= 3u);
+    return m;
 }
 
 fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
@@ -117,14 +149,6 @@ fn meets_square(a: vec2<f32>, b: vec2<f32>) -> bool {
 // Fraction of z_P kept between the clipped edge and the local near plane (f32: coarser than the
 // CPU's 1e-9; projected coordinates stay below about 1e6).
 const NEAR_MARGIN: f32 = 1e-6;
-
-fn bbox(p: Poly) -> vec4<f32> {
-    var r = EMPTY_RECT;
-    for (var i = 0u; i < p.n; i++) {
-        r = vec4<f32>(min(r.xy, p.v[i]), max(r.zw, p.v[i]));
-    }
-    return r;
-}
 
 // What one edge contributes at one receiver, per radial part: the CPU's `EdgeIntegral`.
 struct Integral {
@@ -229,13 +253,12 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
         if (cone.n < 3u) {
             continue;
         }
-        let r = clip(cone, beyond);
-        let ra = select(0.0, area(r), r.n >= 3u);
-        if (ra > 0.0) {
-            out.area[k] = edge_from.w * ra;
+        let r = measure_clip(cone, beyond);
+        if (r.area > 0.0) {
+            out.area[k] = edge_from.w * r.area;
             out.valid = true;
             if (beyond_rects) {
-                rect = bbox(r);
+                rect = r.rect;
             }
         }
         if (near_rects) {
@@ -247,9 +270,9 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
             if (sc.n > 0u) {
                 out.cover[k] = length(sc.b - sc.a);
             }
-            let near = clip(cone, -beyond);
+            let near = measure_clip(cone, -beyond);
             if (near.n >= 3u) {
-                rect = bbox(near);
+                rect = near.rect;
                 out.valid = true;
             }
         }
