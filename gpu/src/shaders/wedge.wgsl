@@ -33,114 +33,131 @@ fn vs(in: WedgeIn) -> WedgeOut {
     return out;
 }
 
-// Room for a triangle clipped by three half-planes.
-const MAX_POLY: u32 = 8u;
-
-struct Poly {
-    v: array<vec2<f32>, 8>,
-    n: u32,
+fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
 }
 
-// Keeps the part of `p` where dot(h.xy, x) + h.z >= 0 (Sutherland & Hodgman).
-fn clip(p: Poly, h: vec3<f32>) -> Poly {
-    var out: Poly;
-    out.n = 0u;
-    for (var i = 0u; i < p.n; i++) {
-        let a = p.v[i];
-        let b = p.v[(i + 1u) % p.n];
-        let fa = dot(h.xy, a) + h.z;
-        let fb = dot(h.xy, b) + h.z;
-        if (fa >= 0.0 && out.n < MAX_POLY) {
-            out.v[out.n] = a;
-            out.n += 1u;
-        }
-        if ((fa >= 0.0) != (fb >= 0.0) && out.n < MAX_POLY) {
-            out.v[out.n] = a + (b - a) * (fa / (fa - fb));
-            out.n += 1u;
-        }
+// The four radial parts are the triangles (0, corner(k), corner(k + 1)) from the centre to each
+// side, counter-clockwise from +x. Chosen by `select`, not an array indexed at run time, which
+// CPU drivers keep in memory.
+fn corner(k: u32) -> vec2<f32> {
+    let i = k % 4u;
+    return vec2<f32>(select(-1.0, 1.0, i == 0u || i == 1u), select(-1.0, 1.0, i == 1u || i == 2u));
+}
+
+// Outward normal of part k's side of the square.
+fn side_normal(k: u32) -> vec2<f32> {
+    return select(
+        select(vec2<f32>(0.0, -1.0), vec2<f32>(-1.0, 0.0), k == 2u),
+        select(vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0), k == 0u),
+        k < 2u,
+    );
+}
+
+// Whether direction x lies in the sector from u counter-clockwise to v (less than a half turn).
+fn in_sector(x: vec2<f32>, u: vec2<f32>, v: vec2<f32>) -> bool {
+    return cross2(u, x) >= 0.0 && cross2(x, v) >= 0.0;
+}
+
+// The cone over the projected edge (the sector from u counter-clockwise to v, apex at the
+// light's centre) within part k: both are sectors with that apex, so their intersection is one
+// sector, and with the part's side a triangle (0, p1, p2), p1 and p2 on the side. `ok` is false
+// when it has no area.
+struct ConePart {
+    ok: bool,
+    p1: vec2<f32>,
+    p2: vec2<f32>,
+}
+
+fn cone_part(k: u32, u: vec2<f32>, v: vec2<f32>) -> ConePart {
+    var c: ConePart;
+    c.ok = false;
+    let u2 = corner(k);
+    let v2 = corner(k + 1u);
+    // The intersection starts at whichever start lies in the other sector, and ends likewise.
+    let u_in = in_sector(u, u2, v2);
+    let v_in = in_sector(v, u2, v2);
+    if (!(u_in || in_sector(u2, u, v)) || !(v_in || in_sector(v2, u, v))) {
+        return c;
     }
-    return out;
+    let s = select(u2, u, u_in);
+    let e = select(v2, v, v_in);
+    let n = side_normal(k);
+    let ds = dot(s, n);
+    let de = dot(e, n);
+    if (!(ds > 0.0 && de > 0.0)) {
+        return c;
+    }
+    c.p1 = s / ds;
+    c.p2 = e / de;
+    c.ok = cross2(c.p1, c.p2) > 0.0;
+    return c;
 }
 
-// The area and bounding rectangle of `clip(p, h)`, computed while clipping, without storing
-// the clipped polygon (CPU drivers keep polygons, indexed at run time, in memory).
+// The area and bounding rectangle of the part of triangle (0, p1, p2) where
+// dot(h.xy, x) + h.z >= 0 (Sutherland & Hodgman, measured while clipping: nothing is stored).
 struct Measure {
     area: f32,
     rect: vec4<f32>,
     n: u32,
 }
 
-fn measure_clip(p: Poly, h: vec3<f32>) -> Measure {
+fn triangle_vertex(i: u32, p1: vec2<f32>, p2: vec2<f32>) -> vec2<f32> {
+    return select(select(p2, p1, i == 1u), vec2<f32>(0.0), i == 0u);
+}
+
+fn measure_clip(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>) -> Measure {
     var m: Measure;
     m.n = 0u;
     m.rect = EMPTY_RECT;
     var twice = 0.0;
     var first = vec2<f32>(0.0);
     var prev = vec2<f32>(0.0);
-    for (var i = 0u; i < p.n; i++) {
-        let a = p.v[i];
-        let b = p.v[(i + 1u) % p.n];
+    for (var i = 0u; i < 3u; i++) {
+        let a = triangle_vertex(i, p1, p2);
+        let b = triangle_vertex((i + 1u) % 3u, p1, p2);
         let fa = dot(h.xy, a) + h.z;
         let fb = dot(h.xy, b) + h.z;
         for (var e = 0u; e < 2u; e++) {
             // e = 0: the vertex a if kept; e = 1: the crossing of a-b if any.
             let keep = select((fa >= 0.0) != (fb >= 0.0), fa >= 0.0, e == 0u);
-            if (!keep || m.n >= MAX_POLY) {
+            if (!keep) {
                 continue;
             }
             let x = select(a + (b - a) * (fa / (fa - fb)), a, e == 0u);
             if (m.n == 0u) {
                 first = x;
             } else {
-                twice += prev.x * x.y - prev.y * x.x;
+                twice += cross2(prev, x);
             }
             prev = x;
             m.rect = vec4<f32>(min(m.rect.xy, x), max(m.rect.zw, x));
             m.n += 1u;
         }
     }
-    twice += prev.x * first.y - prev.y * first.x;
+    twice += cross2(prev, first);
     m.area = select(0.0, 0.5 * abs(twice), m.n >= 3u);
     return m;
-}
-
-fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
-    return a.x * b.y - a.y * b.x;
-}
-
-// The four radial parts: the triangles from the centre to each side, counter-clockwise from +x.
-fn part(k: u32) -> Poly {
-    let c = array<vec2<f32>, 5>(
-        vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0), vec2<f32>(-1.0, -1.0),
-        vec2<f32>(1.0, -1.0),
-    );
-    var p: Poly;
-    p.v[0] = vec2<f32>(0.0);
-    p.v[1] = c[k];
-    p.v[2] = c[k + 1u];
-    p.n = 3u;
-    return p;
 }
 
 // Whether the segment a-b meets the square [-1, 1]^2 (Liang & Barsky 1984).
 fn meets_square(a: vec2<f32>, b: vec2<f32>) -> bool {
     let d = b - a;
+    // The four sides as p t <= q, one after the other.
+    let p = vec4<f32>(-d.x, d.x, -d.y, d.y);
+    let q = vec4<f32>(a.x + 1.0, 1.0 - a.x, a.y + 1.0, 1.0 - a.y);
+    let r = q / p;
     var t0 = 0.0;
     var t1 = 1.0;
-    let p = array<f32, 4>(-d.x, d.x, -d.y, d.y);
-    let q = array<f32, 4>(a.x + 1.0, 1.0 - a.x, a.y + 1.0, 1.0 - a.y);
-    for (var i = 0; i < 4; i++) {
+    for (var i = 0u; i < 4u; i++) {
         if (p[i] == 0.0) {
             if (q[i] < 0.0) {
                 return false;
             }
+        } else if (p[i] < 0.0) {
+            t0 = max(t0, r[i]);
         } else {
-            let r = q[i] / p[i];
-            if (p[i] < 0.0) {
-                t0 = max(t0, r);
-            } else {
-                t1 = min(t1, r);
-            }
+            t1 = min(t1, r[i]);
         }
     }
     return t0 <= t1;
@@ -167,30 +184,6 @@ struct Integral {
     rect3: vec4<f32>,
     // Length of the part's outer side inside the cone over the edge.
     cover: vec4<f32>,
-}
-
-// Keeps the part of the segment a-b where dot(h.xy, x) + h.z >= 0; n = 0 when nothing is left.
-struct Segment {
-    a: vec2<f32>,
-    b: vec2<f32>,
-    n: u32,
-}
-
-fn clip_segment(s: Segment, h: vec3<f32>) -> Segment {
-    var out = s;
-    if (s.n == 0u) {
-        return out;
-    }
-    let fa = dot(h.xy, s.a) + h.z;
-    let fb = dot(h.xy, s.b) + h.z;
-    if (fa < 0.0 && fb < 0.0) {
-        out.n = 0u;
-    } else if (fa >= 0.0 && fb < 0.0) {
-        out.b = s.a + (s.b - s.a) * (fa / (fa - fb));
-    } else if (fa < 0.0 && fb >= 0.0) {
-        out.a = s.a + (s.b - s.a) * (fa / (fa - fb));
-    }
-    return out;
 }
 
 // What the caller needs besides the areas: `RECTS_OUTER` the outer half-wedges' rectangles,
@@ -234,8 +227,6 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
     }
     out.sign = sign(side);
     let e = b - a;
-    let cone_a = vec3<f32>(-s0 * a.y, s0 * a.x, 0.0);
-    let cone_b = vec3<f32>(s0 * b.y, -s0 * b.x, 0.0);
     let beyond = -s0 * vec3<f32>(-e.y, e.x, -cross2(e, a));
     out.area = vec4<f32>(0.0);
     out.cover = vec4<f32>(0.0);
@@ -246,14 +237,16 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
     out.rect1 = EMPTY_RECT;
     out.rect2 = EMPTY_RECT;
     out.rect3 = EMPTY_RECT;
+    // The cone over the edge as the sector from u counter-clockwise to v.
+    let u = select(b, a, s0 > 0.0);
+    let v = select(a, b, s0 > 0.0);
     for (var k = 0u; k < 4u; k++) {
         var rect = EMPTY_RECT;
-        let t = part(k);
-        let cone = clip(clip(t, cone_a), cone_b);
-        if (cone.n < 3u) {
+        let cone = cone_part(k, u, v);
+        if (!cone.ok) {
             continue;
         }
-        let r = measure_clip(cone, beyond);
+        let r = measure_clip(cone.p1, cone.p2, beyond);
         if (r.area > 0.0) {
             out.area[k] = edge_from.w * r.area;
             out.valid = true;
@@ -262,15 +255,9 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
             }
         }
         if (near_rects) {
-            var side_seg: Segment;
-            side_seg.a = t.v[1];
-            side_seg.b = t.v[2];
-            side_seg.n = 2u;
-            let sc = clip_segment(clip_segment(side_seg, cone_a), cone_b);
-            if (sc.n > 0u) {
-                out.cover[k] = length(sc.b - sc.a);
-            }
-            let near = measure_clip(cone, -beyond);
+            // The part's side inside the cone is the triangle's far side.
+            out.cover[k] = length(cone.p2 - cone.p1);
+            let near = measure_clip(cone.p1, cone.p2, -beyond);
             if (near.n >= 3u) {
                 rect = near.rect;
                 out.valid = true;
