@@ -2,7 +2,9 @@
 //! `wedges` (additive): the same, plus the wedge pass of every silhouette edge before the resolve.
 //! `wedges-blend`: the depth pre-pass, then seed 004's "per-silhouette 3 passes algorithm" for
 //! each occluder (stencil pass of its volume, wedge pass of its edges into a silhouette buffer,
-//! blend of that buffer into the final one), then the resolve.
+//! blend of that buffer into the final one), then the resolve. Occluders whose screen regions
+//! are disjoint share those three passes (`passes::blend::disjoint_groups`): their silhouette
+//! buffers cannot meet.
 
 use bytemuck::Zeroable;
 use glam::{DMat4, DVec2, DVec3, Vec4};
@@ -15,7 +17,9 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameUniforms, view_proj_f64};
-use crate::passes::blend::{BlendPass, FINAL_WORDS, Region, SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
+use crate::passes::blend::{
+    BlendPass, FINAL_WORDS, Region, SILHOUETTE_ADDED, SILHOUETTE_FORMATS, disjoint_groups,
+};
 use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
@@ -321,7 +325,8 @@ impl<'a> GpuRenderer<'a> {
         };
         let position_group = single(&position_view);
 
-        // Timestamp queries: two per pass, summed per kind of pass.
+        // Timestamp queries: two per pass, summed per kind of pass (for `wedges-blend` at most
+        // three per occluder: its group's passes).
         let blending = technique == GpuTechnique::WedgesBlend;
         let passes = if blending {
             2 + 4 * volumes.occluders.len()
@@ -384,7 +389,7 @@ impl<'a> GpuRenderer<'a> {
                     &mut enc,
                     &frame,
                     &vol_buf,
-                    0..vol.len() as u32,
+                    std::slice::from_ref(&(0..vol.len() as u32)),
                     false,
                     &depth_view,
                     stamp(STENCIL),
@@ -398,7 +403,7 @@ impl<'a> GpuRenderer<'a> {
                         &position_group,
                         &cube,
                         &inst,
-                        0..instances.len() as u32,
+                        std::slice::from_ref(&(0..instances.len() as u32)),
                         WedgeOutput::Additive,
                         &[(&v, wgpu::Color::TRANSPARENT)],
                         None,
@@ -498,19 +503,19 @@ impl<'a> GpuRenderer<'a> {
                         )
                     })
                     .collect();
-                for (o, vr) in vol_ranges.iter().enumerate() {
-                    let ir = inst_ranges[o].clone();
-                    let region = regions[o];
-                    if ir.is_empty() || region.size[0] == 0 || region.size[1] == 0 {
-                        // No wedge reaches a receiver: neither does the occluder's shadow.
-                        continue;
-                    }
-                    // Seed 004's three passes for this silhouette.
+                // Occluders whose screen regions are disjoint share their passes: their
+                // silhouette buffers cannot meet. No wedge reaching a receiver (an empty region):
+                // neither does the occluder's shadow.
+                for group in disjoint_groups(&regions) {
+                    let ranges = |r: &[std::ops::Range<u32>]| -> Vec<std::ops::Range<u32>> {
+                        group.iter().map(|&o| r[o].clone()).collect()
+                    };
+                    // Seed 004's three passes for these silhouettes.
                     self.stencil.record(
                         &mut enc,
                         &frame,
                         &vol_buf,
-                        vr.clone(),
+                        &ranges(&vol_ranges),
                         true,
                         &depth_view,
                         stamp(STENCIL),
@@ -521,7 +526,7 @@ impl<'a> GpuRenderer<'a> {
                         &position_group,
                         &cube,
                         &inst,
-                        ir,
+                        &ranges(&inst_ranges),
                         WedgeOutput::Silhouette,
                         &clears,
                         Some(&stencil_group),
@@ -532,15 +537,12 @@ impl<'a> GpuRenderer<'a> {
                         beginning_of_pass_write_index: t.beginning_of_pass_write_index,
                         end_of_pass_write_index: t.end_of_pass_write_index,
                     });
-                    self.blend.record(
-                        &mut enc,
-                        &frame,
-                        &blend_inputs,
-                        &region_group,
-                        (o as u64 * stride) as u32,
-                        region,
-                        t,
-                    );
+                    let blends: Vec<(u32, Region)> = group
+                        .iter()
+                        .map(|&o| ((o as u64 * stride) as u32, regions[o]))
+                        .collect();
+                    self.blend
+                        .record(&mut enc, &frame, &blend_inputs, &region_group, &blends, t);
                 }
                 final_group = Some(bind_group(
                     device,

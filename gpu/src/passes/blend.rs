@@ -44,6 +44,37 @@ pub struct Region {
 
 const _: () = assert!(std::mem::size_of::<Region>() == 16);
 
+impl Region {
+    /// Whether the two regions share a pixel.
+    pub fn overlaps(&self, other: &Region) -> bool {
+        (0..2).all(|i| {
+            self.origin[i] < other.origin[i] + other.size[i]
+                && other.origin[i] < self.origin[i] + self.size[i]
+        })
+    }
+}
+
+/// Occluders in groups whose screen regions are pairwise disjoint (first fit, in order): their
+/// silhouette buffers cannot meet, so each group's stencil, wedge and blend passes serve all of
+/// its occluders at once (seed 004's per-silhouette loop, one pass per group instead of one per
+/// silhouette). Empty regions are left out.
+pub fn disjoint_groups(regions: &[Region]) -> Vec<Vec<usize>> {
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, r) in regions.iter().enumerate() {
+        if r.size[0] == 0 || r.size[1] == 0 {
+            continue;
+        }
+        match groups
+            .iter_mut()
+            .find(|g| g.iter().all(|&j| !regions[j].overlaps(r)))
+        {
+            Some(g) => g.push(i),
+            None => groups.push(vec![i]),
+        }
+    }
+    groups
+}
+
 /// Workgroup side of `blend.wgsl`.
 const WORKGROUP: u32 = 8;
 
@@ -108,17 +139,16 @@ impl BlendPass {
         }
     }
 
-    /// Blends the silhouette buffer into the final one over `region` (`inputs`: the silhouette
-    /// buffer, its stencil counts, the final buffer; `regions` at `offset`: the [`Region`]).
-    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    /// Blends the silhouette buffer into the final one over each of `regions`, pairs of the
+    /// dynamic offset of a [`Region`] in `region_group` and the region (`inputs`: the
+    /// silhouette buffer, its stencil counts, the final buffer). The regions must not overlap.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         inputs: &wgpu::BindGroup,
-        regions: &wgpu::BindGroup,
-        offset: u32,
-        region: Region,
+        region_group: &wgpu::BindGroup,
+        regions: &[(u32, Region)],
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -128,11 +158,54 @@ impl BlendPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
-        pass.set_bind_group(2, regions, &[offset]);
-        pass.dispatch_workgroups(
-            region.size[0].div_ceil(WORKGROUP),
-            region.size[1].div_ceil(WORKGROUP),
-            1,
+        for (offset, region) in regions {
+            pass.set_bind_group(2, region_group, &[*offset]);
+            pass.dispatch_workgroups(
+                region.size[0].div_ceil(WORKGROUP),
+                region.size[1].div_ceil(WORKGROUP),
+                1,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(x: u32, y: u32, w: u32, h: u32) -> Region {
+        Region {
+            origin: [x, y],
+            size: [w, h],
+        }
+    }
+
+    #[test]
+    fn groups_hold_pairwise_disjoint_regions_and_every_non_empty_one() {
+        let regions = [
+            r(0, 0, 10, 10),
+            r(5, 5, 10, 10),
+            r(10, 0, 10, 10),
+            r(0, 0, 0, 0),
+            r(12, 12, 5, 5),
+            r(0, 0, 100, 100),
+        ];
+        assert!(regions[0].overlaps(&regions[1]));
+        assert!(
+            !regions[0].overlaps(&regions[2]),
+            "touching is not overlapping"
         );
+        let groups = disjoint_groups(&regions);
+        let mut seen: Vec<usize> = groups.iter().flatten().copied().collect();
+        seen.sort();
+        assert_eq!(seen, [0, 1, 2, 4, 5]);
+        for g in &groups {
+            for (i, &a) in g.iter().enumerate() {
+                for &b in &g[i + 1..] {
+                    assert!(!regions[a].overlaps(&regions[b]), "{a} and {b}");
+                }
+            }
+        }
+        assert_eq!(groups, [vec![0, 2, 4], vec![1], vec![5]]);
     }
 }

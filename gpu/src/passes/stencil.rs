@@ -103,7 +103,7 @@ impl StencilPass {
         }
     }
 
-    /// Counts the volume triangles `range` of `vertices` (homogeneous, eye-relative) into the
+    /// Counts the volume triangles `ranges` of `vertices` (homogeneous, eye-relative) into the
     /// stencil of `depth`, keeping the depth from the pre-pass; `clear` zeroes the stencil first
     /// (per-silhouette counts).
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
@@ -112,7 +112,7 @@ impl StencilPass {
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         vertices: &wgpu::Buffer,
-        range: std::ops::Range<u32>,
+        ranges: &[std::ops::Range<u32>],
         clear: bool,
         depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
@@ -141,12 +141,11 @@ impl StencilPass {
         });
         pass.set_bind_group(0, frame, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
-        if range.is_empty() {
-            return;
-        }
         for p in [&self.back, &self.front] {
             pass.set_pipeline(p);
-            pass.draw(range.clone(), 0..1);
+            for range in ranges.iter().filter(|r| !r.is_empty()) {
+                pass.draw(range.clone(), 0..1);
+            }
         }
     }
 }

@@ -169,7 +169,7 @@ impl WedgePass {
         }
     }
 
-    /// Clears `targets` to `clear` and accumulates the wedges `instances` (a range of the
+    /// Clears `targets` to `clear` and accumulates the wedges `instances` (ranges of the
     /// instance buffer `wedges`) into them, writing `output`; `stencil` (a bind group of
     /// [`WedgePass::stencil_layout`]) is needed for [`WedgeOutput::Silhouette`].
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
@@ -180,7 +180,7 @@ impl WedgePass {
         position: &wgpu::BindGroup,
         cube: &wgpu::Buffer,
         wedges: &wgpu::Buffer,
-        instances: std::ops::Range<u32>,
+        instances: &[std::ops::Range<u32>],
         output: WedgeOutput,
         targets: &[(&wgpu::TextureView, wgpu::Color)],
         stencil: Option<&wgpu::BindGroup>,
@@ -202,9 +202,6 @@ impl WedgePass {
         pass.set_bind_group(1, position, &[]);
         pass.set_vertex_buffer(0, cube.slice(..));
         pass.set_vertex_buffer(1, wedges.slice(..));
-        if instances.is_empty() {
-            return;
-        }
         match (output, stencil) {
             (WedgeOutput::Silhouette, Some(s)) => {
                 pass.set_pipeline(&self.silhouette);
@@ -212,6 +209,8 @@ impl WedgePass {
             }
             _ => pass.set_pipeline(&self.pipeline),
         }
-        pass.draw(0..36, instances);
+        for r in instances.iter().filter(|r| !r.is_empty()) {
+            pass.draw(0..36, r.clone());
+        }
     }
 }
