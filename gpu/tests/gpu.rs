@@ -219,39 +219,141 @@ fn shadow_map_techniques_render_every_fixture_lit_far_away_and_dark_in_umbrae() 
             let img = r
                 .render(&scene)
                 .unwrap_or_else(|e| panic!("{name}: {t:?}: {e}"));
-            assert_eq!(img.data.len(), truth.data.len());
-            assert!(
-                img.data.iter().all(|v| (0.0..=1.0).contains(v)),
-                "{name}: {t:?} has a value outside [0, 1]"
+            check_settled(
+                &format!("{name}: {t:?}"),
+                &img,
+                &truth,
+                &lit,
+                &dark,
+                &mut failures,
             );
-            let wrong_lit = lit.iter().filter(|&&i| img.data[i] != 1.0).count();
-            let wrong_dark = dark.iter().filter(|&&i| img.data[i] != 0.0).count();
-            let c = compare(&img, &truth).unwrap();
-            println!(
-                "{name:>18} {t:>14?}: MAE {:.4}, penumbra MAE {:.4}; V != 1 on {wrong_lit} of {} far-lit px, V != 0 on {wrong_dark} of {} umbra px",
-                c.all.mae,
-                c.penumbra.mae,
-                lit.len(),
-                dark.len()
-            );
-            if wrong_lit > 0 || wrong_dark > 0 {
-                let dir = std::env::temp_dir();
-                let _ = img.write_exr(&dir.join(format!("{name}-{t:?}-actual.exr")));
-            }
-            // A reference-lit neighbourhood is not always far from occluders: at a crease (the
-            // non-manifold book's spine) the other face is a texel away in the light map, and a
-            // shadow map filter takes it in. So up to 0.5% of the lit pixels may differ; every
-            // other fixture has none.
-            if wrong_lit as f64 > 0.005 * lit.len() as f64 {
-                failures.push(format!("{name}: {t:?} shadows {wrong_lit} far-lit pixels"));
-            }
-            if wrong_dark > 0 {
-                failures.push(format!("{name}: {t:?} lights {wrong_dark} umbra pixels"));
-            }
         }
     }
     for (t, n) in umbra_pixels {
         assert!(n > 1000, "{t}: only {n} umbra test pixels in all fixtures");
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The checks of one shadow-map render: every value in [0, 1] (a panic otherwise); V = 1 on the
+/// far-lit pixels `lit` and V = 0 on the umbra pixels `dark`, failures pushed to `failures`.
+fn check_settled(
+    label: &str,
+    img: &penumbra_geom::VisibilityImage,
+    truth: &penumbra_geom::VisibilityImage,
+    lit: &[usize],
+    dark: &[usize],
+    failures: &mut Vec<String>,
+) {
+    assert_eq!(img.data.len(), truth.data.len());
+    assert!(
+        img.data.iter().all(|v| (0.0..=1.0).contains(v)),
+        "{label} has a value outside [0, 1]"
+    );
+    let wrong_lit = lit.iter().filter(|&&i| img.data[i] != 1.0).count();
+    let wrong_dark = dark.iter().filter(|&&i| img.data[i] != 0.0).count();
+    let c = compare(img, truth).unwrap();
+    println!(
+        "{label:>36}: MAE {:.4}, penumbra MAE {:.4}; V != 1 on {wrong_lit} of {} far-lit px, V != 0 on {wrong_dark} of {} umbra px",
+        c.all.mae,
+        c.penumbra.mae,
+        lit.len(),
+        dark.len()
+    );
+    if wrong_lit > 0 || wrong_dark > 0 {
+        let file = label.replace([':', ' ', ',', '='], "_");
+        let _ = img.write_exr(&std::env::temp_dir().join(format!("{file}-actual.exr")));
+    }
+    // A reference-lit neighbourhood is not always far from occluders: at a crease (the
+    // non-manifold book's spine) the other face is a texel away in the light map, and a shadow
+    // map filter takes it in. So up to 0.5% of the lit pixels may differ; every other fixture
+    // has none.
+    if wrong_lit as f64 > 0.005 * lit.len() as f64 {
+        failures.push(format!("{label} shadows {wrong_lit} far-lit pixels"));
+    }
+    if wrong_dark > 0 {
+        failures.push(format!("{label} lights {wrong_dark} umbra pixels"));
+    }
+}
+
+/// Every option of the shadow-map techniques keeps far-lit pixels lit and umbrae dark, as the
+/// defaults do (`shadow_map_techniques_render_every_fixture_lit_far_away_and_dark_in_umbrae`),
+/// on three fixtures.
+#[test]
+fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
+    use ShadowTechnique::*;
+    use penumbra_geom::params::{GaussianVariant, TechniqueParams};
+    let Some(ctx) = context() else { return };
+    type Option = (ShadowTechnique, &'static str, fn(&mut TechniqueParams));
+    let options: [Option; 11] = [
+        (Pcf, "kernel 4", |p| p.pcf.kernel = 4),
+        (Pcf, "kernel 5", |p| p.pcf.kernel = 5),
+        (Pcss, "dithered 4 of 16", |p| p.pcss.dither = true),
+        (FractionalDisk, "no re-test", |p| {
+            p.fractional_disk.retest = false
+        }),
+        (Mdsm, "n = 1", |p| p.mdsm.depths = 1),
+        (Mdsm, "2-SM max, k = 16", |p| {
+            p.mdsm.depths = 2;
+            p.mdsm.kernel = 4;
+        }),
+        (Mdsm, "2-SM min, k = 4", |p| {
+            p.mdsm.depths = 2;
+            p.mdsm.kernel = 2;
+            p.mdsm.extra = MdsmExtra::Min;
+        }),
+        (Gaussian, "pcf", |p| {
+            p.gaussian.variant = GaussianVariant::Pcf
+        }),
+        (Gaussian, "single", |p| {
+            p.gaussian.variant = GaussianVariant::Single
+        }),
+        (Gaussian, "multi, dilation 9", |p| p.gaussian.dilation = 9),
+        (Gaussian, "multi, 3 passes of 7 taps", |p| {
+            p.gaussian.passes = 3;
+            p.gaussian.taps = 7;
+        }),
+    ];
+    let mut failures = Vec::new();
+    let mut umbra_pixels = vec![0; options.len()];
+    for (name, scene) in fixtures().into_iter().filter(|(n, _)| {
+        ["camera-in-shadow", "overlapping-quads", "sphere-over-plane"].contains(&n.as_str())
+    }) {
+        let tracer = Tracer::new(&scene);
+        let truth = reference::render(&scene, &tracer, Reference::Sampled { per_axis: 8 }, &|_| {});
+        for (k, (t, label, set)) in options.iter().enumerate() {
+            let mut scene = scene.clone();
+            scene.params.shadow_map.resolution = 512;
+            set(&mut scene.params);
+            scene.params.validate().unwrap();
+            // Dilation spreads D, and so the blur, onto lit pixels next to the hard shadow.
+            let g = &scene.params.gaussian;
+            let spread = if *t == Gaussian && g.dilation > 0 {
+                (g.dilation as i64 - 1) / 2 + screen_reach(*t, &scene.params)
+            } else {
+                0
+            };
+            let lit = settled(&truth, 1.0, 4 + spread);
+            let dark = settled(&truth, 0.0, DEEP + screen_reach(*t, &scene.params));
+            umbra_pixels[k] += dark.len();
+            let img = ShadowMapRenderer::new(&ctx, *t).render(&scene).unwrap();
+            check_settled(
+                &format!("{name}: {t:?} {label}"),
+                &img,
+                &truth,
+                &lit,
+                &dark,
+                &mut failures,
+            );
+        }
+    }
+    for (k, n) in umbra_pixels.iter().enumerate() {
+        assert!(
+            *n > 100,
+            "{:?} {}: only {n} umbra test pixels",
+            options[k].0,
+            options[k].1
+        );
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
