@@ -12,6 +12,7 @@ pub mod frame;
 pub mod passes;
 pub mod renderer;
 pub mod shadow_maps;
+pub mod timing;
 
 pub use context::{GpuContext, GpuError};
 pub use penumbra_volumes as volumes;

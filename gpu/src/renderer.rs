@@ -23,9 +23,14 @@ use crate::passes::blend::{
 use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
-    DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, bind_group, depth::DepthPass,
-    frame_layout, resolve::ResolvePass, stencil::StencilPass,
+    bind_group,
+    depth::{DepthPass, ScreenTargets},
+    frame_layout,
+    resolve::ResolvePass,
+    stencil::StencilPass,
 };
+pub use crate::timing::PassTimes;
+use crate::timing::{Pass, Timer};
 
 /// A technique the GPU renders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,43 +41,6 @@ pub enum GpuTechnique {
     Wedges,
     /// Penumbra-wedges blending: per-silhouette stencil, wedge and blend passes.
     WedgesBlend,
-}
-
-/// GPU time of each pass of one frame, from timestamp queries, in milliseconds.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct PassTimes {
-    /// Depth pre-pass.
-    pub depth: f64,
-    /// z-fail stencil pass.
-    pub stencil: f64,
-    /// Penumbra-wedge passes (0 for `hard`).
-    pub wedge: f64,
-    /// Blend passes (`wedges-blend` only).
-    pub blend: f64,
-    /// Resolve into V (the `gaussian` technique's read-out).
-    pub resolve: f64,
-    /// Light maps of the shadow-map techniques.
-    pub light_map: f64,
-    /// Their preprocessing passes (MDSM build, fractional-disk edges and propagation, Gaussian
-    /// distance map and dilation).
-    pub preprocess: f64,
-    /// Their filter passes (the V pass of `pcf`, `pcss`, `mdsm`, `fractional-disk`; the
-    /// blur passes of `gaussian`).
-    pub filter: f64,
-}
-
-impl PassTimes {
-    /// Sum of the passes.
-    pub fn total(&self) -> f64 {
-        self.depth
-            + self.stencil
-            + self.wedge
-            + self.blend
-            + self.resolve
-            + self.light_map
-            + self.preprocess
-            + self.filter
-    }
 }
 
 /// Pipelines of the GPU techniques, built once per device.
@@ -302,19 +270,9 @@ impl<'a> GpuRenderer<'a> {
         );
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
-        let depth = target(device, "depth", size, DEPTH_FORMAT, sampled);
-        let position = target(device, "position", size, POSITION_FORMAT, sampled);
-        let normal = target(device, "normal", size, NORMAL_FORMAT, att);
-        let visibility = target(
-            device,
-            "visibility",
-            size,
-            VISIBILITY_FORMAT,
-            att | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth_view = depth.create_view(&Default::default());
-        let position_view = position.create_view(&Default::default());
-        let visibility_view = visibility.create_view(&Default::default());
+        let screen = ScreenTargets::new(device, w, h);
+        let (depth, depth_view) = (&screen.depth, &screen.depth_view);
+        let (position_view, visibility_view) = (&screen.position, &screen.visibility_view);
         let single = |view: &wgpu::TextureView| {
             bind_group(
                 device,
@@ -323,38 +281,19 @@ impl<'a> GpuRenderer<'a> {
                 &[wgpu::BindingResource::TextureView(view)],
             )
         };
-        let position_group = single(&position_view);
+        let position_group = single(position_view);
 
-        // Timestamp queries: two per pass, summed per kind of pass (for `wedges-blend` at most
-        // three per occluder: its group's passes).
+        // Timestamp queries (for `wedges-blend` at most three passes per occluder: its group's).
         let blending = technique == GpuTechnique::WedgesBlend;
-        let passes = if blending {
-            2 + 4 * volumes.occluders.len()
-        } else {
-            4
-        };
-        let queries = self.ctx.timestamps.then(|| {
-            device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass times"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2 * passes as u32,
-            })
-        });
-        let mut kinds: Vec<usize> = Vec::with_capacity(passes);
-        let mut stamp = |kind: usize| {
-            let i = kinds.len() as u32;
-            kinds.push(kind);
-            queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(2 * i),
-                end_of_pass_write_index: Some(2 * i + 1),
-            })
-        };
-        const DEPTH: usize = 0;
-        const STENCIL: usize = 1;
-        const WEDGE: usize = 2;
-        const BLEND: usize = 3;
-        const RESOLVE: usize = 4;
+        let timer = Timer::new(
+            self.ctx,
+            if blending {
+                2 + 3 * volumes.occluders.len()
+            } else {
+                4
+            },
+        );
+        let stamp = |kind| timer.render(kind);
 
         let mut enc = device.create_command_encoder(&Default::default());
         self.depth.record(
@@ -362,10 +301,10 @@ impl<'a> GpuRenderer<'a> {
             &frame,
             &tri_buf,
             tris.len() as u32,
-            &position_view,
-            &normal.create_view(&Default::default()),
-            &depth_view,
-            stamp(DEPTH),
+            position_view,
+            &screen.normal,
+            depth_view,
+            stamp(Pass::Depth),
         );
         let cube = vbuf("unit cube", bytemuck::cast_slice(&unit_cube()));
         let (instances, inst_ranges) = match technique {
@@ -391,8 +330,8 @@ impl<'a> GpuRenderer<'a> {
                     &vol_buf,
                     std::slice::from_ref(&(0..vol.len() as u32)),
                     false,
-                    &depth_view,
-                    stamp(STENCIL),
+                    depth_view,
+                    stamp(Pass::Stencil),
                 );
                 occlusion_view = (technique == GpuTechnique::Wedges).then(|| {
                     let v = target(device, "occlusion", size, OCCLUSION_FORMAT, sampled)
@@ -407,7 +346,7 @@ impl<'a> GpuRenderer<'a> {
                         WedgeOutput::Additive,
                         &[(&v, wgpu::Color::TRANSPARENT)],
                         None,
-                        stamp(WEDGE),
+                        stamp(Pass::Wedge),
                     );
                     v
                 });
@@ -517,8 +456,8 @@ impl<'a> GpuRenderer<'a> {
                         &vol_buf,
                         &ranges(&vol_ranges),
                         true,
-                        &depth_view,
-                        stamp(STENCIL),
+                        depth_view,
+                        stamp(Pass::Stencil),
                     );
                     self.wedge.record(
                         &mut enc,
@@ -530,13 +469,9 @@ impl<'a> GpuRenderer<'a> {
                         WedgeOutput::Silhouette,
                         &clears,
                         Some(&stencil_group),
-                        stamp(WEDGE),
+                        stamp(Pass::Wedge),
                     );
-                    let t = stamp(BLEND).map(|t| wgpu::ComputePassTimestampWrites {
-                        query_set: t.query_set,
-                        beginning_of_pass_write_index: t.beginning_of_pass_write_index,
-                        end_of_pass_write_index: t.end_of_pass_write_index,
-                    });
+                    let t = timer.compute(Pass::Blend);
                     let blends: Vec<(u32, Region)> = group
                         .iter()
                         .map(|&o| ((o as u64 * stride) as u32, regions[o]))
@@ -559,49 +494,13 @@ impl<'a> GpuRenderer<'a> {
             &position_group,
             occlusion_group.as_ref().or(final_group.as_ref()),
             blending,
-            &visibility_view,
-            &depth_view,
-            stamp(RESOLVE),
+            visibility_view,
+            depth_view,
+            stamp(Pass::Resolve),
         );
-        let used = kinds.len() as u32;
-        let stamps = queries.as_ref().filter(|_| used > 0).map(|q| {
-            let bytes = 16 * used as u64;
-            let resolved = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pass times"),
-                size: bytes,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let read = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pass times readback"),
-                size: bytes,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            enc.resolve_query_set(q, 0..2 * used, &resolved, 0);
-            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
-            read
-        });
-        let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
-        let times = match stamps {
-            None => None,
-            Some(read) => {
-                let t = read_u64(self.ctx, &read)?;
-                let period = self.ctx.queue.get_timestamp_period() as f64 * 1e-6;
-                let mut sums = [0.0f64; 5];
-                for (i, &k) in kinds.iter().enumerate() {
-                    sums[k] += t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period;
-                }
-                Some(PassTimes {
-                    depth: sums[DEPTH],
-                    stencil: sums[STENCIL],
-                    wedge: sums[WEDGE],
-                    blend: sums[BLEND],
-                    resolve: sums[RESOLVE],
-                    ..Default::default()
-                })
-            }
-        };
+        let stamps = timer.resolve(device, &mut enc);
+        let data = read_r32f(self.ctx, &mut enc, &screen.visibility, w, h)?;
+        let times = stamps.map(|s| s.read(self.ctx)).transpose()?;
         Ok((
             VisibilityImage {
                 width: w,

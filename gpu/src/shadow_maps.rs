@@ -17,10 +17,12 @@ use crate::passes::fullscreen::{
     shadow_layout, shadow_shader,
 };
 use crate::passes::{
-    DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT, bind_group, depth::DepthPass,
+    VISIBILITY_FORMAT, bind_group,
+    depth::{DepthPass, ScreenTargets},
     frame_layout,
 };
-use crate::renderer::{PassTimes, read_r32f, read_u64, target};
+use crate::renderer::{read_r32f, target};
+use crate::timing::{Pass as Kind, PassTimes, Timer};
 
 /// A shadow-map technique.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -344,16 +346,6 @@ pub fn uniforms(
     u
 }
 
-/// Which passes' times a pass adds to.
-#[derive(Clone, Copy)]
-enum Kind {
-    Depth,
-    LightMap,
-    Preprocess,
-    Filter,
-    Resolve,
-}
-
 /// The pipelines of one shadow-map technique, built once per device.
 pub struct ShadowMapRenderer<'a> {
     ctx: &'a GpuContext,
@@ -421,6 +413,35 @@ fn texture(
         },
         format,
         usage,
+    )
+}
+
+/// A 2D texture of `size` texels filled with `data` (rows of texels, no padding), to be sampled.
+fn upload(
+    ctx: &GpuContext,
+    label: &str,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
+    data: &[u8],
+) -> wgpu::Texture {
+    ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        Default::default(),
+        data,
     )
 }
 
@@ -543,19 +564,15 @@ impl<'a> ShadowMapRenderer<'a> {
         let screen = (w, h);
         let res = params.shadow_map.resolution;
         let map_size = (res, res);
-        let depth = texture(device, "depth", screen, DEPTH_FORMAT, att);
-        let position = texture(device, "position", screen, POSITION_FORMAT, sampled);
-        let normal = texture(device, "normal", screen, NORMAL_FORMAT, sampled);
-        let visibility = texture(
+        let targets = ScreenTargets::new(device, w, h);
+        let (position_view, normal_view) = (&targets.position, &targets.normal);
+        let dummy_view = view(&texture(
             device,
-            "visibility",
-            screen,
-            VISIBILITY_FORMAT,
-            att | wgpu::TextureUsages::COPY_SRC,
-        );
-        let dummy = texture(device, "unused", (1, 1), LIGHT_MAP_FORMAT, sampled);
-        let (position_view, normal_view, dummy_view) =
-            (view(&position), view(&normal), view(&dummy));
+            "unused",
+            (1, 1),
+            LIGHT_MAP_FORMAT,
+            sampled,
+        ));
         let light_depth = texture(device, "light depth", map_size, LIGHT_DEPTH_FORMAT, att);
         let light_depth_view = view(&light_depth);
         let map = texture(device, "light map", map_size, LIGHT_MAP_FORMAT, sampled);
@@ -564,8 +581,8 @@ impl<'a> ShadowMapRenderer<'a> {
         let inputs = |buffer: &wgpu::Buffer, images: &[&wgpu::TextureView]| {
             let mut r = vec![
                 buffer.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&position_view),
-                wgpu::BindingResource::TextureView(&normal_view),
+                wgpu::BindingResource::TextureView(position_view),
+                wgpu::BindingResource::TextureView(normal_view),
             ];
             for i in 0..INPUT_IMAGES {
                 r.push(wgpu::BindingResource::TextureView(
@@ -575,25 +592,12 @@ impl<'a> ShadowMapRenderer<'a> {
             bind_group(device, "shadow inputs", &self.shadow_layout, &r)
         };
 
-        // Timestamp queries: two per pass.
-        let passes = 8 + params.fractional_disk.passes as usize + params.gaussian.passes as usize;
-        let queries = self.ctx.timestamps.then(|| {
-            device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass times"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2 * passes as u32,
-            })
-        });
-        let mut kinds: Vec<Kind> = Vec::with_capacity(passes);
-        let mut stamp = |kind: Kind| {
-            let i = kinds.len() as u32;
-            kinds.push(kind);
-            queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(2 * i),
-                end_of_pass_write_index: Some(2 * i + 1),
-            })
-        };
+        // Timestamp queries.
+        let timer = Timer::new(
+            self.ctx,
+            8 + params.fractional_disk.passes as usize + params.gaussian.passes as usize,
+        );
+        let stamp = |kind| timer.render(kind);
 
         let mut enc = device.create_command_encoder(&Default::default());
         let tri_buf = vbuf("scene triangles", &tris);
@@ -602,9 +606,9 @@ impl<'a> ShadowMapRenderer<'a> {
             &frame,
             &tri_buf,
             tris.len() as u32,
-            &position_view,
-            &normal_view,
-            &view(&depth),
+            position_view,
+            normal_view,
+            &targets.depth_view,
             stamp(Kind::Depth),
         );
         let base_group = inputs(&base_buf, &[]);
@@ -625,7 +629,7 @@ impl<'a> ShadowMapRenderer<'a> {
             &light_depth_view,
             stamp(Kind::LightMap),
         );
-        let vis_view = view(&visibility);
+        let vis_view = &targets.visibility_view;
         let rgba = wgpu::TextureFormat::Rgba32Float;
         let mut keep: Vec<wgpu::Buffer> = Vec::new();
         match self.technique {
@@ -639,7 +643,7 @@ impl<'a> ShadowMapRenderer<'a> {
                     &mut enc,
                     &frame,
                     &inputs(&base_buf, &[&map_view]),
-                    &vis_view,
+                    vis_view,
                     stamp(Kind::Filter),
                 );
             }
@@ -656,7 +660,7 @@ impl<'a> ShadowMapRenderer<'a> {
                     &mut enc,
                     &frame,
                     &inputs(&base_buf, &[&map_view, &multi]),
-                    &vis_view,
+                    vis_view,
                     stamp(Kind::Filter),
                 );
             }
@@ -682,30 +686,18 @@ impl<'a> ShadowMapRenderer<'a> {
                         stamp(Kind::Preprocess),
                     );
                 }
-                let noise = device.create_texture_with_data(
-                    &self.ctx.queue,
-                    &wgpu::TextureDescriptor {
-                        label: Some("noise"),
-                        size: wgpu::Extent3d {
-                            width: NOISE_SIZE as u32,
-                            height: NOISE_SIZE as u32,
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format: rgba,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    },
-                    Default::default(),
+                let noise = upload(
+                    self.ctx,
+                    "noise",
+                    (NOISE_SIZE as u32, NOISE_SIZE as u32),
+                    rgba,
                     bytemuck::cast_slice(&noise_map()),
                 );
                 self.pass("fs_fractional_disk").record(
                     &mut enc,
                     &frame,
                     &inputs(&base_buf, &[&map_view, &ping[n % 2], &view(&noise)]),
-                    &vis_view,
+                    vis_view,
                     stamp(Kind::Filter),
                 );
             }
@@ -723,11 +715,11 @@ impl<'a> ShadowMapRenderer<'a> {
                 );
                 let g = &params.gaussian;
                 let mut cur = 0;
-                let mut run = |enc: &mut wgpu::CommandEncoder,
-                               entry: &str,
-                               buf: &wgpu::Buffer,
-                               kind: Kind,
-                               cur: &mut usize| {
+                let run = |enc: &mut wgpu::CommandEncoder,
+                           entry: &str,
+                           buf: &wgpu::Buffer,
+                           kind: Kind,
+                           cur: &mut usize| {
                     self.pass(entry).record(
                         enc,
                         &frame,
@@ -781,52 +773,16 @@ impl<'a> ShadowMapRenderer<'a> {
                     &mut enc,
                     &frame,
                     &inputs(&base_buf, &[&map_view, &ping[cur]]),
-                    &vis_view,
+                    vis_view,
                     stamp(Kind::Resolve),
                 );
             }
         }
 
-        let used = kinds.len() as u32;
-        let stamps = queries.as_ref().map(|q| {
-            let bytes = 16 * used as u64;
-            let resolved = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pass times"),
-                size: bytes,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let read = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pass times readback"),
-                size: bytes,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            enc.resolve_query_set(q, 0..2 * used, &resolved, 0);
-            enc.copy_buffer_to_buffer(&resolved, 0, &read, 0, bytes);
-            read
-        });
-        let data = read_r32f(self.ctx, &mut enc, &visibility, w, h)?;
+        let stamps = timer.resolve(device, &mut enc);
+        let data = read_r32f(self.ctx, &mut enc, &targets.visibility, w, h)?;
         drop(keep);
-        let times = match stamps {
-            None => None,
-            Some(read) => {
-                let t = read_u64(self.ctx, &read)?;
-                let period = self.ctx.queue.get_timestamp_period() as f64 * 1e-6;
-                let mut times = PassTimes::default();
-                for (i, k) in kinds.iter().enumerate() {
-                    let ms = t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period;
-                    *match k {
-                        Kind::Depth => &mut times.depth,
-                        Kind::LightMap => &mut times.light_map,
-                        Kind::Preprocess => &mut times.preprocess,
-                        Kind::Filter => &mut times.filter,
-                        Kind::Resolve => &mut times.resolve,
-                    } += ms;
-                }
-                Some(times)
-            }
-        };
+        let times = stamps.map(|s| s.read(self.ctx)).transpose()?;
         Ok((
             VisibilityImage {
                 width: w,
@@ -851,23 +807,11 @@ impl<'a> ShadowMapRenderer<'a> {
         let device = &self.ctx.device;
         let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let map_size = (base.map[0] as u32, base.map[1] as u32);
-        let base_map = device.create_texture_with_data(
-            &self.ctx.queue,
-            &wgpu::TextureDescriptor {
-                label: Some("probe map"),
-                size: wgpu::Extent3d {
-                    width: map_size.0,
-                    height: map_size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: LIGHT_MAP_FORMAT,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            Default::default(),
+        let base_map = upload(
+            self.ctx,
+            "probe map",
+            map_size,
+            LIGHT_MAP_FORMAT,
             bytemuck::cast_slice(map),
         );
         let base_view = view(&base_map);

@@ -1,6 +1,6 @@
 //! Depth pre-pass: drives `shaders/depth.wgsl`.
 
-use super::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT};
+use super::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT};
 
 /// The depth pre-pass pipeline.
 pub struct DepthPass {
@@ -92,5 +92,62 @@ impl DepthPass {
         pass.set_bind_group(0, frame, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.draw(0..vertex_count, 0..1);
+    }
+}
+
+/// The camera-resolution targets every technique shares: the depth pre-pass's depth-stencil,
+/// positions and normals (all sampled by later passes) and the `R32Float` visibility that is read
+/// back.
+pub struct ScreenTargets {
+    /// Depth and stencil (`DEPTH_FORMAT`).
+    pub depth: wgpu::Texture,
+    /// View of all of `depth`.
+    pub depth_view: wgpu::TextureView,
+    /// Eye-relative positions (`POSITION_FORMAT`).
+    pub position: wgpu::TextureView,
+    /// Normals (`NORMAL_FORMAT`).
+    pub normal: wgpu::TextureView,
+    /// V (`VISIBILITY_FORMAT`), copyable.
+    pub visibility: wgpu::Texture,
+    /// View of `visibility`.
+    pub visibility_view: wgpu::TextureView,
+}
+
+impl ScreenTargets {
+    /// Targets of `width x height` pixels.
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+        let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
+        let make = |label, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let depth = make("depth", DEPTH_FORMAT, sampled);
+        let visibility = make(
+            "visibility",
+            VISIBILITY_FORMAT,
+            att | wgpu::TextureUsages::COPY_SRC,
+        );
+        ScreenTargets {
+            depth_view: view(&depth),
+            position: view(&make("position", POSITION_FORMAT, sampled)),
+            normal: view(&make("normal", NORMAL_FORMAT, sampled)),
+            visibility_view: view(&visibility),
+            depth,
+            visibility,
+        }
     }
 }

@@ -74,11 +74,9 @@ fn noise(t: vec2<u32>) -> vec4<f32> {
 @fragment
 fn fs_fractional_disk(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let r = receiver(vec2<i32>(pixel.xy));
-    if (r.kind != 1u) {
-        return vec4<f32>(select(0.0, 1.0, r.kind == 0u), 0.0, 0.0, 0.0);
-    }
-    if (!inside_map(r.uv)) {
-        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    let settled = settled_v(r);
+    if (settled >= 0.0) {
+        return vec4<f32>(settled, 0.0, 0.0, 0.0);
     }
     let zp = r.l.z;
     let c = textureLoad(map1, texel_of(r.uv), 0);

@@ -52,21 +52,12 @@ fn mdsm_load(t: vec2<i32>) -> vec4<f32> {
     return textureLoad(map1, clamp(t, vec2<i32>(0), size - 1), 0);
 }
 
-fn footprint_origin(t: vec2<f32>, kernel: i32) -> vec2<i32> {
-    if (kernel % 2 == 0) {
-        return vec2<i32>(floor(t - 0.5)) - (kernel / 2 - 1);
-    }
-    return vec2<i32>(floor(t)) - (kernel - 1) / 2;
-}
-
 @fragment
 fn fs_mdsm(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let r = receiver(vec2<i32>(pixel.xy));
-    if (r.kind != 1u) {
-        return vec4<f32>(select(0.0, 1.0, r.kind == 0u), 0.0, 0.0, 0.0);
-    }
-    if (!inside_map(r.uv)) {
-        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    let settled = settled_v(r);
+    if (settled >= 0.0) {
+        return vec4<f32>(settled, 0.0, 0.0, 0.0);
     }
     let ks = i32(shadow.iparams.y);
     let o = footprint_origin(r.uv * map_size(), ks);

@@ -30,6 +30,7 @@ fn tap_lit(r: Receiver, uv: vec2<f32>) -> f32 {
 @fragment
 fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let r = receiver(vec2<i32>(pixel.xy));
+    // (A receiver outside the map still searches: its pyramid may reach into the map.)
     if (r.kind != 1u) {
         return vec4<f32>(select(0.0, 1.0, r.kind == 0u), 0.0, 0.0, 0.0);
     }

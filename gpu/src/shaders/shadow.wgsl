@@ -202,6 +202,27 @@ fn occlusion_threshold(r: Receiver, uv: vec2<f32>) -> f32 {
     return threshold_across(r, uv, shadow.light.w);
 }
 
+// The first texel of a kernel x kernel footprint around continuous texel coordinate t: odd
+// kernels centred on t's texel, even ones on the nearest texel corner (seed 002's PCF(k, n)).
+fn footprint_origin(t: vec2<f32>, kernel: i32) -> vec2<i32> {
+    if (kernel % 2 == 0) {
+        return vec2<i32>(floor(t - 0.5)) - (kernel / 2 - 1);
+    }
+    return vec2<i32>(floor(t)) - (kernel - 1) / 2;
+}
+
+// V where the map has no say: 1 where nothing was hit or outside the map, 0 behind the light's
+// plane (and on closed meshes facing away from the light); -1 where the technique decides.
+fn settled_v(r: Receiver) -> f32 {
+    if (r.kind == 0u) {
+        return 1.0;
+    }
+    if (r.kind == 2u) {
+        return 0.0;
+    }
+    return select(1.0, -1.0, inside_map(r.uv));
+}
+
 // Fullscreen vertex stage of every pass of these techniques.
 @vertex
 fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
