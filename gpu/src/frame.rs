@@ -3,7 +3,7 @@
 //! that precision does not depend on where the scene sits in the world.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{DMat4, DVec4, Mat4};
+use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
 use penumbra_geom::Scene;
 
 /// Near plane of the camera's projection, relative to the scene's size.
@@ -83,4 +83,37 @@ impl FrameUniforms {
             ],
         }
     }
+}
+
+/// The vertices of `triangles` relative to `eye`, in `f32`.
+pub fn eye_relative(eye: DVec3, triangles: &[[DVec3; 3]]) -> Vec<[f32; 3]> {
+    triangles
+        .iter()
+        .flatten()
+        .map(|&v| (v - eye).as_vec3().to_array())
+        .collect()
+}
+
+/// The radius around the eye that holds every eye-relative vertex of `vertices` (at least 1e-3),
+/// for [`FrameUniforms::new`].
+pub fn scene_radius(vertices: &[[f32; 3]]) -> f64 {
+    vertices
+        .iter()
+        .map(|v| Vec3::from(*v).length() as f64)
+        .fold(1e-3, f64::max)
+}
+
+/// The bind group of `uniforms` in `layout` (`passes::frame_layout`); it keeps its buffer alive.
+pub fn frame_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    uniforms: &FrameUniforms,
+) -> wgpu::BindGroup {
+    use wgpu::util::DeviceExt;
+    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("frame"),
+        contents: bytemuck::bytes_of(uniforms),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    crate::passes::bind_group(device, "frame", layout, &[buffer.as_entire_binding()])
 }

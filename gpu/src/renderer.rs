@@ -16,7 +16,7 @@ use penumbra_volumes::shadow_volume::VolumeVertex;
 use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
-use crate::frame::{FrameUniforms, view_proj_f64};
+use crate::frame::{FrameUniforms, eye_relative, frame_group, scene_radius, view_proj_f64};
 use crate::passes::blend::{
     BlendPass, FINAL_WORDS, Region, SILHOUETTE_ADDED, SILHOUETTE_FORMATS, disjoint_groups,
 };
@@ -28,6 +28,7 @@ use crate::passes::{
     frame_layout,
     resolve::ResolvePass,
     stencil::StencilPass,
+    texture,
 };
 pub use crate::timing::PassTimes;
 use crate::timing::{Pass, Timer};
@@ -130,25 +131,6 @@ pub fn screen_region(scene: &Scene, view_proj: &DMat4, lo: DVec3, hi: DVec3) -> 
     }
 }
 
-pub(crate) fn target(
-    device: &wgpu::Device,
-    label: &str,
-    size: wgpu::Extent3d,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
-
 /// Scene triangles (eye-relative), volume triangles (homogeneous) and each occluder's range of
 /// the latter.
 pub type VertexData = (Vec<[f32; 3]>, Vec<[f32; 4]>, Vec<std::ops::Range<u32>>);
@@ -158,11 +140,7 @@ pub type VertexData = (Vec<[f32; 3]>, Vec<[f32; 4]>, Vec<std::ops::Range<u32>>);
 pub fn vertex_data(scene: &Scene, triangles: &[[DVec3; 3]], volumes: &Volumes) -> VertexData {
     let eye = scene.camera.eye;
     let c = scene.light.center;
-    let tris: Vec<[f32; 3]> = triangles
-        .iter()
-        .flatten()
-        .map(|&v| (v - eye).as_vec3().to_array())
-        .collect();
+    let tris = eye_relative(eye, triangles);
     let mut vol = Vec::new();
     let mut ranges = Vec::with_capacity(volumes.occluders.len());
     for o in &volumes.occluders {
@@ -220,29 +198,14 @@ impl<'a> GpuRenderer<'a> {
     ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
         let device = &self.ctx.device;
         let (w, h) = (scene.camera.width, scene.camera.height);
-        let size = wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        };
         let world = scene.triangles();
         let (tris, vol, vol_ranges) = vertex_data(scene, &world, volumes);
-        let radius = tris
-            .iter()
-            .map(|v| glam::Vec3::from(*v).length() as f64)
-            .fold(1e-3, f64::max);
-        let uniforms = FrameUniforms::new(scene, radius);
+        let radius = scene_radius(&tris);
         let camera = view_proj_f64(scene, radius);
-        let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame"),
-            contents: bytemuck::bytes_of(&uniforms),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let frame = bind_group(
+        let frame = frame_group(
             device,
-            "frame",
             &self.frame_layout,
-            &[frame_buf.as_entire_binding()],
+            &FrameUniforms::new(scene, radius),
         );
         let vbuf = |label, data: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -334,7 +297,7 @@ impl<'a> GpuRenderer<'a> {
                     stamp(Pass::Stencil),
                 );
                 occlusion_view = (technique == GpuTechnique::Wedges).then(|| {
-                    let v = target(device, "occlusion", size, OCCLUSION_FORMAT, sampled)
+                    let v = texture(device, "occlusion", (w, h), OCCLUSION_FORMAT, sampled)
                         .create_view(&Default::default());
                     self.wedge.record(
                         &mut enc,
@@ -358,7 +321,7 @@ impl<'a> GpuRenderer<'a> {
                 let sil: Vec<wgpu::TextureView> = SILHOUETTE_FORMATS
                     .iter()
                     .map(|&f| {
-                        target(device, "silhouette", size, f, sampled)
+                        texture(device, "silhouette", (w, h), f, sampled)
                             .create_view(&Default::default())
                     })
                     .collect();
@@ -498,18 +461,30 @@ impl<'a> GpuRenderer<'a> {
             depth_view,
             stamp(Pass::Resolve),
         );
-        let stamps = timer.resolve(device, &mut enc);
-        let data = read_r32f(self.ctx, &mut enc, &screen.visibility, w, h)?;
-        let times = stamps.map(|s| s.read(self.ctx)).transpose()?;
-        Ok((
-            VisibilityImage {
-                width: w,
-                height: h,
-                data,
-            },
-            times,
-        ))
+        read_frame(self.ctx, enc, &timer, &screen.visibility)
     }
+}
+
+/// Submits a frame's commands `enc` and reads back its V from `visibility` (`R32Float`), with
+/// the pass times of `timer` where the device has timestamp queries.
+pub(crate) fn read_frame(
+    ctx: &GpuContext,
+    mut enc: wgpu::CommandEncoder,
+    timer: &Timer,
+    visibility: &wgpu::Texture,
+) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+    let (width, height) = (visibility.width(), visibility.height());
+    let stamps = timer.resolve(&ctx.device, &mut enc);
+    let data = read_r32f(ctx, &mut enc, visibility, width, height)?;
+    let times = stamps.map(|s| s.read(ctx)).transpose()?;
+    Ok((
+        VisibilityImage {
+            width,
+            height,
+            data,
+        },
+        times,
+    ))
 }
 
 /// Copies an `R32Float` texture into a buffer, submits `enc` and waits for the values.

@@ -11,7 +11,7 @@ use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
-use crate::frame::FrameUniforms;
+use crate::frame::{FrameUniforms, eye_relative, frame_group, scene_radius};
 use crate::passes::fullscreen::{
     FullscreenPass, INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT, LightMapPass,
     shadow_layout, shadow_shader,
@@ -19,9 +19,9 @@ use crate::passes::fullscreen::{
 use crate::passes::{
     VISIBILITY_FORMAT, bind_group,
     depth::{DepthPass, ScreenTargets},
-    frame_layout,
+    frame_layout, texture, texture_descriptor, view,
 };
-use crate::renderer::{read_r32f, target};
+use crate::renderer::{read_frame, read_r32f};
 use crate::timing::{Pass as Kind, PassTimes, Timer};
 
 /// A shadow-map technique.
@@ -170,17 +170,17 @@ pub fn closed_first(scene: &Scene) -> (Vec<[DVec3; 3]>, usize) {
     (closed, n)
 }
 
-/// The triangles of `scene` that the back-face ("second-depth") map of `fractional-disk` draws
-/// (seed 000, "Shadow map generation": "we render only polygons facing away from the light"):
-/// those of closed, consistently oriented meshes whose outward normal points away from the
-/// light's centre, and every triangle of the other meshes, which occlude from both sides.
-pub fn back_faces(scene: &Scene) -> Vec<[DVec3; 3]> {
-    let c = scene.light.center;
-    let (tris, closed) = closed_first(scene);
-    tris.into_iter()
+/// The triangles that the back-face ("second-depth") map of `fractional-disk` draws (seed 000,
+/// "Shadow map generation": "we render only polygons facing away from the light"), of
+/// `triangles` and `closed` as [`closed_first`] gives them: those of closed meshes whose outward
+/// normal points away from the light's centre `c`, and every triangle of the other meshes, which
+/// occlude from both sides.
+pub fn back_faces(c: DVec3, triangles: &[[DVec3; 3]], closed: usize) -> Vec<[DVec3; 3]> {
+    triangles
+        .iter()
         .enumerate()
         .filter(|(i, t)| *i >= closed || (t[1] - t[0]).cross(t[2] - t[0]).dot(t[0] - c) > 0.0)
-        .map(|(_, t)| t)
+        .map(|(_, t)| *t)
         .collect()
 }
 
@@ -395,58 +395,20 @@ fn technique_passes(
     }
 }
 
-/// A 2D texture of `size` texels.
-fn texture(
-    device: &wgpu::Device,
-    label: &str,
-    (w, h): (u32, u32),
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    target(
-        device,
-        label,
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        format,
-        usage,
-    )
-}
-
 /// A 2D texture of `size` texels filled with `data` (rows of texels, no padding), to be sampled.
 fn upload(
     ctx: &GpuContext,
     label: &str,
-    (w, h): (u32, u32),
+    size: (u32, u32),
     format: wgpu::TextureFormat,
     data: &[u8],
 ) -> wgpu::Texture {
     ctx.device.create_texture_with_data(
         &ctx.queue,
-        &wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
+        &texture_descriptor(label, size, format, wgpu::TextureUsages::TEXTURE_BINDING),
         Default::default(),
         data,
     )
-}
-
-fn view(t: &wgpu::Texture) -> wgpu::TextureView {
-    t.create_view(&Default::default())
 }
 
 impl<'a> ShadowMapRenderer<'a> {
@@ -508,30 +470,15 @@ impl<'a> ShadowMapRenderer<'a> {
         let (w, h) = (scene.camera.width, scene.camera.height);
         let (world, closed) = closed_first(scene);
         let eye = scene.camera.eye;
-        let rel = |ts: &[[DVec3; 3]]| -> Vec<[f32; 3]> {
-            ts.iter()
-                .flatten()
-                .map(|&v| (v - eye).as_vec3().to_array())
-                .collect()
-        };
-        let tris = rel(&world);
-        let radius = tris
-            .iter()
-            .map(|v| glam::Vec3::from(*v).length() as f64)
-            .fold(1e-3, f64::max);
-        let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame"),
-            contents: bytemuck::bytes_of(&FrameUniforms {
+        let tris = eye_relative(eye, &world);
+        let radius = scene_radius(&tris);
+        let frame = frame_group(
+            device,
+            &self.frame_layout,
+            &FrameUniforms {
                 size: [w as f32, h as f32, 3.0 * closed as f32, 0.0],
                 ..FrameUniforms::new(scene, radius)
-            }),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let frame = bind_group(
-            device,
-            "frame",
-            &self.frame_layout,
-            &[frame_buf.as_entire_binding()],
+            },
         );
         // Nothing in front of the light: a frustum that no receiver falls in (every receiver is
         // then behind the light's plane, V = 0, or lit).
@@ -614,7 +561,7 @@ impl<'a> ShadowMapRenderer<'a> {
         let base_group = inputs(&base_buf, &[]);
         // The light map: every triangle, or the back faces for fractional-disk.
         let casters = if self.technique == ShadowTechnique::FractionalDisk {
-            rel(&back_faces(scene))
+            eye_relative(eye, &back_faces(scene.light.center, &world, closed))
         } else {
             tris.clone()
         };
@@ -779,18 +726,9 @@ impl<'a> ShadowMapRenderer<'a> {
             }
         }
 
-        let stamps = timer.resolve(device, &mut enc);
-        let data = read_r32f(self.ctx, &mut enc, &targets.visibility, w, h)?;
+        let frame = read_frame(self.ctx, enc, &timer, &targets.visibility);
         drop(keep);
-        let times = stamps.map(|s| s.read(self.ctx)).transpose()?;
-        Ok((
-            VisibilityImage {
-                width: w,
-                height: h,
-                data,
-            },
-            times,
-        ))
+        frame
     }
 
     /// Runs probe pass `entry` (`fs_probe` of `mdsm`, `fs_probe_count` of `fractional-disk`)
@@ -828,17 +766,7 @@ impl<'a> ShadowMapRenderer<'a> {
             usage: wgpu::BufferUsages::UNIFORM,
         });
         // The frame is unused by the probes but part of the layout.
-        let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame"),
-            contents: &[0u8; std::mem::size_of::<FrameUniforms>()],
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let frame = bind_group(
-            device,
-            "frame",
-            &self.frame_layout,
-            &[frame_buf.as_entire_binding()],
-        );
+        let frame = frame_group(device, &self.frame_layout, &FrameUniforms::zeroed());
         let group = |images: [&wgpu::TextureView; 3]| {
             let mut r = vec![
                 buf.as_entire_binding(),
@@ -997,7 +925,8 @@ mod tests {
             "/../fixtures/scenes/sphere-over-plane.toml"
         )))
         .unwrap();
-        let back = back_faces(&scene);
+        let (tris, closed) = closed_first(&scene);
+        let back = back_faces(scene.light.center, &tris, closed);
         let ground = scene.meshes[0].mesh.triangles.len();
         let sphere = scene.meshes[1].mesh.triangles.len();
         // The whole ground, and about half of the sphere: the half away from the light.

@@ -16,40 +16,15 @@ impl DepthPass {
             bind_group_layouts: &[Some(frame_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("depth"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(POSITION_FORMAT.into()), Some(NORMAL_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::triangle_pipeline(
+            device,
+            "depth",
+            &layout,
+            &module,
+            ("vs", "fs"),
+            DEPTH_FORMAT,
+            &[POSITION_FORMAT, NORMAL_FORMAT],
+        );
         DepthPass { pipeline }
     }
 
@@ -118,23 +93,9 @@ impl ScreenTargets {
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
-        let make = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let make =
+            |label, format, usage| super::texture(device, label, (width, height), format, usage);
+        let view = super::view;
         let depth = make("depth", DEPTH_FORMAT, sampled);
         let visibility = make(
             "visibility",

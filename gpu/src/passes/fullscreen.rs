@@ -126,40 +126,15 @@ impl LightMapPass {
             "light map",
             include_str!("../shaders/light_map.wgsl"),
         );
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("light map"),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_light"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: LIGHT_DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_light"),
-                compilation_options: Default::default(),
-                targets: &[Some(LIGHT_MAP_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::triangle_pipeline(
+            device,
+            "light map",
+            layout,
+            &module,
+            ("vs_light", "fs_light"),
+            LIGHT_DEPTH_FORMAT,
+            &[LIGHT_MAP_FORMAT],
+        );
         LightMapPass { pipeline }
     }
 
