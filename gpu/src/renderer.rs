@@ -2,7 +2,7 @@
 //! `wedges` (additive): the same, plus the wedge pass of every silhouette edge before the resolve.
 //! `wedges-blend`: the depth pre-pass, then seed 004's "per-silhouette 3 passes algorithm" for
 //! each occluder (stencil pass of its volume, wedge pass of its edges into a silhouette buffer,
-//! blend of that buffer into the final one), then the resolve. Occluders whose screen regions
+//! blend of that buffer into the final one), then the resolve. Occluders whose screen tiles
 //! are disjoint share those three passes (`passes::blend::disjoint_groups`): their silhouette
 //! buffers cannot meet.
 
@@ -18,7 +18,8 @@ use wgpu::util::DeviceExt;
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameUniforms, eye_relative, frame_group, scene_radius, view_proj_f64};
 use crate::passes::blend::{
-    BlendPass, FINAL_WORDS, Region, SILHOUETTE_ADDED, SILHOUETTE_FORMATS, disjoint_groups,
+    BlendPass, FINAL_WORDS, SILHOUETTE_ADDED, SILHOUETTE_FORMATS, TileMask, TileRange,
+    disjoint_groups,
 };
 use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
@@ -89,46 +90,102 @@ pub fn wedge_instances(
     (out, ranges)
 }
 
-/// The screen rectangle of `scene`'s camera that holds every pixel whose receiver lies in the
-/// light-space box `[lo, hi]` (the whole image when a corner of the box is not in front of the
-/// camera). `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
-pub fn screen_region(scene: &Scene, view_proj: &DMat4, lo: DVec3, hi: DVec3) -> Region {
+/// Triangles per receiver cluster of [`receiver_clusters`].
+pub const CLUSTER_TRIANGLES: usize = 16;
+
+/// Light-space bounding boxes of runs of [`CLUSTER_TRIANGLES`] consecutive scene triangles
+/// (world space): the receivers, coarsely, for [`screen_tiles`]. A mesh's triangles are stored
+/// together, so a run is mostly one patch of one surface.
+pub fn receiver_clusters(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<(DVec3, DVec3)> {
+    triangles
+        .chunks(CLUSTER_TRIANGLES)
+        .map(|run| {
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for v in run.iter().flatten() {
+                let l = light.to_light_space(*v);
+                lo = lo.min(l);
+                hi = hi.max(l);
+            }
+            (lo, hi)
+        })
+        .collect()
+}
+
+/// The screen tiles of `scene`'s camera that hold every pixel whose receiver lies in the
+/// light-space box `[lo, hi]`: those of the projections of that box's intersections with the
+/// receiver `clusters` ([`receiver_clusters`]; a receiver point in the box lies in one of them),
+/// none when none meets it, and every tile when a corner to project is not in front of the
+/// camera. `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
+pub fn screen_tiles(
+    scene: &Scene,
+    view_proj: &DMat4,
+    clusters: &[(DVec3, DVec3)],
+    lo: DVec3,
+    hi: DVec3,
+) -> TileMask {
     let c = &scene.camera;
     let (w, h) = (c.width, c.height);
-    let whole = Region {
-        origin: [0, 0],
-        size: [w, h],
-    };
-    let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for i in 0..8 {
-        let l = DVec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        );
-        let v = scene.light.from_light_space(l) - c.eye;
-        let clip = *view_proj * v.extend(1.0);
-        if !(clip.w > 1e-9 * v.length()) {
-            return whole;
+    let mut mask = TileMask::new(w, h);
+    for &(clo, chi) in clusters {
+        let (lo, hi) = (lo.max(clo), hi.min(chi));
+        if !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
+            continue;
         }
-        let ndc = clip.truncate().truncate() / clip.w;
-        // Pixels, y down.
-        let p = DVec2::new(
-            (ndc.x + 1.0) * 0.5 * w as f64,
-            (1.0 - ndc.y) * 0.5 * h as f64,
-        );
-        min = min.min(p);
-        max = max.max(p);
+        let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        for i in 0..8 {
+            let l = DVec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let v = scene.light.from_light_space(l) - c.eye;
+            let clip = *view_proj * v.extend(1.0);
+            if !(clip.w > 1e-9 * v.length()) {
+                mask.fill();
+                return mask;
+            }
+            let ndc = clip.truncate().truncate() / clip.w;
+            // Pixels, y down.
+            let p = DVec2::new(
+                (ndc.x + 1.0) * 0.5 * w as f64,
+                (1.0 - ndc.y) * 0.5 * h as f64,
+            );
+            min = min.min(p);
+            max = max.max(p);
+        }
+        // One pixel of margin for rasterisation at the box's border.
+        let x0 = (min.x - 1.0).floor().clamp(0.0, w as f64) as u32;
+        let y0 = (min.y - 1.0).floor().clamp(0.0, h as f64) as u32;
+        let x1 = (max.x + 1.0).ceil().clamp(0.0, w as f64) as u32;
+        let y1 = (max.y + 1.0).ceil().clamp(0.0, h as f64) as u32;
+        mask.insert_pixels(x0, y0, x1, y1);
     }
-    // One pixel of margin for rasterisation at the box's border.
-    let x0 = (min.x - 1.0).floor().clamp(0.0, w as f64) as u32;
-    let y0 = (min.y - 1.0).floor().clamp(0.0, h as f64) as u32;
-    let x1 = (max.x + 1.0).ceil().clamp(0.0, w as f64) as u32;
-    let y1 = (max.y + 1.0).ceil().clamp(0.0, h as f64) as u32;
-    Region {
-        origin: [x0, y0],
-        size: [x1.saturating_sub(x0), y1.saturating_sub(y0)],
-    }
+    mask
+}
+
+/// Each occluder's screen tiles ([`screen_tiles`]): where the receivers in the merged light-space
+/// box of its wedges `instances[ranges[o]]` ([`wedge_instances`]) project; its hard shadow lies
+/// in that box too. `world`: the scene's triangles; `view_proj`: as for [`screen_tiles`].
+pub fn occluder_tiles(
+    scene: &Scene,
+    view_proj: &DMat4,
+    world: &[[DVec3; 3]],
+    instances: &[WedgeInstance],
+    ranges: &[std::ops::Range<u32>],
+) -> Vec<TileMask> {
+    let clusters = receiver_clusters(&scene.light, world);
+    ranges
+        .iter()
+        .map(|r| {
+            let boxes = &instances[r.start as usize..r.end as usize];
+            let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
+            for b in boxes {
+                lo = lo.min(Vec4::from(b.lo).truncate());
+                hi = hi.max(Vec4::from(b.hi).truncate());
+            }
+            screen_tiles(scene, view_proj, &clusters, lo.as_dvec3(), hi.as_dvec3())
+        })
+        .collect()
 }
 
 /// Scene triangles (eye-relative), volume triangles (homogeneous) and each occluder's range of
@@ -349,45 +406,53 @@ impl<'a> GpuRenderer<'a> {
                 inputs.push(final_buffer.as_entire_binding());
                 let blend_inputs =
                     bind_group(device, "blend inputs", &self.blend.inputs_layout, &inputs);
-                // Each occluder's screen region: where the merged light-space box of its wedges
-                // (clipped to the receivers) projects. Its hard shadow lies inside that box too.
-                let stride = (std::mem::size_of::<Region>() as u64)
+                let masks = occluder_tiles(scene, &camera, &world, &instances, &inst_ranges);
+                // Occluders whose tiles are disjoint share their passes: their silhouette
+                // buffers cannot meet. No wedge reaching a receiver (no tile): neither does the
+                // occluder's shadow.
+                let groups = disjoint_groups(&masks);
+                // Each group's tiles, one list, and its range of that list for the blend.
+                let stride = (std::mem::size_of::<TileRange>() as u64)
                     .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment as u64);
-                let regions: Vec<Region> = inst_ranges
-                    .iter()
-                    .map(|r| {
-                        let boxes = &instances[r.start as usize..r.end as usize];
-                        if boxes.is_empty() {
-                            return Region::default();
-                        }
-                        let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
-                        for b in boxes {
-                            lo = lo.min(Vec4::from(b.lo).truncate());
-                            hi = hi.max(Vec4::from(b.hi).truncate());
-                        }
-                        screen_region(scene, &camera, lo.as_dvec3(), hi.as_dvec3())
-                    })
-                    .collect();
-                let mut region_bytes = vec![0u8; (stride as usize) * regions.len().max(1)];
-                for (i, r) in regions.iter().enumerate() {
+                let mut tile_list: Vec<u32> = Vec::new();
+                let mut range_bytes = vec![0u8; (stride as usize) * groups.len().max(1)];
+                for (i, (_, union)) in groups.iter().enumerate() {
+                    let tiles = union.packed_tiles();
+                    let range = TileRange {
+                        first: tile_list.len() as u32,
+                        count: tiles.len() as u32,
+                        pad: [0; 2],
+                    };
                     let at = i * stride as usize;
-                    region_bytes[at..at + std::mem::size_of::<Region>()]
-                        .copy_from_slice(bytemuck::bytes_of(r));
+                    range_bytes[at..at + std::mem::size_of::<TileRange>()]
+                        .copy_from_slice(bytemuck::bytes_of(&range));
+                    tile_list.extend(tiles);
                 }
-                let region_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("blend regions"),
-                    contents: &region_bytes,
+                if tile_list.is_empty() {
+                    tile_list.push(0);
+                }
+                let range_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("blend tile ranges"),
+                    contents: &range_bytes,
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-                let region_group = bind_group(
+                let tile_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("blend tiles"),
+                    contents: bytemuck::cast_slice(&tile_list),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+                let tile_group = bind_group(
                     device,
-                    "blend region",
-                    &self.blend.region_layout,
-                    &[wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &region_buf,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(std::mem::size_of::<Region>() as u64),
-                    })],
+                    "blend tiles",
+                    &self.blend.tiles_layout,
+                    &[
+                        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &range_buf,
+                            offset: 0,
+                            size: wgpu::BufferSize::new(std::mem::size_of::<TileRange>() as u64),
+                        }),
+                        tile_buf.as_entire_binding(),
+                    ],
                 );
                 let zero = wgpu::Color::TRANSPARENT;
                 let clears: Vec<(&wgpu::TextureView, wgpu::Color)> = sil
@@ -405,10 +470,7 @@ impl<'a> GpuRenderer<'a> {
                         )
                     })
                     .collect();
-                // Occluders whose screen regions are disjoint share their passes: their
-                // silhouette buffers cannot meet. No wedge reaching a receiver (an empty region):
-                // neither does the occluder's shadow.
-                for group in disjoint_groups(&regions) {
+                for (i, (group, union)) in groups.iter().enumerate() {
                     let ranges = |r: &[std::ops::Range<u32>]| -> Vec<std::ops::Range<u32>> {
                         group.iter().map(|&o| r[o].clone()).collect()
                     };
@@ -435,12 +497,17 @@ impl<'a> GpuRenderer<'a> {
                         stamp(Pass::Wedge),
                     );
                     let t = timer.compute(Pass::Blend);
-                    let blends: Vec<(u32, Region)> = group
-                        .iter()
-                        .map(|&o| ((o as u64 * stride) as u32, regions[o]))
-                        .collect();
-                    self.blend
-                        .record(&mut enc, &frame, &blend_inputs, &region_group, &blends, t);
+                    let offset = (i as u64 * stride) as u32;
+                    let count = union.packed_tiles().len() as u32;
+                    self.blend.record(
+                        &mut enc,
+                        &frame,
+                        &blend_inputs,
+                        &tile_group,
+                        offset,
+                        count,
+                        t,
+                    );
                 }
                 final_group = Some(bind_group(
                     device,

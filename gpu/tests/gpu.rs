@@ -7,7 +7,9 @@ use penumbra_geom::Scene;
 use penumbra_geom::image::compare;
 use penumbra_geom::params::{MdsmExtra, fractional_disk_samples};
 use penumbra_geom::reference::{self, Reference, Tracer};
+use penumbra_gpu::frame::{scene_radius, view_proj_f64};
 use penumbra_gpu::passes::fullscreen;
+use penumbra_gpu::renderer::{occluder_tiles, vertex_data, wedge_instances};
 use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
 use penumbra_gpu::{GpuContext, GpuRenderer, GpuTechnique, ShadowMapRenderer, ShadowTechnique};
 use penumbra_volumes::Volumes;
@@ -141,6 +143,48 @@ fn gpu_matches_cpu(gt: GpuTechnique, t: Technique) {
         }
         assert!(c.all.mae <= 1e-3, "{name}: MAE {}", c.all.mae);
         assert!(c.all.p99 <= 0.02, "{name}: p99 {}", c.all.p99);
+    }
+}
+
+/// Every pixel where an occluder's silhouette buffer can be non-zero (its stencil count is, or
+/// one of its wedges holds the receiver) lies in that occluder's screen tiles, which its blend
+/// covers and which no other occluder of its group shares. On the CPU: no adapter needed.
+#[test]
+fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
+    for (name, scene) in fixtures() {
+        let cpu = CpuRenderer::new(&scene);
+        let world = scene.triangles();
+        let (tris, _, _) = vertex_data(&scene, &world, &cpu.volumes);
+        let view_proj = view_proj_f64(&scene, scene_radius(&tris));
+        let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
+        let masks = occluder_tiles(&scene, &view_proj, &world, &instances, &ranges);
+        let cam = &scene.camera;
+        let (mut reached, mut tiles) = (0usize, 0usize);
+        for j in 0..cam.height {
+            for i in 0..cam.width {
+                let Some(p) = cpu.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
+                    continue;
+                };
+                let mut occluders: Vec<u32> = cpu.stencil_counts(&p).iter().map(|c| c.0).collect();
+                occluders.extend(
+                    cpu.wedges_containing(p.position)
+                        .iter()
+                        .map(|&w| cpu.volumes.wedges[w as usize].occluder),
+                );
+                for o in occluders {
+                    assert!(
+                        masks[o as usize].holds_pixel(i, j),
+                        "{name}: pixel ({i}, {j}) is reached by occluder {o} but not in its tiles"
+                    );
+                    reached += 1;
+                }
+            }
+        }
+        for m in &masks {
+            tiles += m.packed_tiles().len();
+        }
+        println!("{name:>18}: {reached} pixel-occluder pairs, {tiles} occluder tiles");
+        assert!(reached > 0, "{name}: no shadow to check");
     }
 }
 

@@ -32,51 +32,127 @@ pub fn bytes_per_pixel() -> u64 {
     silhouette + 4 * FINAL_WORDS
 }
 
-/// The screen rectangle a blend dispatch covers, in pixels (`Region` in `blend.wgsl`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct Region {
-    /// Top-left pixel.
-    pub origin: [u32; 2],
-    /// Width and height.
-    pub size: [u32; 2],
+/// Side in pixels of the square screen tiles that group the silhouettes ([`disjoint_groups`])
+/// and that the blend covers, one workgroup per tile (`TILE` in `blend.wgsl`).
+pub const TILE: u32 = 8;
+
+/// A set of the screen's [`TILE`]-pixel tiles: where one silhouette can shadow, or a group's
+/// union of those. A bit per tile, row by row.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TileMask {
+    /// Tiles across and down.
+    size: [u32; 2],
+    bits: Vec<u64>,
 }
 
-const _: () = assert!(std::mem::size_of::<Region>() == 16);
+impl TileMask {
+    /// No tile of a `width` x `height`-pixel screen.
+    pub fn new(width: u32, height: u32) -> Self {
+        let size = [width.div_ceil(TILE), height.div_ceil(TILE)];
+        let n = (size[0] as usize) * (size[1] as usize);
+        TileMask {
+            size,
+            bits: vec![0; n.div_ceil(64)],
+        }
+    }
 
-impl Region {
-    /// Whether the two regions share a pixel.
-    pub fn overlaps(&self, other: &Region) -> bool {
-        (0..2).all(|i| {
-            self.origin[i] < other.origin[i] + other.size[i]
-                && other.origin[i] < self.origin[i] + self.size[i]
-        })
+    /// Adds the tiles that hold a pixel of the rectangle `[x0, x1) x [y0, y1)` (clipped to the
+    /// screen).
+    pub fn insert_pixels(&mut self, x0: u32, y0: u32, x1: u32, y1: u32) {
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        let (tx0, ty0) = (x0 / TILE, y0 / TILE);
+        let tx1 = x1.div_ceil(TILE).min(self.size[0]);
+        let ty1 = y1.div_ceil(TILE).min(self.size[1]);
+        for ty in ty0..ty1 {
+            for tx in tx0..tx1 {
+                let i = (ty * self.size[0] + tx) as usize;
+                self.bits[i / 64] |= 1 << (i % 64);
+            }
+        }
+    }
+
+    /// Every tile.
+    pub fn fill(&mut self) {
+        self.insert_pixels(0, 0, self.size[0] * TILE, self.size[1] * TILE);
+    }
+
+    /// Whether it holds the tile of pixel `(x, y)`.
+    pub fn holds_pixel(&self, x: u32, y: u32) -> bool {
+        let (tx, ty) = (x / TILE, y / TILE);
+        if tx >= self.size[0] || ty >= self.size[1] {
+            return false;
+        }
+        let i = (ty * self.size[0] + tx) as usize;
+        self.bits[i / 64] & (1 << (i % 64)) != 0
+    }
+
+    /// Whether it holds no tile.
+    pub fn is_empty(&self) -> bool {
+        self.bits.iter().all(|&b| b == 0)
+    }
+
+    /// Whether the two share a tile.
+    pub fn meets(&self, other: &TileMask) -> bool {
+        self.bits.iter().zip(&other.bits).any(|(a, b)| a & b != 0)
+    }
+
+    /// Adds `other`'s tiles.
+    pub fn union_with(&mut self, other: &TileMask) {
+        for (a, b) in self.bits.iter_mut().zip(&other.bits) {
+            *a |= b;
+        }
+    }
+
+    /// Its tiles, row by row, as `x | y << 16` (tile coordinates), as `blend.wgsl` reads them.
+    pub fn packed_tiles(&self) -> Vec<u32> {
+        let n = self.size[0] * self.size[1];
+        (0..n)
+            .filter(|&i| self.bits[i as usize / 64] & (1 << (i % 64)) != 0)
+            .map(|i| (i % self.size[0]) | (i / self.size[0]) << 16)
+            .collect()
     }
 }
 
-/// Occluders in groups whose screen regions are pairwise disjoint (first fit, in order): their
+/// Occluders in groups whose tile masks are pairwise disjoint (first fit, in order): their
 /// silhouette buffers cannot meet, so each group's stencil, wedge and blend passes serve all of
 /// its occluders at once (seed 004's per-silhouette loop, one pass per group instead of one per
-/// silhouette). Empty regions are left out.
-pub fn disjoint_groups(regions: &[Region]) -> Vec<Vec<usize>> {
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    for (i, r) in regions.iter().enumerate() {
-        if r.size[0] == 0 || r.size[1] == 0 {
+/// silhouette). Empty masks are left out. Also each group's union of tiles, which its blend
+/// covers.
+pub fn disjoint_groups(masks: &[TileMask]) -> Vec<(Vec<usize>, TileMask)> {
+    let mut groups: Vec<(Vec<usize>, TileMask)> = Vec::new();
+    for (i, m) in masks.iter().enumerate() {
+        if m.is_empty() {
             continue;
         }
-        match groups
-            .iter_mut()
-            .find(|g| g.iter().all(|&j| !regions[j].overlaps(r)))
-        {
-            Some(g) => g.push(i),
-            None => groups.push(vec![i]),
+        match groups.iter_mut().find(|(_, union)| !union.meets(m)) {
+            Some((g, union)) => {
+                g.push(i);
+                union.union_with(m);
+            }
+            None => groups.push((vec![i], m.clone())),
         }
     }
     groups
 }
 
-/// Workgroup side of `blend.wgsl`.
-const WORKGROUP: u32 = 8;
+/// Which tiles of the list a blend dispatch covers (`TileRange` in `blend.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct TileRange {
+    /// Index of the first tile in the list.
+    pub first: u32,
+    /// Number of tiles.
+    pub count: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 2],
+}
+
+const _: () = assert!(std::mem::size_of::<TileRange>() == 16);
+
+/// Largest workgroup count along one dispatch dimension (WebGPU's default limit).
+const MAX_WORKGROUPS: u32 = 65535;
 
 /// The blend pipeline.
 pub struct BlendPass {
@@ -84,8 +160,9 @@ pub struct BlendPass {
     /// Layout of group 1: the silhouette buffer's six textures, its stencil counts and the final
     /// buffer.
     pub inputs_layout: wgpu::BindGroupLayout,
-    /// Layout of group 2: the [`Region`], with a dynamic offset.
-    pub region_layout: wgpu::BindGroupLayout,
+    /// Layout of group 2: a [`TileRange`] (with a dynamic offset) and the tile list
+    /// ([`TileMask::packed_tiles`], concatenated).
+    pub tiles_layout: wgpu::BindGroupLayout,
 }
 
 impl BlendPass {
@@ -105,22 +182,29 @@ impl BlendPass {
         });
         let compute = wgpu::ShaderStages::COMPUTE;
         let inputs_layout = super::layout(device, "blend inputs", compute, &entries);
-        let region_layout = super::layout(
+        let tiles_layout = super::layout(
             device,
-            "blend region",
+            "blend tiles",
             compute,
-            &[wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: true,
-                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<Region>() as u64),
-            }],
+            &[
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<TileRange>() as u64),
+                },
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+            ],
         );
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("blend"),
             bind_group_layouts: &[
                 Some(frame_layout),
                 Some(&inputs_layout),
-                Some(&region_layout),
+                Some(&tiles_layout),
             ],
             immediate_size: 0,
         });
@@ -135,20 +219,22 @@ impl BlendPass {
         BlendPass {
             pipeline,
             inputs_layout,
-            region_layout,
+            tiles_layout,
         }
     }
 
-    /// Blends the silhouette buffer into the final one over each of `regions`, pairs of the
-    /// dynamic offset of a [`Region`] in `region_group` and the region (`inputs`: the
-    /// silhouette buffer, its stencil counts, the final buffer). The regions must not overlap.
+    /// Blends the silhouette buffer into the final one over `count` tiles of the list in
+    /// `tiles`, from the [`TileRange`] at `offset` in it (`inputs`: the silhouette buffer, its
+    /// stencil counts, the final buffer). The tiles must be distinct.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         inputs: &wgpu::BindGroup,
-        region_group: &wgpu::BindGroup,
-        regions: &[(u32, Region)],
+        tiles: &wgpu::BindGroup,
+        offset: u32,
+        count: u32,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -158,13 +244,9 @@ impl BlendPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
-        for (offset, region) in regions {
-            pass.set_bind_group(2, region_group, &[*offset]);
-            pass.dispatch_workgroups(
-                region.size[0].div_ceil(WORKGROUP),
-                region.size[1].div_ceil(WORKGROUP),
-                1,
-            );
+        pass.set_bind_group(2, tiles, &[offset]);
+        if count > 0 {
+            pass.dispatch_workgroups(count.min(MAX_WORKGROUPS), count.div_ceil(MAX_WORKGROUPS), 1);
         }
     }
 }
@@ -173,39 +255,63 @@ impl BlendPass {
 mod tests {
     use super::*;
 
-    fn r(x: u32, y: u32, w: u32, h: u32) -> Region {
-        Region {
-            origin: [x, y],
-            size: [w, h],
+    fn mask(rects: &[[u32; 4]]) -> TileMask {
+        let mut m = TileMask::new(100, 60);
+        for r in rects {
+            m.insert_pixels(r[0], r[1], r[2], r[3]);
         }
+        m
     }
 
     #[test]
-    fn groups_hold_pairwise_disjoint_regions_and_every_non_empty_one() {
-        let regions = [
-            r(0, 0, 10, 10),
-            r(5, 5, 10, 10),
-            r(10, 0, 10, 10),
-            r(0, 0, 0, 0),
-            r(12, 12, 5, 5),
-            r(0, 0, 100, 100),
+    fn tile_masks_hold_the_tiles_their_pixels_touch() {
+        let m = mask(&[[7, 0, 9, 1]]);
+        // Pixels 7 and 8 of row 0: tiles (0, 0) and (1, 0).
+        assert_eq!(m.packed_tiles(), [0, 1]);
+        let m = mask(&[[96, 56, 200, 200]]);
+        // Clipped to the screen: 13 x 8 tiles, the last (12, 7).
+        assert_eq!(m.packed_tiles(), [12 | 7 << 16]);
+        assert!(m.holds_pixel(99, 59) && m.holds_pixel(96, 56) && !m.holds_pixel(95, 59));
+        assert!(!m.holds_pixel(104, 59), "off the screen");
+        assert!(mask(&[[5, 5, 5, 9]]).is_empty(), "no pixel");
+        let mut all = TileMask::new(100, 60);
+        all.fill();
+        assert_eq!(all.packed_tiles().len(), 13 * 8);
+        assert!(all.meets(&m) && !m.meets(&mask(&[[0, 0, 8, 8]])));
+    }
+
+    #[test]
+    fn groups_hold_pairwise_disjoint_masks_and_every_non_empty_one() {
+        let masks = [
+            mask(&[[0, 0, 10, 10]]),
+            mask(&[[9, 9, 20, 20]]),
+            // Tile (3, 0): disjoint from both.
+            mask(&[[24, 0, 30, 8]]),
+            mask(&[]),
+            // Two separate rectangles, tiles (0, 3) and (5, 0).
+            mask(&[[0, 24, 8, 32], [40, 0, 48, 8]]),
+            mask(&[[0, 0, 100, 60]]),
         ];
-        assert!(regions[0].overlaps(&regions[1]));
-        assert!(
-            !regions[0].overlaps(&regions[2]),
-            "touching is not overlapping"
-        );
-        let groups = disjoint_groups(&regions);
-        let mut seen: Vec<usize> = groups.iter().flatten().copied().collect();
+        assert!(masks[0].meets(&masks[1]));
+        let groups = disjoint_groups(&masks);
+        let mut seen: Vec<usize> = groups.iter().flat_map(|g| g.0.clone()).collect();
         seen.sort();
         assert_eq!(seen, [0, 1, 2, 4, 5]);
-        for g in &groups {
+        for (g, union) in &groups {
             for (i, &a) in g.iter().enumerate() {
+                assert!(union.meets(&masks[a]));
                 for &b in &g[i + 1..] {
-                    assert!(!regions[a].overlaps(&regions[b]), "{a} and {b}");
+                    assert!(!masks[a].meets(&masks[b]), "{a} and {b}");
                 }
             }
+            let tiles: usize = g.iter().map(|&o| masks[o].packed_tiles().len()).sum();
+            assert_eq!(
+                union.packed_tiles().len(),
+                tiles,
+                "the union of disjoint masks"
+            );
         }
-        assert_eq!(groups, [vec![0, 2, 4], vec![1], vec![5]]);
+        let members: Vec<Vec<usize>> = groups.into_iter().map(|g| g.0).collect();
+        assert_eq!(members, [vec![0, 2, 4], vec![1], vec![5]]);
     }
 }

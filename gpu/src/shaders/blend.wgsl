@@ -18,12 +18,15 @@
 // The final buffer: `FINAL_WORDS` words per pixel, row-major (`final_index`).
 @group(1) @binding(7) var<storage, read_write> final_buffer: array<u32>;
 
-// The screen rectangle to blend: origin and size in pixels.
-struct Region {
-    origin: vec2<u32>,
-    size: vec2<u32>,
+struct TileRange {
+    first: u32,
+    count: u32,
 }
-@group(2) @binding(0) var<uniform> region: Region;
+@group(2) @binding(0) var<uniform> range: TileRange;
+@group(2) @binding(1) var<storage, read> tiles: array<u32>;
+
+const TILE: u32 = 8u;
+const ROW: u32 = 65535u;
 
 // The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
 // rectangle to end at them (CPU: 2 (1 - 1e-9); the cover is summed in f16, 11 bits).
@@ -59,12 +62,20 @@ fn store_final(pixel: vec2<u32>, t: FinalTexel) {
     }
 }
 
-@compute @workgroup_size(8, 8)
-fn blend(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (any(id.xy >= region.size)) {
+@compute @workgroup_size(TILE, TILE)
+fn blend(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    let t = group.x + ROW * group.y;
+    if (t >= range.count) {
         return;
     }
-    let pixel = region.origin + id.xy;
+    let packed = tiles[range.first + t];
+    let pixel = vec2<u32>(packed & 0xffffu, packed >> 16u) * TILE + local.xy;
+    if (any(pixel >= vec2<u32>(frame.size.xy))) {
+        return;
+    }
     let px = vec2<i32>(pixel);
     let n = f32(textureLoad(stencil_count, px, 0).r);
     let sa = textureLoad(sil_area, px, 0);

@@ -94,22 +94,28 @@ fn cone_part(k: u32, u: vec2<f32>, v: vec2<f32>) -> ConePart {
     return c;
 }
 
-// The area and bounding rectangle of the part of triangle (0, p1, p2) where
-// dot(h.xy, x) + h.z >= 0 (Sutherland & Hodgman, measured while clipping: nothing is stored).
-struct Measure {
+// Triangle (0, p1, p2) split by the line dot(h.xy, x) + h.z = 0 (Sutherland & Hodgman, measured
+// while clipping: nothing is stored). Beyond (>= 0): area, bounding rectangle and vertex count;
+// near (<= 0), only when `near` is asked for: bounding rectangle and vertex count. One walk
+// round the triangle serves both sides: each crossing is a vertex of both.
+struct Split {
     area: f32,
     rect: vec4<f32>,
     n: u32,
+    near_rect: vec4<f32>,
+    near_n: u32,
 }
 
 fn triangle_vertex(i: u32, p1: vec2<f32>, p2: vec2<f32>) -> vec2<f32> {
     return select(select(p2, p1, i == 1u), vec2<f32>(0.0), i == 0u);
 }
 
-fn measure_clip(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>) -> Measure {
-    var m: Measure;
+fn split_triangle(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>, near: bool) -> Split {
+    var m: Split;
     m.n = 0u;
     m.rect = EMPTY_RECT;
+    m.near_n = 0u;
+    m.near_rect = EMPTY_RECT;
     var twice = 0.0;
     var first = vec2<f32>(0.0);
     var prev = vec2<f32>(0.0);
@@ -118,21 +124,24 @@ fn measure_clip(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>) -> Measure {
         let b = triangle_vertex((i + 1u) % 3u, p1, p2);
         let fa = dot(h.xy, a) + h.z;
         let fb = dot(h.xy, b) + h.z;
+        let crossing = a + (b - a) * (fa / (fa - fb));
         for (var e = 0u; e < 2u; e++) {
             // e = 0: the vertex a if kept; e = 1: the crossing of a-b if any.
-            let keep = select((fa >= 0.0) != (fb >= 0.0), fa >= 0.0, e == 0u);
-            if (!keep) {
-                continue;
+            let x = select(crossing, a, e == 0u);
+            if (select((fa >= 0.0) != (fb >= 0.0), fa >= 0.0, e == 0u)) {
+                if (m.n == 0u) {
+                    first = x;
+                } else {
+                    twice += cross2(prev, x);
+                }
+                prev = x;
+                m.rect = vec4<f32>(min(m.rect.xy, x), max(m.rect.zw, x));
+                m.n += 1u;
             }
-            let x = select(a + (b - a) * (fa / (fa - fb)), a, e == 0u);
-            if (m.n == 0u) {
-                first = x;
-            } else {
-                twice += cross2(prev, x);
+            if (near && select((fa <= 0.0) != (fb <= 0.0), fa <= 0.0, e == 0u)) {
+                m.near_rect = vec4<f32>(min(m.near_rect.xy, x), max(m.near_rect.zw, x));
+                m.near_n += 1u;
             }
-            prev = x;
-            m.rect = vec4<f32>(min(m.rect.xy, x), max(m.rect.zw, x));
-            m.n += 1u;
         }
     }
     twice += cross2(prev, first);
@@ -246,7 +255,7 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
         if (!cone.ok) {
             continue;
         }
-        let r = measure_clip(cone.p1, cone.p2, beyond);
+        let r = split_triangle(cone.p1, cone.p2, beyond, near_rects);
         if (r.area > 0.0) {
             out.area[k] = edge_from.w * r.area;
             out.valid = true;
@@ -257,9 +266,8 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
         if (near_rects) {
             // The part's side inside the cone is the triangle's far side.
             out.cover[k] = length(cone.p2 - cone.p1);
-            let near = measure_clip(cone.p1, cone.p2, -beyond);
-            if (near.n >= 3u) {
-                rect = near.rect;
+            if (r.near_n >= 3u) {
+                rect = r.near_rect;
                 out.valid = true;
             }
         }
