@@ -90,47 +90,84 @@ pub fn wedge_instances(
     (out, ranges)
 }
 
-/// Triangles per receiver cluster of [`receiver_clusters`].
+/// Triangles per receiver cluster of [`ReceiverClusters`].
 pub const CLUSTER_TRIANGLES: usize = 16;
 
-/// Light-space bounding boxes of runs of [`CLUSTER_TRIANGLES`] consecutive scene triangles
-/// (world space): the receivers, coarsely, for [`screen_tiles`]. A mesh's triangles are stored
-/// together, so a run is mostly one patch of one surface.
-pub fn receiver_clusters(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<(DVec3, DVec3)> {
-    triangles
-        .chunks(CLUSTER_TRIANGLES)
-        .map(|run| {
-            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for v in run.iter().flatten() {
-                let l = light.to_light_space(*v);
-                lo = lo.min(l);
-                hi = hi.max(l);
-            }
-            (lo, hi)
-        })
-        .collect()
+/// Clusters per block of [`ReceiverClusters`].
+const BLOCK_CLUSTERS: usize = 64;
+
+/// A light-space box as its (min, max) corners.
+pub type LightBox = (DVec3, DVec3);
+
+fn bounds(boxes: impl Iterator<Item = LightBox>) -> LightBox {
+    boxes.fold(
+        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+    )
+}
+
+/// The receivers, coarsely, for [`screen_tiles`]: light-space bounding boxes of runs of
+/// [`CLUSTER_TRIANGLES`] consecutive scene triangles (a mesh's triangles are stored together, so
+/// a run is mostly one patch of one surface), and of blocks of 64 runs, so that a query skips
+/// whole blocks (a million triangles make about a thousand blocks).
+pub struct ReceiverClusters {
+    clusters: Vec<LightBox>,
+    blocks: Vec<LightBox>,
+}
+
+impl ReceiverClusters {
+    /// The clusters of the scene's `triangles` (world space).
+    pub fn new(light: &RectLight, triangles: &[[DVec3; 3]]) -> Self {
+        let clusters: Vec<LightBox> = triangles
+            .chunks(CLUSTER_TRIANGLES)
+            .map(|run| {
+                bounds(run.iter().flatten().map(|v| {
+                    let l = light.to_light_space(*v);
+                    (l, l)
+                }))
+            })
+            .collect();
+        let blocks = clusters
+            .chunks(BLOCK_CLUSTERS)
+            .map(|b| bounds(b.iter().copied()))
+            .collect();
+        ReceiverClusters { clusters, blocks }
+    }
+
+    /// The clusters' boxes cut to `[lo, hi]`, where not empty.
+    pub fn within(&self, lo: DVec3, hi: DVec3) -> impl Iterator<Item = LightBox> + '_ {
+        let cut = move |(clo, chi): LightBox| {
+            let (a, b) = (lo.max(clo), hi.min(chi));
+            (a.x <= b.x && a.y <= b.y && a.z <= b.z).then_some((a, b))
+        };
+        self.blocks
+            .iter()
+            .enumerate()
+            .filter(move |&(_, &b)| cut(b).is_some())
+            .flat_map(move |(i, _)| {
+                let end = ((i + 1) * BLOCK_CLUSTERS).min(self.clusters.len());
+                self.clusters[i * BLOCK_CLUSTERS..end].iter().copied()
+            })
+            .filter_map(cut)
+    }
 }
 
 /// The screen tiles of `scene`'s camera that hold every pixel whose receiver lies in the
 /// light-space box `[lo, hi]`: those of the projections of that box's intersections with the
-/// receiver `clusters` ([`receiver_clusters`]; a receiver point in the box lies in one of them),
+/// receiver `clusters` ([`ReceiverClusters`]; a receiver point in the box lies in one of them),
 /// none when none meets it, and every tile when a corner to project is not in front of the
 /// camera. `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
 pub fn screen_tiles(
     scene: &Scene,
     view_proj: &DMat4,
-    clusters: &[(DVec3, DVec3)],
+    clusters: &ReceiverClusters,
     lo: DVec3,
     hi: DVec3,
 ) -> TileMask {
     let c = &scene.camera;
     let (w, h) = (c.width, c.height);
     let mut mask = TileMask::new(w, h);
-    for &(clo, chi) in clusters {
-        let (lo, hi) = (lo.max(clo), hi.min(chi));
-        if !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
-            continue;
-        }
+    for (lo, hi) in clusters.within(lo, hi) {
         let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
         for i in 0..8 {
             let l = DVec3::new(
@@ -173,7 +210,7 @@ pub fn occluder_tiles(
     instances: &[WedgeInstance],
     ranges: &[std::ops::Range<u32>],
 ) -> Vec<TileMask> {
-    let clusters = receiver_clusters(&scene.light, world);
+    let clusters = ReceiverClusters::new(&scene.light, world);
     ranges
         .iter()
         .map(|r| {
@@ -631,4 +668,50 @@ pub(crate) fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u6
         .chunks_exact(8)
         .map(|c| u64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    #[test]
+    fn receiver_clusters_return_every_cluster_meeting_the_box_cut_to_it() {
+        // Light at the origin facing -z: light space is (x, -y, -z).
+        let light = RectLight::new(DVec3::ZERO, DVec3::NEG_Z, DVec3::X, DVec2::new(2.0, 2.0));
+        // 200 clusters, each one small triangle 16 times over, at x = 0, 1, 2, ... and depth 5:
+        // four blocks, the last one partial.
+        let triangles: Vec<[DVec3; 3]> = (0..200 * CLUSTER_TRIANGLES)
+            .map(|t| {
+                let x = (t / CLUSTER_TRIANGLES) as f64;
+                [
+                    DVec3::new(x, 0.0, -5.0),
+                    DVec3::new(x + 0.5, 0.0, -5.0),
+                    DVec3::new(x, 0.5, -5.5),
+                ]
+            })
+            .collect();
+        let c = ReceiverClusters::new(&light, &triangles);
+        assert_eq!((c.clusters.len(), c.blocks.len()), (200, 4));
+        // A box over clusters 62 to 66 (across the first two blocks), cut at x = 66.25.
+        let got: Vec<LightBox> = c
+            .within(DVec3::new(61.75, -1.0, 0.0), DVec3::new(66.25, 1.0, 10.0))
+            .collect();
+        assert_eq!(got.len(), 5);
+        assert_eq!(
+            got[0],
+            (DVec3::new(62.0, -0.5, 5.0), DVec3::new(62.5, 0.0, 5.5))
+        );
+        assert_eq!(
+            got[4],
+            (DVec3::new(66.0, -0.5, 5.0), DVec3::new(66.25, 0.0, 5.5))
+        );
+        // The last, partial block, and nothing in front of the receivers.
+        assert_eq!(c.within(DVec3::splat(-1e9), DVec3::splat(1e9)).count(), 200);
+        assert_eq!(
+            c.within(DVec3::new(0.0, 0.0, 0.0), DVec3::new(1e9, 1.0, 4.9))
+                .count(),
+            0
+        );
+    }
 }
