@@ -3,8 +3,9 @@
 // and its wedge pass's targets, exactly as the CPU oracle's `Accum::buffer`, and blends it into
 // the final buffer with
 //     eps = (A_f / |B_f|) · (A_s / |B_s|) · |B_f ∩ B_s|,   A = A_f + A_s - eps,   B = B_f ∪ B_s,
-// skipped where either occlusion is zero. A compute pass over the screen rectangle the
-// silhouette can shadow (one invocation per pixel), updating the final buffer in place.
+// skipped where either occlusion is zero. A compute pass over the screen tiles the silhouettes
+// of one group can shadow (a workgroup per tile, an invocation per pixel), updating the final
+// buffer in place.
 
 // Silhouette buffer, as the wedge pass's `fs_silhouette` wrote it.
 @group(1) @binding(0) var sil_area: texture_2d<f32>;
@@ -18,6 +19,8 @@
 // The final buffer: `FINAL_WORDS` words per pixel, row-major (`final_index`).
 @group(1) @binding(7) var<storage, read_write> final_buffer: array<u32>;
 
+// The tiles to blend: `count` tiles of `tiles` from `first`, each `x | y << 16` in tiles of
+// `TILE` pixels (`passes::blend::TileMask::packed_tiles`).
 struct TileRange {
     first: u32,
     count: u32,
@@ -25,7 +28,9 @@ struct TileRange {
 @group(2) @binding(0) var<uniform> range: TileRange;
 @group(2) @binding(1) var<storage, read> tiles: array<u32>;
 
+// Tile side in pixels (`passes::blend::TILE`).
 const TILE: u32 = 8u;
+// Workgroups along x of a dispatch (`MAX_WORKGROUPS` in Rust): the tile index is x + 65535 y.
 const ROW: u32 = 65535u;
 
 // The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
