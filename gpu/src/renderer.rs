@@ -6,14 +6,12 @@
 //! are disjoint share those three passes (`passes::blend::disjoint_groups`): their silhouette
 //! buffers cannot meet.
 
-use bytemuck::Zeroable;
 use glam::{DMat4, DVec2, DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{RectLight, Scene};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::render::{receiver_box, wedge_box};
 use penumbra_volumes::shadow_volume::VolumeVertex;
-use wgpu::util::DeviceExt;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameUniforms, eye_relative, frame_group, scene_radius, view_proj_f64};
@@ -24,7 +22,7 @@ use crate::passes::blend::{
 use crate::passes::wedge::OCCLUSION_FORMAT;
 use crate::passes::wedge::{WedgeInstance, WedgeOutput, WedgePass, unit_cube};
 use crate::passes::{
-    bind_group,
+    bind_group, buffer,
     depth::{DepthPass, ScreenTargets},
     frame_layout,
     resolve::ResolvePass,
@@ -301,30 +299,9 @@ impl<'a> GpuRenderer<'a> {
             &self.frame_layout,
             &FrameUniforms::new(scene, radius),
         );
-        let vbuf = |label, data: &[u8]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: data,
-                usage: wgpu::BufferUsages::VERTEX,
-            })
-        };
-        // Zero-length buffers are invalid: pad empty ones with one unused element.
-        let tri_buf = vbuf(
-            "scene triangles",
-            bytemuck::cast_slice(if tris.is_empty() {
-                &[[0f32; 3]]
-            } else {
-                &tris[..]
-            }),
-        );
-        let vol_buf = vbuf(
-            "volume triangles",
-            bytemuck::cast_slice(if vol.is_empty() {
-                &[[0f32; 4]]
-            } else {
-                &vol[..]
-            }),
-        );
+        let vertex = wgpu::BufferUsages::VERTEX;
+        let tri_buf = buffer(device, "scene triangles", &tris, vertex);
+        let vol_buf = buffer(device, "volume triangles", &vol, vertex);
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
         let screen = ScreenTargets::new(device, w, h);
@@ -363,20 +340,12 @@ impl<'a> GpuRenderer<'a> {
             depth_view,
             stamp(Pass::Depth),
         );
-        let cube = vbuf("unit cube", bytemuck::cast_slice(&unit_cube()));
+        let cube = buffer(device, "unit cube", &unit_cube(), vertex);
         let (instances, inst_ranges) = match technique {
             GpuTechnique::Hard => (Vec::new(), Vec::new()),
             _ => wedge_instances(&scene.light, &world, volumes),
         };
-        let zero = [WedgeInstance::zeroed()];
-        let inst = vbuf(
-            "wedges",
-            bytemuck::cast_slice(if instances.is_empty() {
-                &zero[..]
-            } else {
-                &instances[..]
-            }),
-        );
+        let inst = buffer(device, "wedges", &instances, vertex);
         let occlusion_view;
         let mut final_group = None;
         match technique {
@@ -465,19 +434,18 @@ impl<'a> GpuRenderer<'a> {
                         .copy_from_slice(bytemuck::bytes_of(&range));
                     tile_list.extend(tiles);
                 }
-                if tile_list.is_empty() {
-                    tile_list.push(0);
-                }
-                let range_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("blend tile ranges"),
-                    contents: &range_bytes,
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-                let tile_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("blend tiles"),
-                    contents: bytemuck::cast_slice(&tile_list),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
+                let range_buf = buffer(
+                    device,
+                    "blend tile ranges",
+                    &range_bytes,
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                let tile_buf = buffer(
+                    device,
+                    "blend tiles",
+                    &tile_list,
+                    wgpu::BufferUsages::STORAGE,
+                );
                 let tile_group = bind_group(
                     device,
                     "blend tiles",

@@ -17,7 +17,7 @@ use crate::passes::fullscreen::{
     shadow_layout, shadow_shader,
 };
 use crate::passes::{
-    VISIBILITY_FORMAT, bind_group,
+    VISIBILITY_FORMAT, bind_group, buffer,
     depth::{DepthPass, ScreenTargets},
     frame_layout, texture, texture_descriptor, view,
 };
@@ -491,20 +491,16 @@ impl<'a> ShadowMapRenderer<'a> {
         });
         let base = uniforms(scene, &frustum, self.technique, params);
         let uniform = |u: &ShadowUniforms| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("shadow uniforms"),
-                contents: bytemuck::bytes_of(u),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
+            buffer(
+                device,
+                "shadow uniforms",
+                std::slice::from_ref(u),
+                wgpu::BufferUsages::UNIFORM,
+            )
         };
         let base_buf = uniform(&base);
-        let vbuf = |label, data: &[[f32; 3]]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::cast_slice(if data.is_empty() { &[[0f32; 3]] } else { data }),
-                usage: wgpu::BufferUsages::VERTEX,
-            })
-        };
+        let vbuf =
+            |label, data: &[[f32; 3]]| buffer(device, label, data, wgpu::BufferUsages::VERTEX);
 
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
@@ -760,11 +756,12 @@ impl<'a> ShadowMapRenderer<'a> {
             LIGHT_MAP_FORMAT,
             sampled,
         ));
-        let buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("probe uniforms"),
-            contents: bytemuck::bytes_of(base),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let buf = buffer(
+            device,
+            "probe uniforms",
+            std::slice::from_ref(base),
+            wgpu::BufferUsages::UNIFORM,
+        );
         // The frame is unused by the probes but part of the layout.
         let frame = frame_group(device, &self.frame_layout, &FrameUniforms::zeroed());
         let group = |images: [&wgpu::TextureView; 3]| {

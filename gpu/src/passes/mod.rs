@@ -205,6 +205,23 @@ pub fn texture_descriptor<'a>(
     }
 }
 
+/// A buffer holding `data` for `usage`; zero-length buffers are invalid, so empty `data` gets
+/// one zeroed, unused element.
+pub fn buffer<T: bytemuck::Pod>(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[T],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    let zero = [T::zeroed()];
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(if data.is_empty() { &zero } else { data }),
+        usage,
+    })
+}
+
 /// A 2D texture of `size` texels ([`texture_descriptor`]).
 pub fn texture(
     device: &wgpu::Device,
