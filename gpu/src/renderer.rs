@@ -422,6 +422,7 @@ impl<'a> GpuRenderer<'a> {
                     .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment as u64);
                 let mut tile_list: Vec<u32> = Vec::new();
                 let mut range_bytes = vec![0u8; (stride as usize) * groups.len().max(1)];
+                let mut counts = Vec::with_capacity(groups.len());
                 for (i, (_, union)) in groups.iter().enumerate() {
                     let tiles = union.packed_tiles();
                     let range = TileRange {
@@ -429,6 +430,7 @@ impl<'a> GpuRenderer<'a> {
                         count: tiles.len() as u32,
                         pad: [0; 2],
                     };
+                    counts.push(range.count);
                     let at = i * stride as usize;
                     range_bytes[at..at + std::mem::size_of::<TileRange>()]
                         .copy_from_slice(bytemuck::bytes_of(&range));
@@ -475,7 +477,7 @@ impl<'a> GpuRenderer<'a> {
                         )
                     })
                     .collect();
-                for (i, (group, union)) in groups.iter().enumerate() {
+                for (i, ((group, _), &count)) in groups.iter().zip(&counts).enumerate() {
                     let ranges = |r: &[std::ops::Range<u32>]| -> Vec<std::ops::Range<u32>> {
                         group.iter().map(|&o| r[o].clone()).collect()
                     };
@@ -503,7 +505,6 @@ impl<'a> GpuRenderer<'a> {
                     );
                     let t = timer.compute(Pass::Blend);
                     let offset = (i as u64 * stride) as u32;
-                    let count = union.packed_tiles().len() as u32;
                     self.blend.record(
                         &mut enc,
                         &frame,
