@@ -37,38 +37,62 @@ pub fn bytes_per_pixel() -> u64 {
 pub const TILE: u32 = 8;
 
 /// A set of the screen's [`TILE`]-pixel tiles: where one silhouette can shadow, or a group's
-/// union of those. A bit per tile, row by row.
+/// union of those. A bit per tile, row by row, stored only over the span of 64-tile words
+/// between its first and last tile, so that a small shadow on a large image (or many of them)
+/// costs little memory and time.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TileMask {
     /// Tiles across and down.
     size: [u32; 2],
+    /// Index of the first stored word.
+    first: usize,
+    /// Words `first..first + bits.len()`.
     bits: Vec<u64>,
 }
 
 impl TileMask {
     /// No tile of a `width` x `height`-pixel screen.
     pub fn new(width: u32, height: u32) -> Self {
-        let size = [width.div_ceil(TILE), height.div_ceil(TILE)];
-        let n = (size[0] as usize) * (size[1] as usize);
         TileMask {
-            size,
-            bits: vec![0; n.div_ceil(64)],
+            size: [width.div_ceil(TILE), height.div_ceil(TILE)],
+            first: 0,
+            bits: Vec::new(),
+        }
+    }
+
+    /// Stores the words `lo..hi` (and those already stored).
+    fn reach(&mut self, lo: usize, hi: usize) {
+        if self.bits.is_empty() {
+            self.first = lo;
+            self.bits = vec![0; hi - lo];
+            return;
+        }
+        if lo < self.first {
+            self.bits
+                .splice(0..0, std::iter::repeat_n(0, self.first - lo));
+            self.first = lo;
+        }
+        if hi > self.first + self.bits.len() {
+            self.bits.resize(hi - self.first, 0);
         }
     }
 
     /// Adds the tiles that hold a pixel of the rectangle `[x0, x1) x [y0, y1)` (clipped to the
     /// screen).
     pub fn insert_pixels(&mut self, x0: u32, y0: u32, x1: u32, y1: u32) {
-        if x0 >= x1 || y0 >= y1 {
-            return;
-        }
         let (tx0, ty0) = (x0 / TILE, y0 / TILE);
         let tx1 = x1.div_ceil(TILE).min(self.size[0]);
         let ty1 = y1.div_ceil(TILE).min(self.size[1]);
+        if x0 >= x1 || y0 >= y1 || tx0 >= tx1 || ty0 >= ty1 {
+            return;
+        }
+        let across = self.size[0];
+        let index = |tx: u32, ty: u32| (ty * across + tx) as usize;
+        self.reach(index(tx0, ty0) / 64, index(tx1 - 1, ty1 - 1) / 64 + 1);
         for ty in ty0..ty1 {
             for tx in tx0..tx1 {
-                let i = (ty * self.size[0] + tx) as usize;
-                self.bits[i / 64] |= 1 << (i % 64);
+                let i = index(tx, ty);
+                self.bits[i / 64 - self.first] |= 1 << (i % 64);
             }
         }
     }
@@ -78,14 +102,18 @@ impl TileMask {
         self.insert_pixels(0, 0, self.size[0] * TILE, self.size[1] * TILE);
     }
 
+    /// Whether it holds tile number `i` (row by row).
+    fn holds(&self, i: usize) -> bool {
+        let w = i / 64;
+        w >= self.first
+            && w < self.first + self.bits.len()
+            && self.bits[w - self.first] & (1 << (i % 64)) != 0
+    }
+
     /// Whether it holds the tile of pixel `(x, y)`.
     pub fn holds_pixel(&self, x: u32, y: u32) -> bool {
         let (tx, ty) = (x / TILE, y / TILE);
-        if tx >= self.size[0] || ty >= self.size[1] {
-            return false;
-        }
-        let i = (ty * self.size[0] + tx) as usize;
-        self.bits[i / 64] & (1 << (i % 64)) != 0
+        tx < self.size[0] && ty < self.size[1] && self.holds((ty * self.size[0] + tx) as usize)
     }
 
     /// Whether it holds no tile.
@@ -95,22 +123,30 @@ impl TileMask {
 
     /// Whether the two share a tile.
     pub fn meets(&self, other: &TileMask) -> bool {
-        self.bits.iter().zip(&other.bits).any(|(a, b)| a & b != 0)
+        let lo = self.first.max(other.first);
+        let hi = (self.first + self.bits.len()).min(other.first + other.bits.len());
+        (lo..hi).any(|w| self.bits[w - self.first] & other.bits[w - other.first] != 0)
     }
 
     /// Adds `other`'s tiles.
     pub fn union_with(&mut self, other: &TileMask) {
-        for (a, b) in self.bits.iter_mut().zip(&other.bits) {
+        if other.bits.is_empty() {
+            return;
+        }
+        self.reach(other.first, other.first + other.bits.len());
+        let at = other.first - self.first;
+        for (a, b) in self.bits[at..].iter_mut().zip(&other.bits) {
             *a |= b;
         }
     }
 
     /// Its tiles, row by row, as `x | y << 16` (tile coordinates), as `blend.wgsl` reads them.
     pub fn packed_tiles(&self) -> Vec<u32> {
-        let n = self.size[0] * self.size[1];
-        (0..n)
-            .filter(|&i| self.bits[i as usize / 64] & (1 << (i % 64)) != 0)
-            .map(|i| (i % self.size[0]) | (i / self.size[0]) << 16)
+        let n = (self.size[0] * self.size[1]) as usize;
+        let end = ((self.first + self.bits.len()) * 64).min(n);
+        (self.first * 64..end)
+            .filter(|&i| self.holds(i))
+            .map(|i| (i as u32 % self.size[0]) | (i as u32 / self.size[0]) << 16)
             .collect()
     }
 }
@@ -278,6 +314,16 @@ mod tests {
         all.fill();
         assert_eq!(all.packed_tiles().len(), 13 * 8);
         assert!(all.meets(&m) && !m.meets(&mask(&[[0, 0, 8, 8]])));
+        // Stored over their span only: the union of two far apart masks holds both and what
+        // lies between them stays empty.
+        let (a, b) = (mask(&[[0, 0, 8, 8]]), mask(&[[96, 56, 100, 60]]));
+        assert!(a.bits.len() == 1 && b.bits.len() == 1 && a.first == 0 && b.first == 1);
+        let mut u = b.clone();
+        u.union_with(&a);
+        assert_eq!(u.packed_tiles(), [0, 12 | 7 << 16]);
+        assert!(u.meets(&a) && u.meets(&b) && !u.meets(&mask(&[[50, 30, 60, 40]])));
+        u.union_with(&TileMask::new(100, 60));
+        assert_eq!(u.packed_tiles().len(), 2, "an empty mask adds nothing");
     }
 
     #[test]
