@@ -212,13 +212,11 @@ pub fn occluder_tiles(
     ranges
         .iter()
         .map(|r| {
-            let boxes = &instances[r.start as usize..r.end as usize];
-            let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
-            for b in boxes {
-                lo = lo.min(Vec4::from(b.lo).truncate());
-                hi = hi.max(Vec4::from(b.hi).truncate());
-            }
-            screen_tiles(scene, view_proj, &clusters, lo.as_dvec3(), hi.as_dvec3())
+            let (lo, hi) = bounds(instances[r.start as usize..r.end as usize].iter().map(|b| {
+                let corner = |c: [f32; 4]| Vec4::from(c).truncate().as_dvec3();
+                (corner(b.lo), corner(b.hi))
+            }));
+            screen_tiles(scene, view_proj, &clusters, lo, hi)
         })
         .collect()
 }
