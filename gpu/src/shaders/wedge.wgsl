@@ -45,6 +45,11 @@ fn corner(k: u32) -> vec2<f32> {
     return vec2<f32>(select(-1.0, 1.0, i == 0u || i == 1u), select(-1.0, 1.0, i == 1u || i == 2u));
 }
 
+// The radial part holding direction d (on a diagonal: the part whose side is vertical).
+fn part_of(d: vec2<f32>) -> u32 {
+    return select(select(3u, 1u, d.y > 0.0), select(2u, 0u, d.x > 0.0), abs(d.x) >= abs(d.y));
+}
+
 // Outward normal of part k's side of the square.
 fn side_normal(k: u32) -> vec2<f32> {
     return select(
@@ -94,10 +99,15 @@ fn cone_part(k: u32, u: vec2<f32>, v: vec2<f32>) -> ConePart {
     return c;
 }
 
-// Triangle (0, p1, p2) split by the line dot(h.xy, x) + h.z = 0 (Sutherland & Hodgman, measured
-// while clipping: nothing is stored). Beyond (>= 0): area, bounding rectangle and vertex count;
-// near (<= 0), only when `near` is asked for: bounding rectangle and vertex count. One walk
-// round the triangle serves both sides: each crossing is a vertex of both.
+// Triangle (0, p1, p2) split by the line dot(h.xy, x) + h.z = 0, in closed form: nothing is
+// clipped or stored. Beyond (>= 0): area and bounding rectangle; near (<= 0), only when `near`
+// is asked for: bounding rectangle. `n` and `near_n` say whether each side holds a vertex (3)
+// or nothing (0), as a Sutherland-Hodgman walk would count.
+//
+// Each side is the vertices on it plus the line's crossings of the edges whose ends lie on
+// opposite sides; a crossing at a vertex on the line is that vertex, already on both sides. A
+// side holding one vertex alone is the triangle (vertex, its two edges' crossings); one holding
+// two is the whole triangle less the other vertex's.
 struct Split {
     area: f32,
     rect: vec4<f32>,
@@ -106,46 +116,63 @@ struct Split {
     near_n: u32,
 }
 
-fn triangle_vertex(i: u32, p1: vec2<f32>, p2: vec2<f32>) -> vec2<f32> {
-    return select(select(p2, p1, i == 1u), vec2<f32>(0.0), i == 0u);
+// The crossing of segment a-b (values fa, fb) with the line.
+fn crossing(a: vec2<f32>, b: vec2<f32>, fa: f32, fb: f32) -> vec2<f32> {
+    return a + (b - a) * (fa / (fa - fb));
+}
+
+fn with_point(r: vec4<f32>, x: vec2<f32>, keep: bool) -> vec4<f32> {
+    return select(r, vec4<f32>(min(r.xy, x), max(r.zw, x)), keep);
 }
 
 fn split_triangle(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>, near: bool) -> Split {
     var m: Split;
-    m.n = 0u;
-    m.rect = EMPTY_RECT;
-    m.near_n = 0u;
+    let o = vec2<f32>(0.0);
+    let f = vec3<f32>(h.z, dot(h.xy, p1) + h.z, dot(h.xy, p2) + h.z);
+    let beyond = f >= vec3<f32>(0.0);
+    let on_near = f <= vec3<f32>(0.0);
+    // Edges 0-1, 1-2, 2-0, crossed where their ends lie strictly on opposite sides.
+    let crossed = vec3<bool>(
+        (f.x > 0.0 && f.y < 0.0) || (f.x < 0.0 && f.y > 0.0),
+        (f.y > 0.0 && f.z < 0.0) || (f.y < 0.0 && f.z > 0.0),
+        (f.z > 0.0 && f.x < 0.0) || (f.z < 0.0 && f.x > 0.0),
+    );
+    let c01 = crossing(o, p1, f.x, f.y);
+    let c12 = crossing(p1, p2, f.y, f.z);
+    let c20 = crossing(p2, o, f.z, f.x);
+    var cross_rect = with_point(EMPTY_RECT, c01, crossed.x);
+    cross_rect = with_point(cross_rect, c12, crossed.y);
+    cross_rect = with_point(cross_rect, c20, crossed.z);
+
+    var r = with_point(cross_rect, o, beyond.x);
+    r = with_point(r, p1, beyond.y);
+    m.rect = with_point(r, p2, beyond.z);
+    m.n = select(0u, 3u, any(beyond));
     m.near_rect = EMPTY_RECT;
-    var twice = 0.0;
-    var first = vec2<f32>(0.0);
-    var prev = vec2<f32>(0.0);
-    for (var i = 0u; i < 3u; i++) {
-        let a = triangle_vertex(i, p1, p2);
-        let b = triangle_vertex((i + 1u) % 3u, p1, p2);
-        let fa = dot(h.xy, a) + h.z;
-        let fb = dot(h.xy, b) + h.z;
-        let crossing = a + (b - a) * (fa / (fa - fb));
-        for (var e = 0u; e < 2u; e++) {
-            // e = 0: the vertex a if kept; e = 1: the crossing of a-b if any.
-            let x = select(crossing, a, e == 0u);
-            if (select((fa >= 0.0) != (fb >= 0.0), fa >= 0.0, e == 0u)) {
-                if (m.n == 0u) {
-                    first = x;
-                } else {
-                    twice += cross2(prev, x);
-                }
-                prev = x;
-                m.rect = vec4<f32>(min(m.rect.xy, x), max(m.rect.zw, x));
-                m.n += 1u;
-            }
-            if (near && select((fa <= 0.0) != (fb <= 0.0), fa <= 0.0, e == 0u)) {
-                m.near_rect = vec4<f32>(min(m.near_rect.xy, x), max(m.near_rect.zw, x));
-                m.near_n += 1u;
-            }
-        }
+    m.near_n = 0u;
+    if (near) {
+        var q = with_point(cross_rect, o, on_near.x);
+        q = with_point(q, p1, on_near.y);
+        m.near_rect = with_point(q, p2, on_near.z);
+        m.near_n = select(0u, 3u, any(on_near));
     }
-    twice += cross2(prev, first);
-    m.area = select(0.0, 0.5 * abs(twice), m.n >= 3u);
+
+    // Area: the whole triangle, nothing, or the triangle at the vertex alone on its side
+    // (subtracted when that vertex is the near one).
+    let whole = 0.5 * abs(cross2(p1, p2));
+    let count = u32(beyond.x) + u32(beyond.y) + u32(beyond.z);
+    // The lone vertex: the one beyond when one is, the one not beyond when two are.
+    let lone_is = select(!beyond, beyond, count == 1u);
+    let small = select(
+        select(
+            0.5 * abs(cross2(c12 - p2, c20 - p2)),
+            0.5 * abs(cross2(c01 - p1, c12 - p1)),
+            lone_is.y,
+        ),
+        0.5 * abs(cross2(c01, c20)),
+        lone_is.x,
+    );
+    m.area = select(select(select(0.0, small, count == 1u), whole - small, count == 2u), whole, count == 3u);
     return m;
 }
 
@@ -249,7 +276,13 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
     // The cone over the edge as the sector from u counter-clockwise to v.
     let u = select(b, a, s0 > 0.0);
     let v = select(a, b, s0 > 0.0);
-    for (var k = 0u; k < 4u; k++) {
+    // Only the parts the cone meets: from u's part counter-clockwise to v's, at most three (the
+    // cone is less than a half turn). A CPU driver runs a loop as often as its busiest lane
+    // needs, so fragments outside the wedge cost one pass through it, not four.
+    let first = part_of(u);
+    let count = (part_of(v) + 4u - first) % 4u + 1u;
+    for (var j = 0u; j < count; j++) {
+        let k = (first + j) % 4u;
         var rect = EMPTY_RECT;
         let cone = cone_part(k, u, v);
         if (!cone.ok) {
