@@ -10,7 +10,7 @@ use glam::{DMat4, DVec2, DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{RectLight, Scene};
 use penumbra_volumes::Volumes;
-use penumbra_volumes::render::{receiver_box, wedge_box};
+use penumbra_volumes::render::{receiver_box, wedge_box, wedge_frustum};
 use penumbra_volumes::shadow_volume::VolumeVertex;
 
 use crate::context::{GpuContext, GpuError};
@@ -70,12 +70,22 @@ pub fn wedge_instances(
     let mut ranges = vec![0..0; volumes.occluders.len()];
     let mut out = Vec::with_capacity(volumes.wedges.len());
     for w in &volumes.wedges {
-        let inst = wedge_box(w, lo, hi).map(|(blo, bhi)| WedgeInstance {
-            lo: f(blo, 0.0),
-            hi: f(bhi, 0.0),
-            from: f(w.from, w.multiplicity as f32),
-            to: f(w.to, 0.0),
-        });
+        let inst = wedge_box(w, lo, hi)
+            .zip(wedge_frustum(w, lo, hi))
+            .map(|((blo, bhi), solid)| {
+                let rect = |r: (DVec2, DVec2)| {
+                    let (a, b) = (r.0.as_vec2(), r.1.as_vec2());
+                    [a.x, a.y, b.x, b.y]
+                };
+                WedgeInstance {
+                    lo: f(blo, 0.0),
+                    hi: f(bhi, 0.0),
+                    from: f(w.from, w.multiplicity as f32),
+                    to: f(w.to, 0.0),
+                    near: rect(solid.near),
+                    far: rect(solid.far),
+                }
+            });
         if let Some(i) = inst {
             let r = &mut ranges[w.occluder as usize];
             if r.start == r.end {

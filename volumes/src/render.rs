@@ -26,7 +26,7 @@
 //! region (a hole's loop subtracts from its outer loop's area), so they share one buffer. For the
 //! fixtures each occluder has one loop, as seed 004's spheres do.
 
-use glam::{DVec3, Vec3A};
+use glam::{DVec2, DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
@@ -283,6 +283,121 @@ pub fn wedge_box(w: &Wedge, lo: DVec3, hi: DVec3) -> Option<(DVec3, DVec3)> {
     (blo.x <= bhi.x && blo.y <= bhi.y && blo.z <= bhi.z).then_some((blo, bhi))
 }
 
+/// A light-space solid bounding a wedge within the receivers' box: at depth `z` between `z.0` and
+/// `z.1`, the rectangle interpolated linearly from `near` (at `z.0`) to `far` (at `z.1`), each
+/// `(min, max)` in x and y. Convex, with the unit cube's topology (its side faces are planar), so
+/// the GPU rasterises it as it would a box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WedgeFrustum {
+    /// Depth range.
+    pub z: (f64, f64),
+    /// Rectangle at `z.0`.
+    pub near: (DVec2, DVec2),
+    /// Rectangle at `z.1`.
+    pub far: (DVec2, DVec2),
+}
+
+impl WedgeFrustum {
+    /// The rectangle at depth `z` (not clamped to the depth range).
+    pub fn section(&self, z: f64) -> (DVec2, DVec2) {
+        let t = if self.z.1 > self.z.0 {
+            (z - self.z.0) / (self.z.1 - self.z.0)
+        } else {
+            0.0
+        };
+        (
+            self.near.0.lerp(self.far.0, t),
+            self.near.1.lerp(self.far.1, t),
+        )
+    }
+
+    /// Light-space volume.
+    pub fn volume(&self) -> f64 {
+        let area = |r: (DVec2, DVec2)| {
+            let d = (r.1 - r.0).max(DVec2::ZERO);
+            d.x * d.y
+        };
+        let (a0, a1) = (area(self.near), area(self.far));
+        (self.z.1 - self.z.0) * (a0 + a1 + (a0 * a1).sqrt()) / 3.0
+    }
+
+    /// Whether `p` lies inside (with a relative tolerance `eps` of the rectangles' size).
+    pub fn holds(&self, p: DVec3, eps: f64) -> bool {
+        let (lo, hi) = self.section(p.z);
+        let pad = (hi - lo).max(DVec2::ONE) * eps;
+        let dz = (self.z.1 - self.z.0).abs().max(1.0) * eps;
+        p.z >= self.z.0 - dz
+            && p.z <= self.z.1 + dz
+            && p.truncate().cmpge(lo - pad).all()
+            && p.truncate().cmple(hi + pad).all()
+    }
+}
+
+/// The smaller of two solids holding `w`'s wedge within the receivers' box `[lo, hi]`: its
+/// [`wedge_box`], or a frustum narrowing from the light's end square at the receivers' far depth
+/// down to the edge. `None` when the wedge misses the box.
+///
+/// The frustum: keep the part of the edge at depth `zmax = hi.z` or less (nothing beyond it
+/// reaches a receiver). Seen from a point `s` of the edge, the wedge at `zmax` is the light's
+/// square mirrored through `s`: centre `s_xy zmax / z_s`, half-side `zmax / z_s - 1`. Along the
+/// edge both are affine in the edge's central projection from the light's centre, so the wedge
+/// at `zmax` lies in the two ends' squares' bounding rectangle; `far` is that rectangle grown to
+/// hold `near`, the edge's own rectangle at its nearest depth. Every section then holds `near`,
+/// so the frustum holds the edge, and as it is convex it holds each segment from an edge point to
+/// the wedge's points at `zmax`, which is the wedge. Its depth starts at the edge's nearest end,
+/// or at `lo.z` (cut there by interpolation). Its x and y are not clipped to the box: cutting its
+/// far rectangle would shrink the sections between below the box's cut.
+pub fn wedge_frustum(w: &Wedge, lo: DVec3, hi: DVec3) -> Option<WedgeFrustum> {
+    let (blo, bhi) = wedge_box(w, lo, hi)?;
+    let boxed = WedgeFrustum {
+        z: (blo.z, bhi.z),
+        near: (blo.truncate(), bhi.truncate()),
+        far: (blo.truncate(), bhi.truncate()),
+    };
+    let zmax = hi.z;
+    let (a, mut b) = if w.from.z <= w.to.z {
+        (w.from, w.to)
+    } else {
+        (w.to, w.from)
+    };
+    if !(a.z > 0.0 && a.z < zmax) {
+        return Some(boxed);
+    }
+    if b.z > zmax {
+        b = a + (b - a) * ((zmax - a.z) / (b.z - a.z));
+    }
+    let near = (
+        a.truncate().min(b.truncate()),
+        a.truncate().max(b.truncate()),
+    );
+    let mut far = near;
+    for s in [a, b] {
+        let tau = zmax / s.z;
+        let c = s.truncate() * tau;
+        let h = DVec2::splat(tau - 1.0);
+        far = (far.0.min(c - h), far.1.max(c + h));
+    }
+    let mut f = WedgeFrustum {
+        z: (a.z, zmax),
+        near,
+        far,
+    };
+    if lo.z > a.z {
+        f.near = f.section(lo.z);
+        f.z.0 = lo.z;
+    }
+    // The GPU spans the box's depths with the two rectangles: they must be the frustum's.
+    let finite = f.near.0.is_finite() && f.far.0.is_finite() && f.far.1.is_finite();
+    if !(finite && f.z == boxed.z) {
+        return Some(boxed);
+    }
+    Some(if f.volume() < boxed.volume() {
+        f
+    } else {
+        boxed
+    })
+}
+
 /// Everything the CPU needs to render the volume techniques of one scene.
 pub struct CpuRenderer {
     /// Ray casting and references.
@@ -523,5 +638,59 @@ impl CpuRenderer {
             progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
         });
         img
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (xorshift), for sample points.
+    fn rng(seed: u64) -> impl FnMut() -> f64 {
+        let mut x = seed;
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn wedge_frustum_holds_every_point_of_its_wedge_in_the_receivers_box() {
+        let mut r = rng(0x9e3779b97f4a7c15);
+        let (lo, hi) = (DVec3::new(-6.0, -5.0, 0.5), DVec3::new(7.0, 6.0, 9.0));
+        let mut frusta = 0;
+        for _ in 0..300 {
+            let mut point = || DVec3::new(8.0 * r() - 4.0, 8.0 * r() - 4.0, 0.2 + 9.5 * r());
+            let (from, to) = (point(), point());
+            let w = Wedge {
+                from,
+                to,
+                multiplicity: 1,
+                occluder: 0,
+                silhouette_loop: 0,
+            };
+            let Some(f) = wedge_frustum(&w, lo, hi) else {
+                continue;
+            };
+            let (blo, bhi) = wedge_box(&w, lo, hi).unwrap();
+            assert!(f.volume() <= (bhi - blo).element_product() * (1.0 + 1e-9));
+            frusta += usize::from(f.near != f.far);
+            for _ in 0..200 {
+                // A point of the wedge: from a light point through an edge point, beyond it.
+                let s = from.lerp(to, r());
+                let l = DVec3::new(2.0 * r() - 1.0, 2.0 * r() - 1.0, 0.0);
+                let p = s + (s - l) * (4.0 * r() * r());
+                let inside = p.cmpge(lo).all() && p.cmple(hi).all();
+                if inside && s.z > 0.0 {
+                    assert!(f.holds(p, 1e-9), "{p} outside {f:?} (edge {from} {to})");
+                }
+            }
+        }
+        assert!(
+            frusta > 100,
+            "the frustum should usually beat the box: {frusta}"
+        );
     }
 }

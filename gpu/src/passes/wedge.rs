@@ -7,7 +7,10 @@ use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 /// Format of the per-radial-part occlusion target (one channel per part).
 pub const OCCLUSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// One wedge as the shader reads it (per instance): its light-space bounding box and edge.
+/// One wedge as the shader reads it (per instance): the light-space box holding its wedge within
+/// the receivers' box (for the screen tiles), the solid that is rasterised
+/// ([`penumbra_volumes::render::WedgeFrustum`]: at the box's depths, the rectangles `near` and
+/// `far`), and its edge.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct WedgeInstance {
@@ -19,9 +22,13 @@ pub struct WedgeInstance {
     pub from: [f32; 4],
     /// Edge end, `w` unused.
     pub to: [f32; 4],
+    /// The rasterised solid's rectangle at depth `lo.z`: min x, min y, max x, max y.
+    pub near: [f32; 4],
+    /// Its rectangle at depth `hi.z`.
+    pub far: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<WedgeInstance>() == 64);
+const _: () = assert!(std::mem::size_of::<WedgeInstance>() == 96);
 
 /// The unit cube's 12 triangles, wound counter-clockwise seen from outside.
 pub fn unit_cube() -> Vec<[f32; 3]> {
@@ -135,10 +142,11 @@ impl WedgePass {
                             attributes: &wgpu::vertex_attr_array![0 => Float32x3],
                         }),
                         Some(wgpu::VertexBufferLayout {
-                            array_stride: 64,
+                            array_stride: std::mem::size_of::<WedgeInstance>() as u64,
                             step_mode: wgpu::VertexStepMode::Instance,
                             attributes: &wgpu::vertex_attr_array![
-                                1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
+                                1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4,
+                                5 => Float32x4, 6 => Float32x4
                             ],
                         }),
                     ],

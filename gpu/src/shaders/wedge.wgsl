@@ -1,7 +1,8 @@
 // Penumbra-wedge pass (Akenine-Möller & Assarsson 2002; seed 004, sections 3.1, 4.2 and 4.3).
-// Each instance is one silhouette edge. Its wedge's bounding box (light space) is rasterised by
-// its back faces, so that every pixel whose view ray meets the box gets exactly one fragment,
-// the camera inside the box included. The fragment reads the receiver P written by the depth
+// Each instance is one silhouette edge. A convex light-space solid holding its wedge (the smaller
+// of a box and a frustum narrowing to the edge, `penumbra_volumes::render::wedge_frustum`; both
+// the unit cube mapped by depth) is rasterised by its back faces, so that every pixel whose view
+// ray meets the solid gets exactly one fragment, the camera inside it included. The fragment reads the receiver P written by the depth
 // pre-pass, and adds the edge's signed occluded area per radial part of the light: outer
 // half-wedges add, inner ones subtract. The same integral as the CPU oracle,
 // `penumbra_volumes::wedge::Wedge::integral`, in f32.
@@ -13,6 +14,9 @@ struct WedgeIn {
     // Edge start in light space; w = multiplicity.
     @location(3) edge_from: vec4<f32>,
     @location(4) edge_to: vec4<f32>,
+    // The rasterised solid's rectangles (min x, min y, max x, max y) at depths lo.z and hi.z.
+    @location(5) near: vec4<f32>,
+    @location(6) far: vec4<f32>,
 }
 
 struct WedgeOut {
@@ -26,7 +30,8 @@ struct WedgeOut {
 @vertex
 fn vs(in: WedgeIn) -> WedgeOut {
     var out: WedgeOut;
-    let l = mix(in.lo.xyz, in.hi.xyz, in.corner);
+    let r = mix(in.near, in.far, in.corner.z);
+    let l = vec3<f32>(mix(r.xy, r.zw, in.corner.xy), mix(in.lo.z, in.hi.z, in.corner.z));
     out.clip = frame.view_proj * vec4<f32>(from_light(l), 1.0);
     out.edge_from = in.edge_from;
     out.edge_to = in.edge_to;
