@@ -380,6 +380,7 @@ impl<'a> GpuRenderer<'a> {
                         WedgeOutput::Additive,
                         &[(&v, wgpu::Color::TRANSPARENT)],
                         None,
+                        depth_view,
                         stamp(Pass::Wedge),
                     );
                     v
@@ -509,6 +510,7 @@ impl<'a> GpuRenderer<'a> {
                         WedgeOutput::Silhouette,
                         &clears,
                         Some(&stencil_group),
+                        depth_view,
                         stamp(Pass::Wedge),
                     );
                     let t = timer.compute(Pass::Blend);

@@ -158,7 +158,15 @@ impl WedgePass {
                     cull_mode: Some(wgpu::Face::Front),
                     ..Default::default()
                 },
-                depth_stencil: None,
+                // Lengyel's depth test (seed 004, section 4.2): a receiver behind the solid's back
+                // face (reversed z: a greater depth than the face's) is outside the wedge.
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: super::DEPTH_FORMAT,
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
@@ -179,7 +187,9 @@ impl WedgePass {
 
     /// Clears `targets` to `clear` and accumulates the wedges `instances` (ranges of the
     /// instance buffer `wedges`) into them, writing `output`; `stencil` (a bind group of
-    /// [`WedgePass::stencil_layout`]) is needed for [`WedgeOutput::Silhouette`].
+    /// [`WedgePass::stencil_layout`]) is needed for [`WedgeOutput::Silhouette`]. `depth` (the
+    /// depth pre-pass's target, attached read only) rejects fragments whose receiver lies beyond
+    /// the wedge's solid.
     #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
     pub fn record(
         &self,
@@ -192,6 +202,7 @@ impl WedgePass {
         output: WedgeOutput,
         targets: &[(&wgpu::TextureView, wgpu::Color)],
         stencil: Option<&wgpu::BindGroup>,
+        depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
@@ -201,7 +212,13 @@ impl WedgePass {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("wedge"),
             color_attachments: &attachments,
-            depth_stencil_attachment: None,
+            // Read only: the receivers' depths for the depth test, and the stencil counts the
+            // silhouette pipeline also reads as a texture.
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
             timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,
