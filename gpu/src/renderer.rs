@@ -10,7 +10,7 @@ use glam::{DMat4, DVec2, DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{RectLight, Scene};
 use penumbra_volumes::Volumes;
-use penumbra_volumes::render::{receiver_box, wedge_box, wedge_frustum};
+use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_box, wedge_frustum};
 use penumbra_volumes::shadow_volume::VolumeVertex;
 
 use crate::context::{GpuContext, GpuError};
@@ -161,21 +161,33 @@ impl ReceiverClusters {
 }
 
 /// The screen tiles of `scene`'s camera that hold every pixel whose receiver lies in the
-/// light-space box `[lo, hi]`: those of the projections of that box's intersections with the
-/// receiver `clusters` ([`ReceiverClusters`]; a receiver point in the box lies in one of them),
-/// none when none meets it, and every tile when a corner to project is not in front of the
-/// camera. `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
+/// light-space solid `solid`: those of the projections of the receiver `clusters`
+/// ([`ReceiverClusters`]; a receiver point in the solid lies in one of them) cut to the solid
+/// (to its bounding box, then each to the solid's rectangles at the cluster's depths), none when
+/// none meets it, and every tile when a corner to project is not in front of the camera.
+/// `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
 pub fn screen_tiles(
     scene: &Scene,
     view_proj: &DMat4,
     clusters: &ReceiverClusters,
-    lo: DVec3,
-    hi: DVec3,
+    solid: &WedgeFrustum,
 ) -> TileMask {
+    let lo = solid.near.0.min(solid.far.0).extend(solid.z.0);
+    let hi = solid.near.1.max(solid.far.1).extend(solid.z.1);
     let c = &scene.camera;
     let (w, h) = (c.width, c.height);
     let mut mask = TileMask::new(w, h);
     for (lo, hi) in clusters.within(lo, hi) {
+        // The solid's sections are linear in depth: over the cluster's depths they lie within
+        // the rectangle holding the two at its ends.
+        let (a, b) = (solid.section(lo.z), solid.section(hi.z));
+        let (lo, hi) = (
+            lo.truncate().max(a.0.min(b.0)).extend(lo.z),
+            hi.truncate().min(a.1.max(b.1)).extend(hi.z),
+        );
+        if !(lo.x <= hi.x && lo.y <= hi.y) {
+            continue;
+        }
         let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
         for i in 0..8 {
             let l = DVec3::new(
@@ -208,9 +220,46 @@ pub fn screen_tiles(
     mask
 }
 
-/// Each occluder's screen tiles ([`screen_tiles`]): where the receivers in the merged light-space
-/// box of its wedges `instances[ranges[o]]` ([`wedge_instances`]) project; its hard shadow lies
-/// in that box too. `world`: the scene's triangles; `view_proj`: as for [`screen_tiles`].
+/// A frustum holding the solids of `instances` ([`WedgeInstance::near`] to
+/// [`WedgeInstance::far`] over each one's depths), `None` when there are none: from the nearest
+/// depth to the farthest, the far rectangle holding all of theirs, the near one grown until each
+/// instance's rectangles lie in the sections at their depths (sections are linear in depth, so
+/// each instance's solid then lies in it).
+pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
+    let rects = |b: &WedgeInstance| {
+        let r = |c: [f32; 4]| {
+            let v = Vec4::from(c).as_dvec4();
+            (DVec2::new(v.x, v.y), DVec2::new(v.z, v.w))
+        };
+        [(b.lo[2] as f64, r(b.near)), (b.hi[2] as f64, r(b.far))]
+    };
+    let z0 = instances.iter().map(|b| b.lo[2] as f64).reduce(f64::min)?;
+    let z1 = instances.iter().map(|b| b.hi[2] as f64).reduce(f64::max)?;
+    let mut far = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+    for (_, r) in instances.iter().flat_map(rects) {
+        far = (far.0.min(r.0), far.1.max(r.1));
+    }
+    let mut near = far;
+    for (z, r) in instances.iter().flat_map(rects) {
+        let t = if z1 > z0 { (z - z0) / (z1 - z0) } else { 1.0 };
+        // lerp(near, far, t) must hold r; at t = 1 `far` already does.
+        if t < 1.0 {
+            near.0 = near.0.min((r.0 - far.0 * t) / (1.0 - t));
+            near.1 = near.1.max((r.1 - far.1 * t) / (1.0 - t));
+        }
+    }
+    Some(WedgeFrustum {
+        z: (z0, z1),
+        near,
+        far,
+    })
+}
+
+/// Each occluder's screen tiles ([`screen_tiles`]): where the receivers in the merged solid of
+/// its wedges `instances[ranges[o]]` ([`wedge_instances`], [`merged_solid`]) project. Its hard
+/// shadow lies in that solid too: the solid is convex and holds the shadow volume's sides (each
+/// in its edge's wedge), hence every cross-section of the volume between them. `world`: the
+/// scene's triangles; `view_proj`: as for [`screen_tiles`].
 pub fn occluder_tiles(
     scene: &Scene,
     view_proj: &DMat4,
@@ -219,14 +268,12 @@ pub fn occluder_tiles(
     ranges: &[std::ops::Range<u32>],
 ) -> Vec<TileMask> {
     let clusters = ReceiverClusters::new(&scene.light, world);
+    let (w, h) = (scene.camera.width, scene.camera.height);
     ranges
         .iter()
-        .map(|r| {
-            let (lo, hi) = bounds(instances[r.start as usize..r.end as usize].iter().map(|b| {
-                let corner = |c: [f32; 4]| Vec4::from(c).truncate().as_dvec3();
-                (corner(b.lo), corner(b.hi))
-            }));
-            screen_tiles(scene, view_proj, &clusters, lo, hi)
+        .map(|r| match merged_solid(&instances[r.start as usize..r.end as usize]) {
+            Some(solid) => screen_tiles(scene, view_proj, &clusters, &solid),
+            None => TileMask::new(w, h),
         })
         .collect()
 }
