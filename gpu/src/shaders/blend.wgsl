@@ -37,36 +37,6 @@ const ROW: u32 = 65535u;
 // rectangle to end at them (CPU: 2 (1 - 1e-9); the cover is summed in f16, 11 bits).
 const FULL_COVER: f32 = 1.996;
 
-fn rect_area(r: vec4<f32>) -> f32 {
-    if (r.x <= r.z && r.y <= r.w) {
-        return (r.z - r.x) * (r.w - r.y);
-    }
-    return 0.0;
-}
-
-fn rect_intersection(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
-    return vec4<f32>(max(a.xy, b.xy), min(a.zw, b.zw));
-}
-
-fn load_final(pixel: vec2<u32>) -> FinalTexel {
-    let i = final_index(pixel);
-    var t: FinalTexel;
-    t.area = unpack_final_area(final_buffer[i], final_buffer[i + 1u]);
-    for (var k = 0u; k < 4u; k++) {
-        t.rect[k] = decode_rect(unpack4x8unorm(final_buffer[i + 2u + k]), k);
-    }
-    return t;
-}
-
-fn store_final(pixel: vec2<u32>, t: FinalTexel) {
-    let i = final_index(pixel);
-    final_buffer[i] = pack2x16unorm(t.area.xy);
-    final_buffer[i + 1u] = pack2x16unorm(t.area.zw);
-    for (var k = 0u; k < 4u; k++) {
-        final_buffer[i + 2u + k] = pack4x8unorm(encode_rect(t.rect[k], k));
-    }
-}
-
 @compute @workgroup_size(TILE, TILE)
 fn blend(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -88,16 +58,16 @@ fn blend(
     if (all(s_areas <= vec4<f32>(0.0))) {
         return;
     }
-    let f = load_final(pixel);
+    let i = final_index(pixel);
+    let f_areas = unpack_final_area(final_buffer[i], final_buffer[i + 1u]);
+    var out_areas = f_areas;
     let cover = textureLoad(sil_cover, px, 0);
     // Outer regions where the count is zero; outer and inner (near) regions in hard shadow.
-    let enc = array<vec4<f32>, 4>(
-        textureLoad(sil_rect0, px, 0),
-        textureLoad(sil_rect1, px, 0),
-        textureLoad(sil_rect2, px, 0),
-        textureLoad(sil_rect3, px, 0),
-    );
-    var out = f;
+    // Rectangles stay encoded (`encoded_area`); chosen per part by `select`, not an array.
+    let e0 = textureLoad(sil_rect0, px, 0);
+    let e1 = textureLoad(sil_rect1, px, 0);
+    let e2 = textureLoad(sil_rect2, px, 0);
+    let e3 = textureLoad(sil_rect3, px, 0);
     for (var k = 0u; k < 4u; k++) {
         // The silhouette's part: its hard shadow plus its edges, as a rectangle-bounded area.
         let s_area = s_areas[k];
@@ -105,27 +75,30 @@ fn blend(
             continue;
         }
         // In hard shadow the region reaches the part's border unless the inner half-wedges
-        // cover all of it (CPU: `Accum::buffer`).
-        var s_rect = decode_rect(enc[k], k);
+        // cover all of it (CPU: `Accum::buffer`): then the rectangle is the whole part, (0, 0,
+        // 0, 0) encoded.
+        var s_rect = select(select(select(e3, e2, k == 2u), e1, k == 1u), e0, k == 0u);
         if (n > 0.0 && cover[k] < FULL_COVER) {
-            s_rect = part_rect(k);
+            s_rect = vec4<f32>(0.0);
         }
-        let fa = f.area[k];
-        let fr = f.rect[k];
+        let w = i + 2u + k;
+        let fa = f_areas[k];
         if (fa <= 0.0) {
-            out.area[k] = s_area;
-            out.rect[k] = s_rect;
+            out_areas[k] = s_area;
+            final_buffer[w] = pack4x8unorm(s_rect);
             continue;
         }
-        let bf = rect_area(fr);
-        let bs = rect_area(s_rect);
-        let beta = rect_area(rect_intersection(fr, s_rect));
+        let f_rect = unpack4x8unorm(final_buffer[w]);
+        let bf = encoded_area(f_rect);
+        let bs = encoded_area(s_rect);
+        let beta = encoded_area(max(f_rect, s_rect));
         var eps = 0.0;
         if (bf > 0.0 && bs > 0.0) {
             eps = (fa / bf) * (s_area / bs) * beta;
         }
-        out.area[k] = clamp(fa + s_area - eps, 0.0, 1.0);
-        out.rect[k] = rect_union(fr, s_rect);
+        out_areas[k] = clamp(fa + s_area - eps, 0.0, 1.0);
+        final_buffer[w] = pack4x8unorm(min(f_rect, s_rect));
     }
-    store_final(pixel, out);
+    final_buffer[i] = pack2x16unorm(out_areas.xy);
+    final_buffer[i + 1u] = pack2x16unorm(out_areas.zw);
 }

@@ -84,23 +84,19 @@ fn encode_rect(r: vec4<f32>, k: u32) -> vec4<f32> {
     return floor(vec4<f32>(lo, hi) * RECT_LEVELS + 1e-3) / RECT_LEVELS;
 }
 
-// The rectangle of an encoding (empty when the encoding is).
-fn decode_rect(e: vec4<f32>, k: u32) -> vec4<f32> {
-    let t = part_rect(k);
-    let ext = t.zw - t.xy;
-    let q = round(e * RECT_LEVELS) / RECT_LEVELS;
-    return vec4<f32>(t.xy + q.xy * ext, t.zw - q.zw * ext);
+// The area of an encoded rectangle (`encode_rect`), 0 when empty. An encoding's width and height
+// relative to its part's rectangle (whose area is 2 for every part) are 1 - (min + (1 - max)).
+// In the encoded form a union is the componentwise minimum and an intersection the maximum, so
+// the blend never decodes.
+fn encoded_area(e: vec4<f32>) -> f32 {
+    let size = max(vec2<f32>(1.0) - e.xy - e.zw, vec2<f32>(0.0));
+    return 2.0 * size.x * size.y;
 }
 
 // The final visibility buffer of `wedges-blend`, a storage buffer of `FINAL_WORDS` words per
 // pixel: the occluded area per part as 16-bit unorm (two words) and each part's rectangle as
 // `encode_rect` in 8-bit unorm (one word per part): 24 bytes. Zeroed: no occlusion.
 const FINAL_WORDS: u32 = 6u;
-
-struct FinalTexel {
-    area: vec4<f32>,
-    rect: array<vec4<f32>, 4>,
-}
 
 fn final_index(pixel: vec2<u32>) -> u32 {
     return (pixel.y * u32(frame.size.x) + pixel.x) * FINAL_WORDS;
