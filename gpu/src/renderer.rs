@@ -271,10 +271,12 @@ pub fn occluder_tiles(
     let (w, h) = (scene.camera.width, scene.camera.height);
     ranges
         .iter()
-        .map(|r| match merged_solid(&instances[r.start as usize..r.end as usize]) {
-            Some(solid) => screen_tiles(scene, view_proj, &clusters, &solid),
-            None => TileMask::new(w, h),
-        })
+        .map(
+            |r| match merged_solid(&instances[r.start as usize..r.end as usize]) {
+                Some(solid) => screen_tiles(scene, view_proj, &clusters, &solid),
+                None => TileMask::new(w, h),
+            },
+        )
         .collect()
 }
 
