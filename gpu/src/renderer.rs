@@ -165,12 +165,14 @@ impl ReceiverClusters {
 /// ([`ReceiverClusters`]; a receiver point in the solid lies in one of them) cut to the solid
 /// (to its bounding box, then each to the solid's rectangles at the cluster's depths), none when
 /// none meets it, and every tile when a corner to project is not in front of the camera.
-/// `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]).
+/// `view_proj` is the frame's eye-relative view-projection ([`view_proj_f64`]). Only receivers
+/// deeper than `deeper_than` (light space) count: clusters no deeper are skipped.
 pub fn screen_tiles(
     scene: &Scene,
     view_proj: &DMat4,
     clusters: &ReceiverClusters,
     solid: &WedgeFrustum,
+    deeper_than: f64,
 ) -> TileMask {
     let lo = solid.near.0.min(solid.far.0).extend(solid.z.0);
     let hi = solid.near.1.max(solid.far.1).extend(solid.z.1);
@@ -178,6 +180,9 @@ pub fn screen_tiles(
     let (w, h) = (c.width, c.height);
     let mut mask = TileMask::new(w, h);
     for (lo, hi) in clusters.within(lo, hi) {
+        if hi.z <= deeper_than {
+            continue;
+        }
         // The solid's sections are linear in depth: over the cluster's depths they lie within
         // the rectangle holding the two at its ends.
         let (a, b) = (solid.section(lo.z), solid.section(hi.z));
@@ -256,24 +261,38 @@ pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
 }
 
 /// Each occluder's screen tiles ([`screen_tiles`]): where the receivers in the merged solid of
-/// its wedges `instances[ranges[o]]` ([`wedge_instances`], [`merged_solid`]) project. Its hard
-/// shadow lies in that solid too: the solid is convex and holds the shadow volume's sides (each
-/// in its edge's wedge), hence every cross-section of the volume between them. `world`: the
-/// scene's triangles; `view_proj`: as for [`screen_tiles`].
+/// its wedges `instances[ranges[o]]` ([`wedge_instances`], [`merged_solid`]) project, counting
+/// only receivers deeper than its nearest silhouette edge in `volumes`.
+///
+/// Its hard shadow lies in that solid too: the solid is convex and holds the shadow volume's
+/// sides (each in its edge's wedge), hence every cross-section of the volume between them. A
+/// receiver is beyond an edge only if it is deeper than the edge, and in the occluder's hard
+/// shadow only if a light-facing part of it lies between the receiver and the light's centre,
+/// beyond that part's bounding silhouette. Receivers at the nearest edge's depth are thus left
+/// out, which drops an occluder that can shadow nothing: a ground plane facing the light, whose
+/// only silhouette is its own border at its own depth. `world`: the scene's triangles;
+/// `view_proj`: as for [`screen_tiles`].
 pub fn occluder_tiles(
     scene: &Scene,
     view_proj: &DMat4,
     world: &[[DVec3; 3]],
+    volumes: &Volumes,
     instances: &[WedgeInstance],
     ranges: &[std::ops::Range<u32>],
 ) -> Vec<TileMask> {
     let clusters = ReceiverClusters::new(&scene.light, world);
     let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut nearest = vec![f64::INFINITY; ranges.len()];
+    for wedge in &volumes.wedges {
+        let z = &mut nearest[wedge.occluder as usize];
+        *z = z.min(wedge.from.z).min(wedge.to.z);
+    }
     ranges
         .iter()
+        .zip(&nearest)
         .map(
-            |r| match merged_solid(&instances[r.start as usize..r.end as usize]) {
-                Some(solid) => screen_tiles(scene, view_proj, &clusters, &solid),
+            |(r, &z)| match merged_solid(&instances[r.start as usize..r.end as usize]) {
+                Some(solid) => screen_tiles(scene, view_proj, &clusters, &solid, z),
                 None => TileMask::new(w, h),
             },
         )
@@ -470,7 +489,8 @@ impl<'a> GpuRenderer<'a> {
                 inputs.push(final_buffer.as_entire_binding());
                 let blend_inputs =
                     bind_group(device, "blend inputs", &self.blend.inputs_layout, &inputs);
-                let masks = occluder_tiles(scene, &camera, &world, &instances, &inst_ranges);
+                let masks =
+                    occluder_tiles(scene, &camera, &world, volumes, &instances, &inst_ranges);
                 // Occluders whose tiles are disjoint share their passes: their silhouette
                 // buffers cannot meet. No wedge reaching a receiver (no tile): neither does the
                 // occluder's shadow.

@@ -157,7 +157,14 @@ fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
         let (tris, _, _) = vertex_data(&scene, &world, &cpu.volumes);
         let view_proj = view_proj_f64(&scene, scene_radius(&tris));
         let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
-        let masks = occluder_tiles(&scene, &view_proj, &world, &instances, &ranges);
+        let masks = occluder_tiles(
+            &scene,
+            &view_proj,
+            &world,
+            &cpu.volumes,
+            &instances,
+            &ranges,
+        );
         let cam = &scene.camera;
         let (mut reached, mut tiles) = (0usize, 0usize);
         for j in 0..cam.height {
