@@ -244,7 +244,8 @@ pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
     for (_, r) in instances.iter().flat_map(rects) {
         far = (far.0.min(r.0), far.1.max(r.1));
     }
-    let mut near = far;
+    // The smallest near rectangle meeting every instance's constraint; `far` when none binds.
+    let mut near = (DVec2::INFINITY, DVec2::NEG_INFINITY);
     for (z, r) in instances.iter().flat_map(rects) {
         let t = if z1 > z0 { (z - z0) / (z1 - z0) } else { 1.0 };
         // lerp(near, far, t) must hold r; at t = 1 `far` already does.
@@ -252,6 +253,9 @@ pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
             near.0 = near.0.min((r.0 - far.0 * t) / (1.0 - t));
             near.1 = near.1.max((r.1 - far.1 * t) / (1.0 - t));
         }
+    }
+    if !(near.0.is_finite() && near.1.is_finite()) {
+        near = far;
     }
     Some(WedgeFrustum {
         z: (z0, z1),
@@ -722,6 +726,73 @@ pub(crate) fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u6
 mod tests {
     use super::*;
     use glam::DVec2;
+
+    #[test]
+    fn merged_solid_holds_every_instance_solid() {
+        // Instances with their own depths and rectangles, some boxes (near = far), some frusta.
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut r = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f32 / (1u64 << 53) as f32
+        };
+        let instances: Vec<WedgeInstance> = (0..40)
+            .map(|i| {
+                // As `wedge_instances` makes them, every solid ends at the receivers' far depth.
+                let (z0, z1) = (1.0 + 4.0 * r(), 9.0);
+                let (cx, cy) = (4.0 * r() - 2.0, 4.0 * r() - 2.0);
+                let far = [
+                    cx - 1.0 - r(),
+                    cy - 1.0 - r(),
+                    cx + 1.0 + r(),
+                    cy + 1.0 + r(),
+                ];
+                let near = if i % 3 == 0 {
+                    far
+                } else {
+                    let (a, b) = (0.3 * r(), 0.3 * r());
+                    [cx - a, cy - b, cx + a, cy + b]
+                };
+                WedgeInstance {
+                    lo: [far[0], far[1], z0, 0.0],
+                    hi: [far[2], far[3], z1, 0.0],
+                    from: [0.0; 4],
+                    to: [0.0; 4],
+                    near,
+                    far,
+                }
+            })
+            .collect();
+        let m = merged_solid(&instances).unwrap();
+        assert!(merged_solid(&[]).is_none());
+        // Frusta alone narrow it towards their near ends: its near rectangle is smaller than
+        // its far one.
+        let frusta: Vec<WedgeInstance> = instances.iter().skip(1).step_by(3).copied().collect();
+        let f = merged_solid(&frusta).unwrap();
+        let size = |r: (DVec2, DVec2)| (r.1 - r.0).element_product();
+        assert!(size(f.near) < 0.8 * size(f.far), "{f:?}");
+        for b in &instances {
+            let solid = WedgeFrustum {
+                z: (b.lo[2] as f64, b.hi[2] as f64),
+                near: (
+                    DVec2::new(b.near[0] as f64, b.near[1] as f64),
+                    DVec2::new(b.near[2] as f64, b.near[3] as f64),
+                ),
+                far: (
+                    DVec2::new(b.far[0] as f64, b.far[1] as f64),
+                    DVec2::new(b.far[2] as f64, b.far[3] as f64),
+                ),
+            };
+            for i in 0..=8 {
+                let z = solid.z.0 + (solid.z.1 - solid.z.0) * i as f64 / 8.0;
+                let (lo, hi) = solid.section(z);
+                for c in [lo, hi, DVec2::new(lo.x, hi.y), DVec2::new(hi.x, lo.y)] {
+                    assert!(m.holds(c.extend(z), 1e-9), "{c} at {z} outside {m:?}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn receiver_clusters_return_every_cluster_meeting_the_box_cut_to_it() {
