@@ -10,7 +10,7 @@ use glam::{DMat4, DVec2, DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{RectLight, Scene};
 use penumbra_volumes::Volumes;
-use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_box, wedge_frustum};
+use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_frustum};
 use penumbra_volumes::shadow_volume::VolumeVertex;
 
 use crate::context::{GpuContext, GpuError};
@@ -70,22 +70,21 @@ pub fn wedge_instances(
     let mut ranges = vec![0..0; volumes.occluders.len()];
     let mut out = Vec::with_capacity(volumes.wedges.len());
     for w in &volumes.wedges {
-        let inst = wedge_box(w, lo, hi)
-            .zip(wedge_frustum(w, lo, hi))
-            .map(|((blo, bhi), solid)| {
-                let rect = |r: (DVec2, DVec2)| {
-                    let (a, b) = (r.0.as_vec2(), r.1.as_vec2());
-                    [a.x, a.y, b.x, b.y]
-                };
-                WedgeInstance {
-                    lo: f(blo, 0.0),
-                    hi: f(bhi, 0.0),
-                    from: f(w.from, w.multiplicity as f32),
-                    to: f(w.to, 0.0),
-                    near: rect(solid.near),
-                    far: rect(solid.far),
-                }
-            });
+        let inst = wedge_frustum(w, lo, hi).map(|solid| {
+            let rect = |r: (DVec2, DVec2)| {
+                let (a, b) = (r.0.as_vec2(), r.1.as_vec2());
+                [a.x, a.y, b.x, b.y]
+            };
+            let (blo, bhi) = solid.bounds();
+            WedgeInstance {
+                lo: f(blo, 0.0),
+                hi: f(bhi, 0.0),
+                from: f(w.from, w.multiplicity as f32),
+                to: f(w.to, 0.0),
+                near: rect(solid.near),
+                far: rect(solid.far),
+            }
+        });
         if let Some(i) = inst {
             let r = &mut ranges[w.occluder as usize];
             if r.start == r.end {
@@ -174,8 +173,7 @@ pub fn screen_tiles(
     solid: &WedgeFrustum,
     deeper_than: f64,
 ) -> TileMask {
-    let lo = solid.near.0.min(solid.far.0).extend(solid.z.0);
-    let hi = solid.near.1.max(solid.far.1).extend(solid.z.1);
+    let (lo, hi) = solid.bounds();
     let c = &scene.camera;
     let (w, h) = (c.width, c.height);
     let mut mask = TileMask::new(w, h);
@@ -231,22 +229,17 @@ pub fn screen_tiles(
 /// instance's rectangles lie in the sections at their depths (sections are linear in depth, so
 /// each instance's solid then lies in it).
 pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
-    let rects = |b: &WedgeInstance| {
-        let r = |c: [f32; 4]| {
-            let v = Vec4::from(c).as_dvec4();
-            (DVec2::new(v.x, v.y), DVec2::new(v.z, v.w))
-        };
-        [(b.lo[2] as f64, r(b.near)), (b.hi[2] as f64, r(b.far))]
-    };
-    let z0 = instances.iter().map(|b| b.lo[2] as f64).reduce(f64::min)?;
-    let z1 = instances.iter().map(|b| b.hi[2] as f64).reduce(f64::max)?;
+    let solids: Vec<WedgeFrustum> = instances.iter().map(WedgeInstance::solid).collect();
+    let rects = |s: &WedgeFrustum| [(s.z.0, s.near), (s.z.1, s.far)];
+    let z0 = solids.iter().map(|s| s.z.0).reduce(f64::min)?;
+    let z1 = solids.iter().map(|s| s.z.1).reduce(f64::max)?;
     let mut far = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for (_, r) in instances.iter().flat_map(rects) {
+    for (_, r) in solids.iter().flat_map(rects) {
         far = (far.0.min(r.0), far.1.max(r.1));
     }
     // The smallest near rectangle meeting every instance's constraint; `far` when none binds.
     let mut near = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for (z, r) in instances.iter().flat_map(rects) {
+    for (z, r) in solids.iter().flat_map(rects) {
         let t = if z1 > z0 { (z - z0) / (z1 - z0) } else { 1.0 };
         // lerp(near, far, t) must hold r; at t = 1 `far` already does.
         if t < 1.0 {
@@ -773,17 +766,7 @@ mod tests {
         let size = |r: (DVec2, DVec2)| (r.1 - r.0).element_product();
         assert!(size(f.near) < 0.8 * size(f.far), "{f:?}");
         for b in &instances {
-            let solid = WedgeFrustum {
-                z: (b.lo[2] as f64, b.hi[2] as f64),
-                near: (
-                    DVec2::new(b.near[0] as f64, b.near[1] as f64),
-                    DVec2::new(b.near[2] as f64, b.near[3] as f64),
-                ),
-                far: (
-                    DVec2::new(b.far[0] as f64, b.far[1] as f64),
-                    DVec2::new(b.far[2] as f64, b.far[3] as f64),
-                ),
-            };
+            let solid = b.solid();
             for i in 0..=8 {
                 let z = solid.z.0 + (solid.z.1 - solid.z.0) * i as f64 / 8.0;
                 let (lo, hi) = solid.section(z);

@@ -311,6 +311,14 @@ impl WedgeFrustum {
         )
     }
 
+    /// Its bounding box: both rectangles over its depths.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        (
+            self.near.0.min(self.far.0).extend(self.z.0),
+            self.near.1.max(self.far.1).extend(self.z.1),
+        )
+    }
+
     /// Light-space volume.
     pub fn volume(&self) -> f64 {
         let area = |r: (DVec2, DVec2)| {

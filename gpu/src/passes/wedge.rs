@@ -1,22 +1,22 @@
 //! Penumbra-wedge pass: drives `shaders/wedge.wgsl`.
 
 use bytemuck::{Pod, Zeroable};
+use penumbra_volumes::render::WedgeFrustum;
 
 use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 
 /// Format of the per-radial-part occlusion target (one channel per part).
 pub const OCCLUSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// One wedge as the shader reads it (per instance): the light-space box holding its wedge within
-/// the receivers' box (for the screen tiles), the solid that is rasterised
-/// ([`penumbra_volumes::render::WedgeFrustum`]: at the box's depths, the rectangles `near` and
-/// `far`), and its edge.
+/// One wedge as the shader reads it (per instance): the solid that is rasterised, holding the
+/// wedge within the receivers' box ([`penumbra_volumes::render::WedgeFrustum`]: the rectangles
+/// `near` and `far` at the depths of `lo` and `hi`), and its edge.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct WedgeInstance {
-    /// Box minimum (light space), `w` unused.
+    /// Minimum of the solid's bounding box (light space), `w` unused.
     pub lo: [f32; 4],
-    /// Box maximum, `w` unused.
+    /// Maximum of the solid's bounding box, `w` unused.
     pub hi: [f32; 4],
     /// Edge start (light space), `w` = multiplicity.
     pub from: [f32; 4],
@@ -29,6 +29,21 @@ pub struct WedgeInstance {
 }
 
 const _: () = assert!(std::mem::size_of::<WedgeInstance>() == 96);
+
+impl WedgeInstance {
+    /// The solid it rasterises, in `f64`.
+    pub fn solid(&self) -> WedgeFrustum {
+        let rect = |c: [f32; 4]| {
+            let v = glam::Vec4::from(c).as_dvec4();
+            (glam::DVec2::new(v.x, v.y), glam::DVec2::new(v.z, v.w))
+        };
+        WedgeFrustum {
+            z: (self.lo[2] as f64, self.hi[2] as f64),
+            near: rect(self.near),
+            far: rect(self.far),
+        }
+    }
+}
 
 /// The unit cube's 12 triangles, wound counter-clockwise seen from outside.
 pub fn unit_cube() -> Vec<[f32; 3]> {

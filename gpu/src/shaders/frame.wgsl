@@ -49,10 +49,6 @@ fn fullscreen(i: u32) -> vec4<f32> {
 const BIG: f32 = 1e30;
 const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
 
-fn rect_union(a: vec4<f32>, b: vec4<f32>) -> vec4<f32> {
-    return vec4<f32>(min(a.xy, b.xy), max(a.zw, b.zw));
-}
-
 // Bounding rectangle of radial part k of the light (counter-clockwise from +x).
 fn part_rect(k: u32) -> vec4<f32> {
     let r = array<vec4<f32>, 4>(

@@ -2,10 +2,10 @@
 // Each instance is one silhouette edge. A convex light-space solid holding its wedge (the smaller
 // of a box and a frustum narrowing to the edge, `penumbra_volumes::render::wedge_frustum`; both
 // the unit cube mapped by depth) is rasterised by its back faces, so that every pixel whose view
-// ray meets the solid gets exactly one fragment, the camera inside it included. The fragment reads the receiver P written by the depth
-// pre-pass, and adds the edge's signed occluded area per radial part of the light: outer
-// half-wedges add, inner ones subtract. The same integral as the CPU oracle,
-// `penumbra_volumes::wedge::Wedge::integral`, in f32.
+// ray meets the solid gets exactly one fragment, the camera inside it included. The fragment
+// reads the receiver P written by the depth pre-pass, and adds the edge's signed occluded area
+// per radial part of the light: outer half-wedges add, inner ones subtract. The same integral as
+// the CPU oracle, `penumbra_volumes::wedge::Wedge::integral`, in f32.
 
 struct WedgeIn {
     @location(0) corner: vec3<f32>,
@@ -177,7 +177,11 @@ fn split_triangle(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>, near: bool) -> Spl
         0.5 * abs(cross2(c01, c20)),
         lone_is.x,
     );
-    m.area = select(select(select(0.0, small, count == 1u), whole - small, count == 2u), whole, count == 3u);
+    m.area = select(
+        select(select(0.0, small, count == 1u), whole - small, count == 2u),
+        whole,
+        count == 3u,
+    );
     return m;
 }
 
