@@ -54,19 +54,19 @@ fn every_wgsl_file_validates_with_naga() {
         if p.extension().is_none_or(|x| x != "wgsl") {
             continue;
         }
-        // Each pass's shader is compiled with frame.wgsl prepended (`passes::shader`), and the
-        // shadow-map techniques' with shadow.wgsl too (`passes::fullscreen::shadow_shader`).
+        // Each pass's shader is compiled after the shared constants and frame.wgsl
+        // (`passes::wgsl_source`), and the shadow-map techniques' with shadow.wgsl too
+        // (`passes::fullscreen::shadow_shader`).
         let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
         let shadow = if fullscreen::SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             fullscreen::SHADOW_WGSL
         } else {
             ""
         };
-        let src = format!(
-            "{}\n{shadow}\n{}",
-            penumbra_gpu::passes::FRAME_WGSL,
+        let src = penumbra_gpu::passes::wgsl_source(&format!(
+            "{shadow}\n{}",
             std::fs::read_to_string(&p).unwrap()
-        );
+        ));
         if p.ends_with("frame.wgsl") || p.ends_with("shadow.wgsl") {
             continue;
         }

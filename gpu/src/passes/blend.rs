@@ -19,7 +19,7 @@ pub const SILHOUETTE_FORMATS: [wgpu::TextureFormat; 6] = [
 pub const SILHOUETTE_ADDED: usize = 2;
 
 /// Words (`u32`) per pixel of the final buffer, a storage buffer: areas as 16-bit unorm (2),
-/// rectangles as 8-bit unorm (4). `FINAL_WORDS` in `frame.wgsl`.
+/// rectangles as 8-bit unorm (4). Shared with the shaders ([`super::shared_constants`]).
 pub const FINAL_WORDS: u64 = 6;
 
 /// Bytes per pixel of the visibility buffers of `wedges-blend`: one silhouette buffer and the
@@ -33,7 +33,8 @@ pub fn bytes_per_pixel() -> u64 {
 }
 
 /// Side in pixels of the square screen tiles that group the silhouettes ([`disjoint_groups`])
-/// and that the blend covers, one workgroup per tile (`TILE` in `blend.wgsl`).
+/// and that the blend covers, one workgroup per tile. Shared with the shaders
+/// ([`super::shared_constants`]).
 pub const TILE: u32 = 8;
 
 /// A set of the screen's [`TILE`]-pixel tiles: where one silhouette can shadow, or a group's
@@ -187,8 +188,9 @@ pub struct TileRange {
 
 const _: () = assert!(std::mem::size_of::<TileRange>() == 16);
 
-/// Largest workgroup count along one dispatch dimension (WebGPU's default limit).
-const MAX_WORKGROUPS: u32 = 65535;
+/// Largest workgroup count along one dispatch dimension (WebGPU's default limit); the blend's
+/// tile index is `x + MAX_WORKGROUPS y`.
+pub const MAX_WORKGROUPS: u32 = 65535;
 
 /// The blend pipeline.
 pub struct BlendPass {

@@ -22,6 +22,10 @@ pub fn shadow_shader(device: &wgpu::Device, label: &str, source: &str) -> wgpu::
     super::shader(device, label, &format!("{SHADOW_WGSL}\n{source}"))
 }
 
+/// What a light map holds where no surface is (`BIG` in the shaders, through
+/// [`super::shared_constants`]).
+pub const BIG: f32 = 1e30;
+
 /// Number of input images of the shared group (`map0`, `map1`, `map2`).
 pub const INPUT_IMAGES: usize = 3;
 
@@ -153,7 +157,7 @@ impl LightMapPass {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let big = wgpu::Color {
-            r: 1e30,
+            r: BIG as f64,
             g: 0.0,
             b: 0.0,
             a: 0.0,

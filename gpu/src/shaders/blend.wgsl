@@ -28,10 +28,8 @@ struct TileRange {
 @group(2) @binding(0) var<uniform> range: TileRange;
 @group(2) @binding(1) var<storage, read> tiles: array<u32>;
 
-// Tile side in pixels (`passes::blend::TILE`).
-const TILE: u32 = 8u;
-// Workgroups along x of a dispatch (`MAX_WORKGROUPS` in Rust): the tile index is x + 65535 y.
-const ROW: u32 = 65535u;
+// TILE (tile side in pixels) and MAX_WORKGROUPS (workgroups along x of a dispatch: the tile
+// index is x + MAX_WORKGROUPS y) come from Rust (`passes::shared_constants`).
 
 // The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
 // rectangle to end at them (CPU: 2 (1 - 1e-9); the cover is summed in f16, 11 bits).
@@ -42,7 +40,7 @@ fn blend(
     @builtin(workgroup_id) group: vec3<u32>,
     @builtin(local_invocation_id) local: vec3<u32>,
 ) {
-    let t = group.x + ROW * group.y;
+    let t = group.x + MAX_WORKGROUPS * group.y;
     if (t >= range.count) {
         return;
     }

@@ -1,7 +1,7 @@
 // `fractional-disk`: Valient & de Boer, "Fractional-Disk Soft Shadows" (seed 000). The light is
 // the disk of the rectangle's area, radius r = shadow.light.z. Inputs: map0, the back-face
 // ("second-depth") light map; map1, its preprocessed form (R depth, G nearest occluder depth,
-// B inverse distance to the hard-shadow edge); map2, the 64x64 noise map (RG a Poisson disk set
+// B inverse distance to the hard-shadow edge); map2, the NOISE_SIZE² noise map (RG a Poisson disk set
 // per row in [0, 1]^2, BA uniform start coordinates).
 // params: x = a (Eq. 2), y = largest radius in texels, z = edge threshold, w = 1 for the disk
 // re-test.
@@ -65,7 +65,7 @@ fn fs_propagate(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 fn noise(t: vec2<u32>) -> vec4<f32> {
-    return textureLoad(map2, vec2<i32>(t % vec2<u32>(64u)), 0);
+    return textureLoad(map2, vec2<i32>(t % vec2<u32>(NOISE_SIZE)), 0);
 }
 
 // "Final rendering", listing 3, with the errata of docs/specs/fractional-disk.md fixed: the
@@ -101,13 +101,13 @@ fn fs_fractional_disk(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<
         q = shadow.params.y;
     }
     let passes = f32(shadow.iparams.y);
-    let edge = select(1e30, passes + 1.0 - c.b, c.b > 0.0);
+    let edge = select(BIG, passes + 1.0 - c.b, c.b > 0.0);
     if (edge > q) {
         // No hard-shadow edge within the disk: not in a penumbra.
         return vec4<f32>(hard, 0.0, 0.0, 0.0);
     }
     let n = sample_count(q);
-    let start = vec2<u32>(floor(noise(vec2<u32>(pixel.xy)).ba * 64.0));
+    let start = vec2<u32>(floor(noise(vec2<u32>(pixel.xy)).ba * f32(NOISE_SIZE)));
     var lit = hard;
     for (var i = 0u; i < n; i++) {
         let o = noise(vec2<u32>(start.x + i, start.y)).rg * 2.0 - 1.0;

@@ -45,8 +45,8 @@ fn fullscreen(i: u32) -> vec4<f32> {
     return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
 }
 
-// A rectangle as (min x, min y, max x, max y); empty when min > max.
-const BIG: f32 = 1e30;
+// A rectangle as (min x, min y, max x, max y); empty when min > max. BIG (larger than any
+// coordinate) comes from Rust (`passes::shared_constants`).
 const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
 
 // Bounding rectangle of radial part k of the light (counter-clockwise from +x).
@@ -61,8 +61,9 @@ fn part_rect(k: u32) -> vec4<f32> {
 }
 
 // Levels of a rectangle coordinate in the visibility buffers: 8 bits per coordinate, as seed 004
-// packs them (section 4.4), relative to the part's own rectangle. Must equal
-// `penumbra_volumes::blend::RECT_LEVELS`.
+// packs them (section 4.4), relative to the part's own rectangle: the levels of the `Rgba8Unorm`
+// rectangle targets (`passes::blend::SILHOUETTE_FORMATS`) and of the final buffer's
+// `pack4x8unorm` words.
 const RECT_LEVELS: f32 = 255.0;
 
 // A rectangle inside part k as four values in [0, 1] that grow inwards, (min, 1 - max) relative
@@ -92,7 +93,7 @@ fn encoded_area(e: vec4<f32>) -> f32 {
 // The final visibility buffer of `wedges-blend`, a storage buffer of `FINAL_WORDS` words per
 // pixel: the occluded area per part as 16-bit unorm (two words) and each part's rectangle as
 // `encode_rect` in 8-bit unorm (one word per part): 24 bytes. Zeroed: no occlusion.
-const FINAL_WORDS: u32 = 6u;
+// FINAL_WORDS comes from Rust (`passes::blend::FINAL_WORDS`, through `passes::shared_constants`).
 
 fn final_index(pixel: vec2<u32>) -> u32 {
     return (pixel.y * u32(frame.size.x) + pixel.x) * FINAL_WORDS;

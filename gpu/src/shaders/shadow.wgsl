@@ -19,7 +19,7 @@ struct Shadow {
     params: vec4<f32>,
     iparams: vec4<u32>,
     // Per-pass filter taps (gaussian multi): offset in pixels (xy), weight (z).
-    taps: array<vec4<f32>, 64>,
+    taps: array<vec4<f32>, MAX_TAPS>,
 }
 
 @group(1) @binding(0) var<uniform> shadow: Shadow;
