@@ -105,9 +105,9 @@ fn cone_part(k: u32, u: vec2<f32>, v: vec2<f32>) -> ConePart {
 }
 
 // Triangle (0, p1, p2) split by the line dot(h.xy, x) + h.z = 0, in closed form: nothing is
-// clipped or stored. Beyond (>= 0): area and bounding rectangle; near (<= 0), only when `near`
-// is asked for: bounding rectangle. `n` and `near_n` say whether each side holds a vertex (3)
-// or nothing (0), as a Sutherland-Hodgman walk would count.
+// clipped or stored. The area beyond the line (>= 0), and the bounding rectangle of one side:
+// beyond, or near (<= 0) when `near` is asked for. `n` says whether that side holds a vertex
+// (3) or nothing (0), as a Sutherland-Hodgman walk would count.
 //
 // Each side is the vertices on it plus the line's crossings of the edges whose ends lie on
 // opposite sides; a crossing at a vertex on the line is that vertex, already on both sides. A
@@ -117,8 +117,6 @@ struct Split {
     area: f32,
     rect: vec4<f32>,
     n: u32,
-    near_rect: vec4<f32>,
-    near_n: u32,
 }
 
 // The crossing of segment a-b (values fa, fb) with the line.
@@ -149,18 +147,12 @@ fn split_triangle(p1: vec2<f32>, p2: vec2<f32>, h: vec3<f32>, near: bool) -> Spl
     cross_rect = with_point(cross_rect, c12, crossed.y);
     cross_rect = with_point(cross_rect, c20, crossed.z);
 
-    var r = with_point(cross_rect, o, beyond.x);
-    r = with_point(r, p1, beyond.y);
-    m.rect = with_point(r, p2, beyond.z);
-    m.n = select(0u, 3u, any(beyond));
-    m.near_rect = EMPTY_RECT;
-    m.near_n = 0u;
-    if (near) {
-        var q = with_point(cross_rect, o, on_near.x);
-        q = with_point(q, p1, on_near.y);
-        m.near_rect = with_point(q, p2, on_near.z);
-        m.near_n = select(0u, 3u, any(on_near));
-    }
+    // One side's rectangle: its vertices and the crossings.
+    let side = select(beyond, on_near, near);
+    var r = with_point(cross_rect, o, side.x);
+    r = with_point(r, p1, side.y);
+    m.rect = with_point(r, p2, side.z);
+    m.n = select(0u, 3u, any(side));
 
     // Area: the whole triangle, nothing, or the triangle at the vertex alone on its side
     // (subtracted when that vertex is the near one).
@@ -308,8 +300,8 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
         if (near_rects) {
             // The part's side inside the cone is the triangle's far side.
             out.cover[k] = length(cone.p2 - cone.p1);
-            if (r.near_n >= 3u) {
-                rect = r.near_rect;
+            if (r.n >= 3u) {
+                rect = r.rect;
                 out.valid = true;
             }
         }
