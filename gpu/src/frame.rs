@@ -109,11 +109,11 @@ pub fn frame_group(
     layout: &wgpu::BindGroupLayout,
     uniforms: &FrameUniforms,
 ) -> wgpu::BindGroup {
-    use wgpu::util::DeviceExt;
-    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("frame"),
-        contents: bytemuck::bytes_of(uniforms),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
+    let buffer = crate::passes::buffer(
+        device,
+        "frame",
+        std::slice::from_ref(uniforms),
+        wgpu::BufferUsages::UNIFORM,
+    );
     crate::passes::bind_group(device, "frame", layout, &[buffer.as_entire_binding()])
 }

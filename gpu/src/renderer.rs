@@ -27,7 +27,7 @@ use crate::passes::{
     frame_layout,
     resolve::ResolvePass,
     stencil::StencilPass,
-    texture,
+    texture, view,
 };
 pub use crate::timing::PassTimes;
 use crate::timing::{Pass, Timer};
@@ -433,8 +433,13 @@ impl<'a> GpuRenderer<'a> {
                     stamp(Pass::Stencil),
                 );
                 occlusion_view = (technique == GpuTechnique::Wedges).then(|| {
-                    let v = texture(device, "occlusion", (w, h), OCCLUSION_FORMAT, sampled)
-                        .create_view(&Default::default());
+                    let v = view(&texture(
+                        device,
+                        "occlusion",
+                        (w, h),
+                        OCCLUSION_FORMAT,
+                        sampled,
+                    ));
                     self.wedge.record(
                         &mut enc,
                         &frame,
@@ -457,10 +462,7 @@ impl<'a> GpuRenderer<'a> {
                 // updated in place by each blend.
                 let sil: Vec<wgpu::TextureView> = SILHOUETTE_FORMATS
                     .iter()
-                    .map(|&f| {
-                        texture(device, "silhouette", (w, h), f, sampled)
-                            .create_view(&Default::default())
-                    })
+                    .map(|&f| view(&texture(device, "silhouette", (w, h), f, sampled)))
                     .collect();
                 let final_buffer = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("final buffer"),
@@ -723,13 +725,8 @@ mod tests {
     #[test]
     fn merged_solid_holds_every_instance_solid() {
         // Instances with their own depths and rectangles, some boxes (near = far), some frusta.
-        let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut r = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f32 / (1u64 << 53) as f32
-        };
+        let mut rng = penumbra_geom::Rng::new(0x2545_f491_4f6c_dd1d);
+        let mut r = || rng.next_f64() as f32;
         let instances: Vec<WedgeInstance> = (0..40)
             .map(|i| {
                 // As `wedge_instances` makes them, every solid ends at the receivers' far depth.

@@ -652,21 +652,12 @@ impl CpuRenderer {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator (xorshift), for sample points.
-    fn rng(seed: u64) -> impl FnMut() -> f64 {
-        let mut x = seed;
-        move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use penumbra_geom::Rng;
 
     #[test]
     fn wedge_frustum_holds_every_point_of_its_wedge_in_the_receivers_box() {
-        let mut r = rng(0x9e3779b97f4a7c15);
+        let mut rng = Rng::new(0x9e3779b97f4a7c15);
+        let mut r = || rng.next_f64();
         let (lo, hi) = (DVec3::new(-6.0, -5.0, 0.5), DVec3::new(7.0, 6.0, 9.0));
         let mut frusta = 0;
         for _ in 0..300 {
