@@ -327,16 +327,28 @@ enum Command {
         params: ParamArgs,
     },
     /// Time a technique: the median over N frames of each GPU pass (timestamp queries) and of
-    /// the whole frame (wall clock, CPU setup and readback included).
+    /// the whole frame (wall clock, CPU setup and readback included). Given several techniques,
+    /// times them in turn, `--rounds` times, and prints each one's frame time as a ratio to the
+    /// first's, per round and over all frames.
     Bench {
         /// Scene file (TOML).
         scene: PathBuf,
-        /// Technique.
-        #[arg(long, value_enum, default_value = "wedges-blend")]
-        technique: Technique,
-        /// Frames to time (after one warm-up frame).
+        /// Technique, or a comma-separated list compared with the first (e.g.
+        /// `wedges,wedges-blend`).
+        #[arg(
+            long,
+            value_enum,
+            value_delimiter = ',',
+            default_value = "wedges-blend"
+        )]
+        technique: Vec<Technique>,
+        /// Frames to time per technique and round (after one warm-up frame).
         #[arg(long, default_value_t = 10)]
         frames: usize,
+        /// Rounds: the techniques take turns this many times, so that a slow minute on a shared
+        /// machine falls on all of them.
+        #[arg(long, default_value_t = 1)]
+        rounds: usize,
         /// Where to run it.
         #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
@@ -402,11 +414,20 @@ fn run(cli: Cli) -> Result<()> {
             scene,
             technique,
             frames,
+            rounds,
             backend,
             samples,
             json,
             params,
-        } => bench(&scene, technique, frames, backend, samples, json, &params),
+        } => bench(
+            &scene,
+            &technique,
+            Timing { frames, rounds },
+            backend,
+            samples,
+            json,
+            &params,
+        ),
         Command::Accuracy {
             scenes,
             samples,
@@ -862,85 +883,180 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
+/// How `penumbra bench` times: frames per technique and round, and rounds.
+#[derive(Clone, Copy)]
+struct Timing {
+    frames: usize,
+    rounds: usize,
+}
+
+/// One technique's timed frames in `penumbra bench`.
+struct Timed {
+    technique: Technique,
+    /// Wall time of each frame (ms), round after round.
+    wall: Vec<f64>,
+    /// Each round's median frame time (ms).
+    round_medians: Vec<f64>,
+    passes: Vec<PassTimes>,
+}
+
+impl Timed {
+    fn report(
+        &self,
+        scene_path: &Path,
+        scene: &Scene,
+        device: &str,
+        t: Timing,
+    ) -> serde_json::Value {
+        let pass = |f: fn(&PassTimes) -> f64| {
+            (!self.passes.is_empty()).then(|| median(self.passes.iter().map(f).collect()))
+        };
+        serde_json::json!({
+            "scene": scene_path.display().to_string(),
+            "technique": format!("{:?}", self.technique),
+            "device": device,
+            "resolution": [scene.camera.width, scene.camera.height],
+            "frames": t.frames,
+            "rounds": t.rounds,
+            "median_ms": {
+                "depth": pass(|p| p.depth),
+                "stencil": pass(|p| p.stencil),
+                "wedge": pass(|p| p.wedge),
+                "blend": pass(|p| p.blend),
+                "resolve": pass(|p| p.resolve),
+                "light_map": pass(|p| p.light_map),
+                "preprocess": pass(|p| p.preprocess),
+                "filter": pass(|p| p.filter),
+                "gpu_total": pass(|p| p.total()),
+                "frame_wall": median(self.wall.clone()),
+            }
+        })
+    }
+}
+
 fn bench(
     scene_path: &Path,
-    technique: Technique,
-    frames: usize,
+    techniques: &[Technique],
+    timing: Timing,
     backend: Backend,
     samples: usize,
     json: bool,
     params: &ParamArgs,
 ) -> Result<()> {
-    if frames == 0 {
+    if timing.frames == 0 {
         bail!("--frames must be at least 1");
     }
+    if timing.rounds == 0 {
+        bail!("--rounds must be at least 1");
+    }
+    let Some(&first) = techniques.first() else {
+        bail!("--technique: name at least one technique");
+    };
     let per_axis = samples_per_axis(samples)?;
     let mut scene = load_scene(scene_path)?;
     params.apply(&mut scene)?;
-    let gpu = select_gpu(technique, backend)?;
-    let mut wall = Vec::new();
-    let mut passes: Vec<PassTimes> = Vec::new();
-    let device;
-    match &gpu {
-        Some(ctx) => {
-            device = ctx.describe();
-            let mut r = GpuRenderers::new(ctx);
-            // Built once, outside the timed frames: the frames time the GPU's work.
-            let volumes = OnceCell::new();
-            for k in 0..=frames {
+    // One device for all: the first shadow-map technique decides (it needs one), else the
+    // first volume technique, else the first.
+    let on_gpu = |t: &Technique| t.is_volume() || t.shadow_map().is_some();
+    if let Some(t) = techniques
+        .iter()
+        .find(|t| backend == Backend::Gpu && !on_gpu(t))
+    {
+        bail!("--backend gpu: {t:?} runs on the CPU only (the GPU renders the volume techniques)");
+    }
+    let pick = techniques
+        .iter()
+        .find(|t| t.shadow_map().is_some())
+        .or_else(|| techniques.iter().find(|t| t.is_volume()))
+        .unwrap_or(&first);
+    let gpu = select_gpu(*pick, backend)?;
+    let mut renderers = gpu.as_ref().map(GpuRenderers::new);
+    let device = match &gpu {
+        Some(ctx) => ctx.describe(),
+        None => format!("cpu, {} threads", rayon::current_num_threads()),
+    };
+    // Built once, outside the timed frames: the frames time the rendering.
+    let volumes = OnceCell::new();
+    let mut timed: Vec<Timed> = techniques
+        .iter()
+        .map(|&technique| Timed {
+            technique,
+            wall: Vec::new(),
+            round_medians: Vec::new(),
+            passes: Vec::new(),
+        })
+        .collect();
+    for _ in 0..timing.rounds {
+        for t in &mut timed {
+            let mut wall = Vec::with_capacity(timing.frames);
+            for k in 0..=timing.frames {
                 let start = std::time::Instant::now();
-                let (_, times) = r.render(&scene, &volumes, technique)?;
+                let times = match renderers.as_mut() {
+                    Some(r) if on_gpu(&t.technique) => r.render(&scene, &volumes, t.technique)?.1,
+                    _ => {
+                        render_image(&scene, t.technique, per_axis, &|_| {})?;
+                        None
+                    }
+                };
                 if k > 0 {
                     wall.push(start.elapsed().as_secs_f64() * 1e3);
-                    passes.extend(times);
+                    t.passes.extend(times);
                 }
             }
-        }
-        None => {
-            device = format!("cpu, {} threads", rayon::current_num_threads());
-            for k in 0..=frames {
-                let start = std::time::Instant::now();
-                render_image(&scene, technique, per_axis, &|_| {})?;
-                if k > 0 {
-                    wall.push(start.elapsed().as_secs_f64() * 1e3);
-                }
-            }
+            t.round_medians.push(median(wall.clone()));
+            t.wall.extend(wall);
         }
     }
-    let pass = |f: fn(&PassTimes) -> f64| {
-        (!passes.is_empty()).then(|| median(passes.iter().map(f).collect()))
-    };
-    let report = serde_json::json!({
-        "scene": scene_path.display().to_string(),
-        "technique": format!("{technique:?}"),
-        "device": device,
-        "resolution": [scene.camera.width, scene.camera.height],
-        "frames": frames,
-        "median_ms": {
-            "depth": pass(|p| p.depth),
-            "stencil": pass(|p| p.stencil),
-            "wedge": pass(|p| p.wedge),
-            "blend": pass(|p| p.blend),
-            "resolve": pass(|p| p.resolve),
-            "light_map": pass(|p| p.light_map),
-            "preprocess": pass(|p| p.preprocess),
-            "filter": pass(|p| p.filter),
-            "gpu_total": pass(|p| p.total()),
-            "frame_wall": median(wall),
-        }
-    });
+    let reports: Vec<serde_json::Value> = timed
+        .iter()
+        .map(|t| t.report(scene_path, &scene, &device, timing))
+        .collect();
+    // Each technique's frame time against the first's: per round (the two timed minutes
+    // apart at most) and over all frames.
+    let base = &timed[0];
+    let ratios: Vec<serde_json::Value> = timed[1..]
+        .iter()
+        .map(|t| {
+            let per_round: Vec<f64> = t
+                .round_medians
+                .iter()
+                .zip(&base.round_medians)
+                .map(|(a, b)| a / b)
+                .collect();
+            serde_json::json!({
+                "technique": format!("{:?}", t.technique),
+                "to": format!("{:?}", base.technique),
+                "frame_wall": median(t.wall.clone()) / median(base.wall.clone()),
+                "frame_wall_min": min_of(&t.round_medians) / min_of(&base.round_medians),
+                "per_round": per_round,
+            })
+        })
+        .collect();
     if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
+        let out = if reports.len() == 1 {
+            reports[0].clone()
+        } else {
+            serde_json::json!({ "runs": reports, "ratios": ratios })
+        };
+        println!("{}", serde_json::to_string_pretty(&out)?);
+        return Ok(());
+    }
+    let frames = timing.frames * timing.rounds;
+    for (t, report) in timed.iter().zip(&reports) {
         println!(
-            "{} {:?} on {} at {}x{}, median of {frames} frames:",
+            "{} {:?} on {} at {}x{}, median of {frames} frames{}:",
             scene_path.display(),
-            technique,
+            t.technique,
             device,
             scene.camera.width,
-            scene.camera.height
+            scene.camera.height,
+            if timing.rounds > 1 {
+                format!(" ({} rounds of {})", timing.rounds, timing.frames)
+            } else {
+                String::new()
+            }
         );
-        let volume = technique.is_volume();
+        let volume = t.technique.is_volume();
         for k in [
             "depth",
             "stencil",
@@ -963,5 +1079,26 @@ fn bench(
             }
         }
     }
+    for r in &ratios {
+        let rounds: Vec<String> = r["per_round"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|x| x.as_f64())
+            .map(|x| format!("{x:.2}"))
+            .collect();
+        println!(
+            "{} / {} frame time: {:.2}x (medians of all frames), {:.2}x (fastest rounds); per round {}",
+            r["technique"].as_str().unwrap_or_default(),
+            r["to"].as_str().unwrap_or_default(),
+            r["frame_wall"].as_f64().unwrap_or(f64::NAN),
+            r["frame_wall_min"].as_f64().unwrap_or(f64::NAN),
+            rounds.join(", ")
+        );
+    }
     Ok(())
+}
+
+fn min_of(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
 }
