@@ -890,49 +890,19 @@ struct Timing {
     rounds: usize,
 }
 
-/// One technique's timed frames in `penumbra bench`.
-struct Timed {
-    technique: Technique,
-    /// Wall time of each frame (ms), round after round.
-    wall: Vec<f64>,
-    /// Each round's median frame time (ms).
-    round_medians: Vec<f64>,
-    passes: Vec<PassTimes>,
-}
-
-impl Timed {
-    fn report(
-        &self,
-        scene_path: &Path,
-        scene: &Scene,
-        device: &str,
-        t: Timing,
-    ) -> serde_json::Value {
-        let pass = |f: fn(&PassTimes) -> f64| {
-            (!self.passes.is_empty()).then(|| median(self.passes.iter().map(f).collect()))
-        };
-        serde_json::json!({
-            "scene": scene_path.display().to_string(),
-            "technique": format!("{:?}", self.technique),
-            "device": device,
-            "resolution": [scene.camera.width, scene.camera.height],
-            "frames": t.frames,
-            "rounds": t.rounds,
-            "median_ms": {
-                "depth": pass(|p| p.depth),
-                "stencil": pass(|p| p.stencil),
-                "wedge": pass(|p| p.wedge),
-                "blend": pass(|p| p.blend),
-                "resolve": pass(|p| p.resolve),
-                "light_map": pass(|p| p.light_map),
-                "preprocess": pass(|p| p.preprocess),
-                "filter": pass(|p| p.filter),
-                "gpu_total": pass(|p| p.total()),
-                "frame_wall": median(self.wall.clone()),
-            }
-        })
-    }
-}
+/// The passes `penumbra bench` reports, in order.
+const BENCH_PASSES: [&str; 10] = [
+    "depth",
+    "stencil",
+    "wedge",
+    "blend",
+    "light_map",
+    "preprocess",
+    "filter",
+    "resolve",
+    "gpu_total",
+    "frame_wall",
+];
 
 fn bench(
     scene_path: &Path,
@@ -949,138 +919,233 @@ fn bench(
     if timing.rounds == 0 {
         bail!("--rounds must be at least 1");
     }
-    let Some(&first) = techniques.first() else {
-        bail!("--technique: name at least one technique");
-    };
-    let per_axis = samples_per_axis(samples)?;
-    let mut scene = load_scene(scene_path)?;
-    params.apply(&mut scene)?;
-    // One device for all: the first shadow-map technique decides (it needs one), else the
-    // first volume technique, else the first.
-    let on_gpu = |t: &Technique| t.is_volume() || t.shadow_map().is_some();
     if let Some(t) = techniques
         .iter()
-        .find(|t| backend == Backend::Gpu && !on_gpu(t))
+        .find(|t| backend == Backend::Gpu && !t.is_volume() && t.shadow_map().is_none())
     {
         bail!("--backend gpu: {t:?} runs on the CPU only (the GPU renders the volume techniques)");
     }
-    let pick = techniques
-        .iter()
-        .find(|t| t.shadow_map().is_some())
-        .or_else(|| techniques.iter().find(|t| t.is_volume()))
-        .unwrap_or(&first);
-    let gpu = select_gpu(*pick, backend)?;
-    let mut renderers = gpu.as_ref().map(GpuRenderers::new);
-    let device = match &gpu {
-        Some(ctx) => ctx.describe(),
-        None => format!("cpu, {} threads", rayon::current_num_threads()),
+    let [technique] = techniques else {
+        if techniques.is_empty() {
+            bail!("--technique: name at least one technique");
+        }
+        return bench_compare(techniques, timing, json);
     };
-    // Built once, outside the timed frames: the frames time the rendering.
-    let volumes = OnceCell::new();
-    let mut timed: Vec<Timed> = techniques
-        .iter()
-        .map(|&technique| Timed {
-            technique,
-            wall: Vec::new(),
-            round_medians: Vec::new(),
-            passes: Vec::new(),
-        })
-        .collect();
-    for _ in 0..timing.rounds {
-        for t in &mut timed {
-            let mut wall = Vec::with_capacity(timing.frames);
-            for k in 0..=timing.frames {
+    if timing.rounds > 1 {
+        return bench_compare(techniques, timing, json);
+    }
+    let report = bench_one(
+        scene_path,
+        *technique,
+        timing.frames,
+        backend,
+        samples,
+        params,
+    )?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_bench(&report, &format!("median of {} frames", timing.frames));
+    }
+    Ok(())
+}
+
+/// Times `frames` frames of `technique` in this process (after one warm-up frame): the report
+/// `penumbra bench --json` prints.
+fn bench_one(
+    scene_path: &Path,
+    technique: Technique,
+    frames: usize,
+    backend: Backend,
+    samples: usize,
+    params: &ParamArgs,
+) -> Result<serde_json::Value> {
+    let per_axis = samples_per_axis(samples)?;
+    let mut scene = load_scene(scene_path)?;
+    params.apply(&mut scene)?;
+    let gpu = select_gpu(technique, backend)?;
+    let mut wall = Vec::new();
+    let mut passes: Vec<PassTimes> = Vec::new();
+    let device;
+    match &gpu {
+        Some(ctx) => {
+            device = ctx.describe();
+            let mut r = GpuRenderers::new(ctx);
+            // Built once, outside the timed frames: the frames time the GPU's work.
+            let volumes = OnceCell::new();
+            for k in 0..=frames {
                 let start = std::time::Instant::now();
-                let times = match renderers.as_mut() {
-                    Some(r) if on_gpu(&t.technique) => r.render(&scene, &volumes, t.technique)?.1,
-                    _ => {
-                        render_image(&scene, t.technique, per_axis, &|_| {})?;
-                        None
-                    }
-                };
+                let (_, times) = r.render(&scene, &volumes, technique)?;
                 if k > 0 {
                     wall.push(start.elapsed().as_secs_f64() * 1e3);
-                    t.passes.extend(times);
+                    passes.extend(times);
                 }
             }
-            t.round_medians.push(median(wall.clone()));
-            t.wall.extend(wall);
+        }
+        None => {
+            device = format!("cpu, {} threads", rayon::current_num_threads());
+            for k in 0..=frames {
+                let start = std::time::Instant::now();
+                render_image(&scene, technique, per_axis, &|_| {})?;
+                if k > 0 {
+                    wall.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
         }
     }
-    let reports: Vec<serde_json::Value> = timed
+    let pass = |f: fn(&PassTimes) -> f64| {
+        (!passes.is_empty()).then(|| median(passes.iter().map(f).collect()))
+    };
+    Ok(serde_json::json!({
+        "scene": scene_path.display().to_string(),
+        "technique": format!("{technique:?}"),
+        "device": device,
+        "resolution": [scene.camera.width, scene.camera.height],
+        "frames": frames,
+        "median_ms": {
+            "depth": pass(|p| p.depth),
+            "stencil": pass(|p| p.stencil),
+            "wedge": pass(|p| p.wedge),
+            "blend": pass(|p| p.blend),
+            "resolve": pass(|p| p.resolve),
+            "light_map": pass(|p| p.light_map),
+            "preprocess": pass(|p| p.preprocess),
+            "filter": pass(|p| p.filter),
+            "gpu_total": pass(|p| p.total()),
+            "frame_wall": median(wall),
+        }
+    }))
+}
+
+/// Prints a report of [`bench_one`] (or of [`bench_compare`]'s medians) as text.
+fn print_bench(report: &serde_json::Value, what: &str) {
+    let [w, h] = [0, 1].map(|i| report["resolution"][i].as_u64().unwrap_or(0));
+    println!(
+        "{} {} on {} at {w}x{h}, {what}:",
+        report["scene"].as_str().unwrap_or_default(),
+        report["technique"].as_str().unwrap_or_default(),
+        report["device"].as_str().unwrap_or_default(),
+    );
+    let volume = ["Hard", "Wedges", "WedgesBlend"]
+        .contains(&report["technique"].as_str().unwrap_or_default());
+    for k in BENCH_PASSES {
+        let relevant = match k {
+            "stencil" | "wedge" => volume,
+            "blend" => report["technique"] == "WedgesBlend",
+            "light_map" | "preprocess" | "filter" => !volume,
+            _ => true,
+        };
+        if let Some(ms) = report["median_ms"][k].as_f64().filter(|_| relevant) {
+            println!("  {k:<11} {ms:>10.3} ms");
+        }
+    }
+}
+
+/// `penumbra bench` over several techniques or rounds: each technique's frames are timed in a
+/// process of their own (this program, run again with the one technique), the techniques taking
+/// turns round after round, so that neither a slow minute on a shared machine nor what one
+/// technique leaves in the process (allocator state, driver caches) falls on one technique
+/// alone. Reports each technique's per-pass medians over the rounds and its frame time as a
+/// ratio to the first technique's, per round and overall.
+fn bench_compare(techniques: &[Technique], timing: Timing, json: bool) -> Result<()> {
+    let exe = std::env::current_exe().context("finding this program to time each technique")?;
+    // This run's arguments less the techniques, the rounds and the output form.
+    let mut args: Vec<std::ffi::OsString> = Vec::new();
+    let mut given = std::env::args_os().skip(1);
+    while let Some(a) = given.next() {
+        let text = a.to_string_lossy();
+        if text == "--technique" || text == "--rounds" {
+            given.next();
+        } else if !(text.starts_with("--technique=")
+            || text.starts_with("--rounds=")
+            || text == "--json")
+        {
+            args.push(a);
+        }
+    }
+    let mut rounds: Vec<Vec<serde_json::Value>> = vec![Vec::new(); techniques.len()];
+    for _ in 0..timing.rounds {
+        for (t, reports) in techniques.iter().zip(&mut rounds) {
+            let name = t
+                .to_possible_value()
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default();
+            let out = std::process::Command::new(&exe)
+                .args(&args)
+                .args(["--technique", &name, "--json"])
+                .output()
+                .with_context(|| format!("running {} for {name}", exe.display()))?;
+            if !out.status.success() {
+                bail!("{name}: {}", String::from_utf8_lossy(&out.stderr).trim());
+            }
+            reports.push(
+                serde_json::from_slice(&out.stdout)
+                    .with_context(|| format!("{name}: reading its report"))?,
+            );
+        }
+    }
+    let wall_of = |r: &serde_json::Value| r["median_ms"]["frame_wall"].as_f64().unwrap_or(f64::NAN);
+    // Each technique: the first round's report with every pass's median over the rounds.
+    let runs: Vec<serde_json::Value> = rounds
         .iter()
-        .map(|t| t.report(scene_path, &scene, &device, timing))
+        .map(|reports| {
+            let mut run = reports[0].clone();
+            for k in BENCH_PASSES {
+                let v: Vec<f64> = reports
+                    .iter()
+                    .filter_map(|r| r["median_ms"][k].as_f64())
+                    .collect();
+                run["median_ms"][k] = if v.is_empty() {
+                    serde_json::Value::Null
+                } else {
+                    serde_json::json!(median(v))
+                };
+            }
+            run["rounds"] = serde_json::json!(timing.rounds);
+            run["round_frame_wall"] = reports.iter().map(wall_of).collect();
+            run
+        })
         .collect();
-    // Each technique's frame time against the first's: per round (the two timed minutes
-    // apart at most) and over all frames.
-    let base = &timed[0];
-    let ratios: Vec<serde_json::Value> = timed[1..]
+    let walls = |r: &serde_json::Value| -> Vec<f64> {
+        r["round_frame_wall"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|x| x.as_f64())
+            .collect()
+    };
+    let base = &runs[0];
+    let ratios: Vec<serde_json::Value> = runs[1..]
         .iter()
-        .map(|t| {
-            let per_round: Vec<f64> = t
-                .round_medians
+        .map(|r| {
+            let per_round: Vec<f64> = walls(r)
                 .iter()
-                .zip(&base.round_medians)
+                .zip(walls(base))
                 .map(|(a, b)| a / b)
                 .collect();
             serde_json::json!({
-                "technique": format!("{:?}", t.technique),
-                "to": format!("{:?}", base.technique),
-                "frame_wall": median(t.wall.clone()) / median(base.wall.clone()),
-                "frame_wall_min": min_of(&t.round_medians) / min_of(&base.round_medians),
+                "technique": r["technique"],
+                "to": base["technique"],
+                "frame_wall": wall_of(r) / wall_of(base),
+                "frame_wall_min": min_of(&walls(r)) / min_of(&walls(base)),
                 "per_round": per_round,
             })
         })
         .collect();
     if json {
-        let out = if reports.len() == 1 {
-            reports[0].clone()
-        } else {
-            serde_json::json!({ "runs": reports, "ratios": ratios })
-        };
+        let out = serde_json::json!({ "runs": runs, "ratios": ratios });
         println!("{}", serde_json::to_string_pretty(&out)?);
         return Ok(());
     }
-    let frames = timing.frames * timing.rounds;
-    for (t, report) in timed.iter().zip(&reports) {
-        println!(
-            "{} {:?} on {} at {}x{}, median of {frames} frames{}:",
-            scene_path.display(),
-            t.technique,
-            device,
-            scene.camera.width,
-            scene.camera.height,
-            if timing.rounds > 1 {
-                format!(" ({} rounds of {})", timing.rounds, timing.frames)
-            } else {
-                String::new()
-            }
-        );
-        let volume = t.technique.is_volume();
-        for k in [
-            "depth",
-            "stencil",
-            "wedge",
-            "blend",
-            "light_map",
-            "preprocess",
-            "filter",
-            "resolve",
-            "gpu_total",
-            "frame_wall",
-        ] {
-            let relevant = match k {
-                "stencil" | "wedge" | "blend" => volume,
-                "light_map" | "preprocess" | "filter" => !volume,
-                _ => true,
-            };
-            if let Some(ms) = report["median_ms"][k].as_f64().filter(|_| relevant) {
-                println!("  {k:<11} {ms:>10.3} ms");
-            }
-        }
+    let what = format!(
+        "median over {} rounds of the medians of {} frames, each round in a process of its own",
+        timing.rounds, timing.frames
+    );
+    for r in &runs {
+        print_bench(r, &what);
     }
     for r in &ratios {
-        let rounds: Vec<String> = r["per_round"]
+        let per_round: Vec<String> = r["per_round"]
             .as_array()
             .into_iter()
             .flatten()
@@ -1088,12 +1153,12 @@ fn bench(
             .map(|x| format!("{x:.2}"))
             .collect();
         println!(
-            "{} / {} frame time: {:.2}x (medians of all frames), {:.2}x (fastest rounds); per round {}",
+            "{} / {} frame time: {:.2}x (medians over the rounds), {:.2}x (fastest rounds); per round {}",
             r["technique"].as_str().unwrap_or_default(),
             r["to"].as_str().unwrap_or_default(),
             r["frame_wall"].as_f64().unwrap_or(f64::NAN),
             r["frame_wall_min"].as_f64().unwrap_or(f64::NAN),
-            rounds.join(", ")
+            per_round.join(", ")
         );
     }
     Ok(())
