@@ -51,11 +51,17 @@ fn render_case(name: &str, scene: &str, obj: &str) -> (PathBuf, Output) {
     render_case_with(name, scene, obj, &[])
 }
 
-/// [`render_case`] with more arguments for `penumbra render`.
-fn render_case_with(name: &str, scene: &str, obj: &str, args: &[&str]) -> (PathBuf, Output) {
+/// A scratch folder holding `scene` as `s.toml` and `obj` as `m.obj`.
+fn case_dir(name: &str, scene: &str, obj: &str) -> PathBuf {
     let d = scratch(name);
     std::fs::write(d.join("s.toml"), scene).unwrap();
     std::fs::write(d.join("m.obj"), obj).unwrap();
+    d
+}
+
+/// [`render_case`] with more arguments for `penumbra render`.
+fn render_case_with(name: &str, scene: &str, obj: &str, args: &[&str]) -> (PathBuf, Output) {
+    let d = case_dir(name, scene, obj);
     let out = penumbra()
         .arg("render")
         .arg(d.join("s.toml"))
@@ -437,9 +443,7 @@ fn render_help_lists_the_shadow_map_parameters() {
 
 /// `penumbra bench` on GOOD_SCENE in a scratch folder, with `args`.
 fn bench_case(name: &str, args: &[&str]) -> (PathBuf, Output) {
-    let d = scratch(name);
-    std::fs::write(d.join("s.toml"), GOOD_SCENE).unwrap();
-    std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
+    let d = case_dir(name, GOOD_SCENE, GOOD_OBJ);
     let out = penumbra()
         .arg("bench")
         .arg(d.join("s.toml"))
