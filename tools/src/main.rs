@@ -945,7 +945,11 @@ fn bench(
     if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print_bench(&report, &format!("median of {} frames", timing.frames));
+        print_bench(
+            &report,
+            *technique,
+            &format!("median of {} frames", timing.frames),
+        );
     }
     Ok(())
 }
@@ -1017,8 +1021,8 @@ fn bench_one(
     }))
 }
 
-/// Prints a report of [`bench_one`] (or of [`bench_compare`]'s medians) as text.
-fn print_bench(report: &serde_json::Value, what: &str) {
+/// Prints a report of [`bench_one`] (or of [`bench_compare`]'s medians) of `technique` as text.
+fn print_bench(report: &serde_json::Value, technique: Technique, what: &str) {
     let [w, h] = [0, 1].map(|i| report["resolution"][i].as_u64().unwrap_or(0));
     println!(
         "{} {} on {} at {w}x{h}, {what}:",
@@ -1026,12 +1030,10 @@ fn print_bench(report: &serde_json::Value, what: &str) {
         report["technique"].as_str().unwrap_or_default(),
         report["device"].as_str().unwrap_or_default(),
     );
-    let volume = ["Hard", "Wedges", "WedgesBlend"]
-        .contains(&report["technique"].as_str().unwrap_or_default());
+    let volume = technique.is_volume();
     for k in BENCH_PASSES {
         let relevant = match k {
-            "stencil" | "wedge" => volume,
-            "blend" => report["technique"] == "WedgesBlend",
+            "stencil" | "wedge" | "blend" => volume,
             "light_map" | "preprocess" | "filter" => !volume,
             _ => true,
         };
@@ -1085,10 +1087,16 @@ fn bench_compare(techniques: &[Technique], timing: Timing, json: bool) -> Result
         }
     }
     let wall_of = |r: &serde_json::Value| r["median_ms"]["frame_wall"].as_f64().unwrap_or(f64::NAN);
+    // Each technique's frame time in each round.
+    let walls: Vec<Vec<f64>> = rounds
+        .iter()
+        .map(|reports| reports.iter().map(wall_of).collect())
+        .collect();
     // Each technique: the first round's report with every pass's median over the rounds.
     let runs: Vec<serde_json::Value> = rounds
         .iter()
-        .map(|reports| {
+        .zip(&walls)
+        .map(|(reports, w)| {
             let mut run = reports[0].clone();
             for k in BENCH_PASSES {
                 let v: Vec<f64> = reports
@@ -1102,37 +1110,38 @@ fn bench_compare(techniques: &[Technique], timing: Timing, json: bool) -> Result
                 };
             }
             run["rounds"] = serde_json::json!(timing.rounds);
-            run["round_frame_wall"] = reports.iter().map(wall_of).collect();
+            run["round_frame_wall"] = serde_json::json!(w);
             run
         })
         .collect();
-    let walls = |r: &serde_json::Value| -> Vec<f64> {
-        r["round_frame_wall"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .filter_map(|x| x.as_f64())
-            .collect()
-    };
-    let base = &runs[0];
-    let ratios: Vec<serde_json::Value> = runs[1..]
+    // Each technique's frame time against the first's: per round (the two timed minutes
+    // apart at most), over the medians and over the fastest rounds.
+    let ratios: Vec<(Technique, f64, f64, Vec<f64>)> = techniques[1..]
         .iter()
-        .map(|r| {
-            let per_round: Vec<f64> = walls(r)
-                .iter()
-                .zip(walls(base))
-                .map(|(a, b)| a / b)
-                .collect();
-            serde_json::json!({
-                "technique": r["technique"],
-                "to": base["technique"],
-                "frame_wall": wall_of(r) / wall_of(base),
-                "frame_wall_min": min_of(&walls(r)) / min_of(&walls(base)),
-                "per_round": per_round,
-            })
+        .zip(&walls[1..])
+        .map(|(&t, w)| {
+            let per_round = w.iter().zip(&walls[0]).map(|(a, b)| a / b).collect();
+            (
+                t,
+                median(w.clone()) / median(walls[0].clone()),
+                min_of(w) / min_of(&walls[0]),
+                per_round,
+            )
         })
         .collect();
     if json {
+        let ratios: Vec<serde_json::Value> = ratios
+            .iter()
+            .map(|(t, overall, fastest, per_round)| {
+                serde_json::json!({
+                    "technique": format!("{t:?}"),
+                    "to": format!("{:?}", techniques[0]),
+                    "frame_wall": overall,
+                    "frame_wall_min": fastest,
+                    "per_round": per_round,
+                })
+            })
+            .collect();
         let out = serde_json::json!({ "runs": runs, "ratios": ratios });
         println!("{}", serde_json::to_string_pretty(&out)?);
         return Ok(());
@@ -1141,23 +1150,14 @@ fn bench_compare(techniques: &[Technique], timing: Timing, json: bool) -> Result
         "median over {} rounds of the medians of {} frames, each round in a process of its own",
         timing.rounds, timing.frames
     );
-    for r in &runs {
-        print_bench(r, &what);
+    for (r, &t) in runs.iter().zip(techniques) {
+        print_bench(r, t, &what);
     }
-    for r in &ratios {
-        let per_round: Vec<String> = r["per_round"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .filter_map(|x| x.as_f64())
-            .map(|x| format!("{x:.2}"))
-            .collect();
+    for (t, overall, fastest, per_round) in &ratios {
+        let per_round: Vec<String> = per_round.iter().map(|x| format!("{x:.2}")).collect();
         println!(
-            "{} / {} frame time: {:.2}x (medians over the rounds), {:.2}x (fastest rounds); per round {}",
-            r["technique"].as_str().unwrap_or_default(),
-            r["to"].as_str().unwrap_or_default(),
-            r["frame_wall"].as_f64().unwrap_or(f64::NAN),
-            r["frame_wall_min"].as_f64().unwrap_or(f64::NAN),
+            "{t:?} / {:?} frame time: {overall:.2}x (medians over the rounds), {fastest:.2}x (fastest rounds); per round {}",
+            techniques[0],
             per_round.join(", ")
         );
     }
