@@ -925,18 +925,14 @@ fn bench(
     {
         bail!("--backend gpu: {t:?} runs on the CPU only (the GPU renders the volume techniques)");
     }
-    let [technique] = techniques else {
-        if techniques.is_empty() {
-            bail!("--technique: name at least one technique");
-        }
-        return bench_compare(techniques, timing, json);
+    let technique = match techniques {
+        [] => bail!("--technique: name at least one technique"),
+        [t] if timing.rounds == 1 => *t,
+        _ => return bench_compare(techniques, timing, json),
     };
-    if timing.rounds > 1 {
-        return bench_compare(techniques, timing, json);
-    }
     let report = bench_one(
         scene_path,
-        *technique,
+        technique,
         timing.frames,
         backend,
         samples,
@@ -947,7 +943,7 @@ fn bench(
     } else {
         print_bench(
             &report,
-            *technique,
+            technique,
             &format!("median of {} frames", timing.frames),
         );
     }
