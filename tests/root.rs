@@ -1,6 +1,7 @@
 //! Workspace-level tests, compiled as one binary through this module tree.
 
 mod common;
+mod depth_complexity;
 mod fixtures;
 mod quad_closed_form;
 mod reference_vs_exact;

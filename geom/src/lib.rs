@@ -3,6 +3,7 @@
 //! and visibility images.
 #![warn(missing_docs)]
 
+pub mod boxtree;
 pub mod camera;
 pub mod exact;
 pub mod halfedge;

@@ -7,12 +7,20 @@
 //! `vis` is 1 when the open segment from P to `L_k` meets no triangle other than the one P lies
 //! on. `V = 1` where the ray hits nothing; `V = 0` where P is not strictly on the emitting side.
 //!
+//! The segment is cast in `f32` from [`Tracer::epsilon`] past P to as far before the light, so
+//! that P's rounding never makes it hit P's own surface. The triangles that pass within that
+//! distance of P (its neighbours when P lies near an edge of its triangle, a surface it touches)
+//! are tested again over the whole segment in `f64` from P itself, where only a crossing within
+//! [`TOUCH_EPSILON`] of P counts as touching rather than crossing: so the segment's start
+//! offset never lets light through a fold next to P, such as the terminator of a curved mesh.
+//!
 //! The hard reference uses the single point `L = light centre`: the hard shadow of a point light
 //! there, which shadow volumes must reproduce.
 
 use glam::{DVec2, DVec3, Vec3A};
 use rayon::prelude::*;
 
+use crate::boxtree::BoxTree;
 use crate::exact::exact_visibility;
 use crate::image::VisibilityImage;
 use crate::light::RectLight;
@@ -26,6 +34,11 @@ pub const REFERENCE_SEED: u64 = 0x005E_ED0F_5AD0;
 /// Shadow rays start this far from P, relative to the scene's extent: P carries the `f32`
 /// rounding of the hit (about 1e-7 of its coordinates), two orders of magnitude below.
 pub const SHADOW_EPSILON: f64 = 1e-5;
+
+/// A crossing of a triangle near P closer to P than this (relative to the scene's extent) is
+/// P touching that triangle, not the segment crossing it: P is snapped onto its own triangle's
+/// plane in `f64`, so a neighbour in that plane lies within rounding of it (about 1e-16).
+pub const TOUCH_EPSILON: f64 = 1e-9;
 
 /// The surface point seen through a pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,6 +59,10 @@ pub struct Tracer {
     pub light: RectLight,
     /// Shadow-ray start offset in world units.
     pub epsilon: f64,
+    /// [`TOUCH_EPSILON`] in world units.
+    pub touch: f64,
+    /// The triangles' bounding boxes, to find those near a point.
+    near: BoxTree,
 }
 
 impl Tracer {
@@ -66,12 +83,55 @@ impl Tracer {
             hi = hi.max(c);
         }
         let extent = (hi - lo).length().max(1e-30);
+        let boxes: Vec<(DVec3, DVec3)> = triangles
+            .iter()
+            .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
+            .collect();
         Tracer {
-            triangles,
             bvh,
             light: scene.light,
             epsilon: SHADOW_EPSILON * extent,
+            touch: TOUCH_EPSILON * extent,
+            near: BoxTree::build(&boxes),
+            triangles,
         }
+    }
+
+    /// The triangles other than `p`'s that pass within [`Tracer::epsilon`] of it (by their
+    /// bounding boxes), into `out`.
+    pub fn near_triangles(&self, p: &SurfacePoint, out: &mut Vec<u32>) {
+        out.clear();
+        let r = DVec3::splat(self.epsilon);
+        self.near
+            .query_box(p.position - r, p.position + r, &mut |t| {
+                if t != p.triangle {
+                    out.push(t);
+                }
+            });
+    }
+
+    /// Whether the segment from `p` to `l` crosses triangle `t` in `f64`, between
+    /// [`Tracer::touch`] from `p` and [`Tracer::epsilon`] before `l` (Möller & Trumbore,
+    /// "Fast, Minimum Storage Ray/Triangle Intersection", 1997, edges included).
+    pub fn crosses(&self, p: DVec3, l: DVec3, t: u32) -> bool {
+        let [a, b, c] = self.triangles[t as usize];
+        let d = l - p;
+        let dist = d.length();
+        let (e1, e2) = (b - a, c - a);
+        let q = d.cross(e2);
+        let det = e1.dot(q);
+        if det == 0.0 {
+            return false;
+        }
+        let s = p - a;
+        let u = s.dot(q) / det;
+        let r = s.cross(e1);
+        let v = d.dot(r) / det;
+        if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
+            return false;
+        }
+        let at = e2.dot(r) / det * dist;
+        at > self.touch && at < dist - self.epsilon
     }
 
     /// First surface hit by the ray `origin + t * dir` (`dir` unit).
@@ -86,9 +146,17 @@ impl Tracer {
         })
     }
 
-    /// Whether the light point `l` is visible from the surface point `p`.
+    /// Whether the light point `l` is visible from the surface point `p`, whose
+    /// [`Tracer::near_triangles`] are `near`.
     #[inline]
-    pub fn sees(&self, p: &SurfacePoint, l: DVec3) -> bool {
+    pub fn sees(&self, p: &SurfacePoint, l: DVec3, near: &[u32]) -> bool {
+        self.sees_far(p, l) && !near.iter().any(|&t| self.crosses(p.position, l, t))
+    }
+
+    /// The `f32` part of [`Tracer::sees`]: nothing blocks the segment from [`Tracer::epsilon`]
+    /// past `p` to as far before `l`.
+    #[inline]
+    fn sees_far(&self, p: &SurfacePoint, l: DVec3) -> bool {
         let d = l - p.position;
         let dist = d.length();
         if dist <= self.epsilon {
@@ -110,13 +178,15 @@ impl Tracer {
         if !self.light.is_lit_side(p.position) {
             return 0.0;
         }
+        let mut near = Vec::new();
+        self.near_triangles(p, &mut near);
         let mut seen = 0usize;
         let cell = 2.0 / n as f64;
         for j in 0..n {
             for i in 0..n {
                 let u = -1.0 + (i as f64 + rng.next_f64()) * cell;
                 let v = -1.0 + (j as f64 + rng.next_f64()) * cell;
-                if self.sees(p, self.light.point(DVec2::new(u, v))) {
+                if self.sees(p, self.light.point(DVec2::new(u, v)), &near) {
                     seen += 1;
                 }
             }
@@ -126,7 +196,9 @@ impl Tracer {
 
     /// Hard visibility at `p`: 1 when the light's centre is visible, else 0.
     pub fn hard_visibility(&self, p: &SurfacePoint) -> f64 {
-        if self.light.is_lit_side(p.position) && self.sees(p, self.light.center) {
+        let mut near = Vec::new();
+        self.near_triangles(p, &mut near);
+        if self.light.is_lit_side(p.position) && self.sees(p, self.light.center, &near) {
             1.0
         } else {
             0.0

@@ -14,7 +14,9 @@ use penumbra_geom::params::{GaussianVariant, MdsmExtra};
 use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::{Rng, Scene};
 use penumbra_gpu::{GpuContext, PassTimes, ShadowTechnique};
-use penumbra_volumes::{CpuRenderer, Technique as VolumeTechnique, Volumes};
+use penumbra_volumes::{
+    CpuRenderer, DepthComplexity, SamplePattern, Technique as VolumeTechnique, Volumes,
+};
 use std::cell::OnceCell;
 
 #[derive(Parser)]
@@ -40,6 +42,9 @@ enum Technique {
     Wedges,
     /// Penumbra-wedges blending (Forest, Barthe & Paulin 2006).
     WedgesBlend,
+    /// Exact for its N light samples: depth-complexity sampling over the potential silhouette
+    /// edges (Laine et al. 2005; Forest, Barthe & Paulin 2008; CPU).
+    DepthComplexity,
     /// Percentage-closer filtering of a light-centre shadow map (Reeves et al. 1987; GPU).
     Pcf,
     /// Percentage-closer soft shadows (Fernando 2005, seed 001; GPU).
@@ -257,9 +262,13 @@ enum Command {
         /// Output EXR file.
         #[arg(long)]
         out: PathBuf,
-        /// Light samples per pixel for `reference`: a perfect square.
+        /// Light samples per pixel for `reference` and `depth-complexity`: a perfect square.
         #[arg(long, default_value_t = 256)]
         samples: usize,
+        /// `depth-complexity`: one random point per cell of the sample grid, the reference's own
+        /// points pixel for pixel, instead of the cells' centres.
+        #[arg(long)]
+        jitter: bool,
         /// Also write an 8-bit greyscale PNG.
         #[arg(long)]
         png: Option<PathBuf>,
@@ -312,6 +321,13 @@ enum Command {
         /// Reference light samples per pixel: a perfect square.
         #[arg(long, default_value_t = 1024)]
         samples: usize,
+        /// Light samples per pixel of the sampled techniques measured (`reference`,
+        /// `depth-complexity`): a perfect square.
+        #[arg(long, default_value_t = 256)]
+        technique_samples: usize,
+        /// `depth-complexity`: jitter its samples as the reference does.
+        #[arg(long)]
+        jitter: bool,
         /// Techniques to measure.
         #[arg(
             long,
@@ -352,9 +368,12 @@ enum Command {
         /// Where to run it.
         #[arg(long, value_enum, default_value = "auto")]
         backend: Backend,
-        /// Light samples per pixel for `reference`.
+        /// Light samples per pixel for `reference` and `depth-complexity`.
         #[arg(long, default_value_t = 256)]
         samples: usize,
+        /// `depth-complexity`: jitter its samples as the reference does.
+        #[arg(long)]
+        jitter: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -386,6 +405,7 @@ fn run(cli: Cli) -> Result<()> {
             technique,
             out,
             samples,
+            jitter,
             png,
             backend,
             params,
@@ -393,7 +413,7 @@ fn run(cli: Cli) -> Result<()> {
             &scene,
             technique,
             &out,
-            samples,
+            Sampling { samples, jitter },
             png.as_deref(),
             backend,
             &params,
@@ -417,6 +437,7 @@ fn run(cli: Cli) -> Result<()> {
             rounds,
             backend,
             samples,
+            jitter,
             json,
             params,
         } => bench(
@@ -424,17 +445,29 @@ fn run(cli: Cli) -> Result<()> {
             &technique,
             Timing { frames, rounds },
             backend,
-            samples,
+            Sampling { samples, jitter },
             json,
             &params,
         ),
         Command::Accuracy {
             scenes,
             samples,
+            technique_samples,
+            jitter,
             techniques,
             backend,
             params,
-        } => accuracy(&scenes, samples, &techniques, backend, &params),
+        } => accuracy(
+            &scenes,
+            samples,
+            Sampling {
+                samples: technique_samples,
+                jitter,
+            },
+            &techniques,
+            backend,
+            &params,
+        ),
         Command::GenFixtures { out } => {
             for f in fixtures::generate(&out)? {
                 println!("wrote {f}");
@@ -489,16 +522,27 @@ fn load_scene(path: &Path) -> Result<Scene> {
     Ok(Scene::load(path)?)
 }
 
+/// Light samples per pixel of the sampled techniques, and whether `depth-complexity` jitters
+/// them as the reference does.
+#[derive(Clone, Copy, Debug)]
+struct Sampling {
+    samples: usize,
+    jitter: bool,
+}
+
 fn render(
     scene_path: &Path,
     technique: Technique,
     out: &Path,
-    samples: usize,
+    sampling: Sampling,
     png: Option<&Path>,
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
-    let per_axis = samples_per_axis(samples)?;
+    let pattern = SamplePattern {
+        per_axis: samples_per_axis(sampling.samples)?,
+        jitter: sampling.jitter,
+    };
     let mut outputs = vec![out];
     outputs.extend(png);
     // Checked before and after loading: the scene names the meshes.
@@ -533,7 +577,7 @@ fn render(
                 format!(" (gpu: {})", ctx.describe()),
             )
         }
-        None => render_image(&scene, technique, per_axis, &progress)?,
+        None => render_image(&scene, technique, pattern, &progress)?,
     };
     bar.finish_and_clear();
     img.check_finite()
@@ -661,9 +705,10 @@ fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<GpuContex
 fn render_image(
     scene: &Scene,
     technique: Technique,
-    per_axis: usize,
+    pattern: SamplePattern,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(VisibilityImage, usize, String)> {
+    let per_axis = pattern.per_axis;
     let samples = per_axis * per_axis;
     match technique {
         Technique::Reference | Technique::HardReference => {
@@ -687,6 +732,17 @@ fn render_image(
             };
             let img = r.render(scene, t, progress);
             let detail = format!(" (cpu, {} wedges)", r.volumes.wedges.len());
+            Ok((img, r.tracer.triangles.len(), detail))
+        }
+        Technique::DepthComplexity => {
+            let r = DepthComplexity::new(scene);
+            let img = r.render(scene, pattern, progress);
+            let detail = format!(
+                " (cpu, {samples} {} samples, {} potential silhouette edges of {})",
+                if pattern.jitter { "jittered" } else { "grid" },
+                r.edges.edges.len(),
+                r.edges.all_edges
+            );
             Ok((img, r.tracer.triangles.len(), detail))
         }
         _ => bail!("{technique:?} runs on the GPU only"),
@@ -743,6 +799,17 @@ fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()> {
                 (sampled * (1.0 - sampled) / samples as f64).sqrt()
             );
             println!("V hard     = {}", tracer.hard_visibility(&p));
+            let dc = DepthComplexity::new(&scene);
+            let pattern = SamplePattern {
+                per_axis,
+                jitter: true,
+            };
+            let pixel = y as u64 * scene.camera.width as u64 + x as u64;
+            let v = dc.visibility(&p, pattern, pixel, &mut Default::default());
+            println!(
+                "V depth    = {:.9} (depth complexity, the reference's {samples} samples; {} edges touched it, {} triangles towards the centre)",
+                v.visibility, v.edges, v.centre_count
+            );
         }
     }
     Ok(())
@@ -806,11 +873,19 @@ fn geometry(scene_path: &Path, json: bool) -> Result<()> {
 fn accuracy(
     dir: &Path,
     samples: usize,
+    sampling: Sampling,
     techniques: &[Technique],
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
-    let per_axis = samples_per_axis(samples)?;
+    let truth_pattern = SamplePattern {
+        per_axis: samples_per_axis(samples)?,
+        jitter: true,
+    };
+    let pattern = SamplePattern {
+        per_axis: samples_per_axis(sampling.samples)?,
+        jitter: sampling.jitter,
+    };
     // The shadow-map techniques need the GPU; the volume ones take it when there is one.
     let shadow_map = techniques.iter().find(|t| t.shadow_map().is_some());
     let gpu = select_gpu(*shadow_map.unwrap_or(&Technique::WedgesBlend), backend)?;
@@ -825,7 +900,13 @@ fn accuracy(
         bail!("{}: no scene files", dir.display());
     }
     println!(
-        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98); GPU techniques on {}.\n",
+        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98); `reference` and `depth-complexity` with {} samples{}; GPU techniques on {}.\n",
+        sampling.samples,
+        if sampling.jitter {
+            ", depth-complexity's jittered"
+        } else {
+            ""
+        },
         gpu.as_ref().map_or("the CPU".to_string(), |c| c.describe())
     );
     println!(
@@ -840,7 +921,7 @@ fn accuracy(
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        let (truth, _, _) = render_image(&scene, Technique::Reference, per_axis, &|_| {})?;
+        let (truth, _, _) = render_image(&scene, Technique::Reference, truth_pattern, &|_| {})?;
         // Built before the timed renders.
         let volumes = OnceCell::from(Volumes::build(&scene));
         for &t in techniques {
@@ -849,7 +930,7 @@ fn accuracy(
                 Some(r) if t.is_volume() || t.shadow_map().is_some() => {
                     r.render(&scene, &volumes, t)?.0
                 }
-                _ => render_image(&scene, t, per_axis, &|_| {})?.0,
+                _ => render_image(&scene, t, pattern, &|_| {})?.0,
             };
             let secs = start.elapsed().as_secs_f64();
             let c = image::compare(&img, &truth)?;
@@ -909,7 +990,7 @@ fn bench(
     techniques: &[Technique],
     timing: Timing,
     backend: Backend,
-    samples: usize,
+    sampling: Sampling,
     json: bool,
     params: &ParamArgs,
 ) -> Result<()> {
@@ -935,7 +1016,7 @@ fn bench(
         technique,
         timing.frames,
         backend,
-        samples,
+        sampling,
         params,
     )?;
     if json {
@@ -957,10 +1038,13 @@ fn bench_one(
     technique: Technique,
     frames: usize,
     backend: Backend,
-    samples: usize,
+    sampling: Sampling,
     params: &ParamArgs,
 ) -> Result<serde_json::Value> {
-    let per_axis = samples_per_axis(samples)?;
+    let pattern = SamplePattern {
+        per_axis: samples_per_axis(sampling.samples)?,
+        jitter: sampling.jitter,
+    };
     let mut scene = load_scene(scene_path)?;
     params.apply(&mut scene)?;
     let gpu = select_gpu(technique, backend)?;
@@ -986,7 +1070,7 @@ fn bench_one(
             device = format!("cpu, {} threads", rayon::current_num_threads());
             for k in 0..=frames {
                 let start = std::time::Instant::now();
-                render_image(&scene, technique, per_axis, &|_| {})?;
+                render_image(&scene, technique, pattern, &|_| {})?;
                 if k > 0 {
                     wall.push(start.elapsed().as_secs_f64() * 1e3);
                 }

@@ -5,10 +5,13 @@
 
 pub mod blend;
 pub mod clip;
+pub mod depth_complexity;
+pub mod potential;
 pub mod render;
 pub mod shadow_volume;
 pub mod silhouette;
 pub mod wedge;
 
+pub use depth_complexity::{DepthComplexity, SamplePattern};
 pub use penumbra_geom as geom;
 pub use render::{CpuRenderer, Technique, Volumes};

@@ -1,0 +1,357 @@
+//! Exact soft shadows by depth-complexity sampling (Laine, Aila, Assarsson, Lehtinen &
+//! Akenine-Möller, "Soft Shadow Volumes for Ray Tracing", 2005; Forest, Barthe & Paulin,
+//! "Accurate Shadows by Depth Complexity Sampling", 2008).
+//!
+//! The depth complexity of a light sample `s` seen from a receiver point `P` is the number of
+//! scene triangles the open segment `P s` crosses (the receiver's own triangle never counts);
+//! `s` is visible where it is zero, and
+//!
+//! ```text
+//! V(P) = (1 / N²) · #{ s : D(P, s) = 0 }
+//! ```
+//!
+//! over `N x N` light samples. Rather than one ray per sample, one ray counts the crossings
+//! towards the light's centre `c`, `D(P, c)`, and every other count follows from the edges the
+//! segment crosses as its end slides from `c` to `s` on the light: the segment `P s` sweeps the
+//! triangle `P c s`, and an edge `a b` that crosses that triangle moves `s` into the projections
+//! of the faces on its far side and out of those on its near side, so
+//!
+//! ```text
+//! D(P, s) = D(P, c) + Σ_{edges e crossing triangle P c s} (far_e − near_e)
+//! ```
+//!
+//! where `far_e` and `near_e` count the edge's faces (other than the receiver's triangle) whose
+//! third vertex lies on the far and on the near side of the plane through `P` and the edge,
+//! relative to `c`. A face in that plane (seen edge-on from `P`) covers no sample and counts on
+//! neither side. An edge whose faces straddle the plane changes nothing (`far = near = 1`): only
+//! silhouettes as seen from `P` matter, and those are among the light's potential silhouette
+//! edges ([`crate::potential`]). This holds for any topology: open sheets, folds, edges of three
+//! or more faces, intersecting meshes.
+//!
+//! The edge `a b` crosses the open triangle `P c s` when `a` and `b` lie strictly on opposite
+//! sides of its plane, and the lines through `a b` and through each side of the triangle turn
+//! the same way (the signed-volume segment-triangle test):
+//!
+//! ```text
+//! [a, c, s] and [b, c, s] of opposite signs,   [a b P c], [a b c s], [a b s P] of one sign
+//! ```
+//!
+//! (`[x y z w]` the orientation of the tetrahedron, `[x, c, s]` that of `P c s x`). With `P`, `a`,
+//! `b` and `c` fixed, each is an affine function of `s` on the light's plane: four lines cut
+//! the light into the samples the edge changes, evaluated per sample with no trigonometry and
+//! clipped beforehand to the cells they can reach.
+//!
+//! Numbers are `f64` in light space; the reference casts `f32` rays, so the two differ only for
+//! samples within rounding of a projected edge, and where the reference's start and end offset
+//! [`Tracer::epsilon`] hides a triangle crossed within that distance of `P` or of the light.
+
+use glam::{DVec2, DVec3, Vec3A};
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::reference::REFERENCE_SEED;
+use penumbra_geom::{Rng, Scene, SurfacePoint, Tracer};
+use rayon::prelude::*;
+
+use crate::clip::clip_halfplane;
+use crate::potential::PotentialEdges;
+
+/// A face is seen edge-on from the receiver point `P` when its orientation against `P` and the
+/// edge, `[P a b w]`, is below this share of `|a - P| |b - P| |w - P|`: within rounding (about
+/// 1e-16 of it) of the plane through `P` and the edge, where the reference's rays meet it only
+/// in ties.
+const EDGE_ON: f64 = 1e-12;
+
+/// Where the `N x N` light samples lie.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SamplePattern {
+    /// Samples per axis, `N`.
+    pub per_axis: usize,
+    /// One uniform point per cell drawn from the reference's per-pixel stream (the same points
+    /// as [`Tracer::sampled_visibility`]), instead of the cells' centres.
+    pub jitter: bool,
+}
+
+impl SamplePattern {
+    /// The pattern's points for camera pixel `pixel` (`y * width + x`), in `[-1, 1]^2`, row by
+    /// row: sample `j * N + i` lies in cell `(i, j)`.
+    pub fn points(&self, pixel: u64, out: &mut Vec<DVec2>) {
+        let n = self.per_axis;
+        let cell = 2.0 / n as f64;
+        out.clear();
+        if self.jitter {
+            let mut rng = Rng::stream(REFERENCE_SEED, pixel);
+            for j in 0..n {
+                for i in 0..n {
+                    let u = -1.0 + (i as f64 + rng.next_f64()) * cell;
+                    let v = -1.0 + (j as f64 + rng.next_f64()) * cell;
+                    out.push(DVec2::new(u, v));
+                }
+            }
+        } else {
+            for j in 0..n {
+                for i in 0..n {
+                    out.push(DVec2::new(
+                        -1.0 + (i as f64 + 0.5) * cell,
+                        -1.0 + (j as f64 + 0.5) * cell,
+                    ));
+                }
+            }
+        }
+    }
+}
+
+/// What depth-complexity sampling found at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointVisibility {
+    /// Share of the samples with depth complexity zero.
+    pub visibility: f64,
+    /// Triangles between the point and the light's centre, `D(P, c)`.
+    pub centre_count: u32,
+    /// Potential silhouette edges that changed the count of at least one sample.
+    pub edges: usize,
+}
+
+/// An affine function `f(u, v) = k.x u + k.y v + k.z` on the light's plane.
+#[derive(Clone, Copy, Debug)]
+struct Line {
+    k: DVec3,
+}
+
+impl Line {
+    /// `m . (s - o)` for `s = (u, v, 0)`.
+    fn through(m: DVec3, o: DVec3) -> Self {
+        Line {
+            k: DVec3::new(m.x, m.y, -m.dot(o)),
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, s: DVec2) -> f64 {
+        self.k.x * s.x + self.k.y * s.y + self.k.z
+    }
+
+    fn neg(self) -> Self {
+        Line { k: -self.k }
+    }
+}
+
+/// Per-thread working memory of [`DepthComplexity::visibility`].
+#[derive(Default)]
+pub struct Scratch {
+    points: Vec<DVec2>,
+    counts: Vec<i32>,
+    hits: Vec<u32>,
+    near: Vec<u32>,
+}
+
+/// The depth-complexity renderer of one scene: its ray tracer (for the surface points and the
+/// centre's count) and its potential silhouette edges.
+pub struct DepthComplexity {
+    /// Ray casting.
+    pub tracer: Tracer,
+    /// The light's potential silhouette edges.
+    pub edges: PotentialEdges,
+}
+
+impl DepthComplexity {
+    /// Builds the BVH and the potential silhouette edges of `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        DepthComplexity {
+            tracer: Tracer::new(scene),
+            edges: PotentialEdges::build(scene),
+        }
+    }
+
+    /// `D(P, c)`: the triangles other than `p`'s that the segment from `p` to the light's centre
+    /// crosses, by the reference's rule ([`Tracer::sees`]): in `f32` from the start offset on,
+    /// and in `f64` from `p` itself for the triangles `near` it.
+    pub fn centre_count(&self, p: &SurfacePoint, near: &[u32], hits: &mut Vec<u32>) -> u32 {
+        let t = &self.tracer;
+        let c = t.light.center;
+        hits.clear();
+        hits.extend(near.iter().filter(|&&n| t.crosses(p.position, c, n)));
+        let d = c - p.position;
+        let dist = d.length();
+        if dist > t.epsilon {
+            let dir = d / dist;
+            let o: Vec3A = p.position.as_vec3().into();
+            t.bvh.for_each_hit(
+                o,
+                dir.as_vec3().into(),
+                t.epsilon as f32,
+                (dist - t.epsilon) as f32,
+                p.triangle,
+                |tri| hits.push(tri),
+            );
+        }
+        // A triangle split over several leaves is reported once per leaf, a near one perhaps
+        // twice.
+        hits.sort_unstable();
+        hits.dedup();
+        hits.len() as u32
+    }
+
+    /// Visibility of the surface point `p` seen through camera pixel `pixel` (`y * width + x`,
+    /// which seeds the jittered pattern).
+    pub fn visibility(
+        &self,
+        p: &SurfacePoint,
+        pattern: SamplePattern,
+        pixel: u64,
+        scratch: &mut Scratch,
+    ) -> PointVisibility {
+        let light = &self.tracer.light;
+        let pl = light.to_light_space(p.position);
+        if !light.is_lit_side(p.position) || !(pl.z > 0.0) {
+            return PointVisibility {
+                visibility: 0.0,
+                centre_count: 0,
+                edges: 0,
+            };
+        }
+        self.tracer.near_triangles(p, &mut scratch.near);
+        let centre_count = self.centre_count(p, &scratch.near, &mut scratch.hits);
+        let n = pattern.per_axis;
+        pattern.points(pixel, &mut scratch.points);
+        scratch.counts.clear();
+        scratch.counts.resize(n * n, 0);
+        let mut edges = 0;
+        let (points, counts) = (&scratch.points, &mut scratch.counts);
+        self.edges.for_each_near(pl, |ei| {
+            if self.apply_edge(pl, p.triangle, ei, n, points, counts) {
+                edges += 1;
+            }
+        });
+        let base = centre_count as i32;
+        let seen = counts.iter().filter(|&&c| base + c <= 0).count();
+        PointVisibility {
+            visibility: seen as f64 / (n * n) as f64,
+            centre_count,
+            edges,
+        }
+    }
+
+    /// Adds edge `ei`'s change to the count of every sample it separates from the centre, as
+    /// seen from the light-space point `pl` on triangle `receiver`. Returns whether any sample's
+    /// region was reached.
+    fn apply_edge(
+        &self,
+        pl: DVec3,
+        receiver: u32,
+        ei: u32,
+        n: usize,
+        points: &[DVec2],
+        counts: &mut [i32],
+    ) -> bool {
+        let e = &self.edges.edges[ei as usize];
+        let (a, b) = (e.a, e.b);
+        let c = DVec3::ZERO;
+        // The plane through P and the edge: the sides of c and of each face.
+        let normal = (a - pl).cross(b - pl);
+        let side_c = normal.dot(c - pl);
+        if side_c == 0.0 {
+            return false;
+        }
+        let reach = (a - pl).length() * (b - pl).length();
+        let mut delta = 0i32;
+        for f in self.edges.faces_of(e) {
+            if f.triangle == receiver {
+                continue;
+            }
+            // A face within rounding of the plane through P (a neighbour coplanar with the
+            // receiver, say) is seen edge-on: it covers no sample. The bound is the
+            // orientation's rounding, which grows with the three lengths, not with the normal
+            // (short when P lies near the edge's line).
+            let w = f.apex - pl;
+            let s = normal.dot(w);
+            if s.abs() <= EDGE_ON * reach * w.length() {
+                continue;
+            }
+            if s * side_c < 0.0 {
+                delta += 1;
+            } else {
+                delta -= 1;
+            }
+        }
+        if delta == 0 {
+            return false;
+        }
+        // The segment-triangle test's four functions of s.
+        let l = b - a;
+        let o1 = l.cross(pl - a).dot(c - a);
+        if o1 == 0.0 {
+            return false;
+        }
+        let flip = o1.signum();
+        let o2 = Line::through(l.cross(c - a) * flip, a);
+        let o3 = Line::through(-l.cross(pl - a) * flip, a);
+        let f0 = Line::through(-(c - pl).cross(a - pl), pl);
+        let f1 = Line::through(-(c - pl).cross(b - pl), pl);
+        // The cells the region can reach: the light clipped by the four lines, for both signs of
+        // the pair (f0, f1).
+        let cell = 2.0 / n as f64;
+        let mut reached = false;
+        for (g0, g1) in [(f0, f1.neg()), (f0.neg(), f1)] {
+            let mut poly = vec![
+                DVec2::new(-1.0, -1.0),
+                DVec2::new(1.0, -1.0),
+                DVec2::new(1.0, 1.0),
+                DVec2::new(-1.0, 1.0),
+            ];
+            for line in [o2, o3, g0, g1] {
+                poly = clip_halfplane(&poly, |s| line.at(s));
+                if poly.is_empty() {
+                    break;
+                }
+            }
+            if poly.is_empty() {
+                continue;
+            }
+            let (mut lo, mut hi) = (poly[0], poly[0]);
+            for &q in &poly[1..] {
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
+            let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
+            let (i0, i1) = (index(lo.x), index(hi.x));
+            let (j0, j1) = (index(lo.y), index(hi.y));
+            for j in j0..=j1 {
+                let row = j * n;
+                for i in i0..=i1 {
+                    let s = points[row + i];
+                    let inside =
+                        o2.at(s) > 0.0 && o3.at(s) > 0.0 && g0.at(s) > 0.0 && g1.at(s) > 0.0;
+                    if inside {
+                        counts[row + i] += delta;
+                        reached = true;
+                    }
+                }
+            }
+        }
+        reached
+    }
+
+    /// Renders the whole image; `progress` gets the number of finished rows.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        pattern: SamplePattern,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> VisibilityImage {
+        let cam = &scene.camera;
+        let w = cam.width as usize;
+        let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
+        let done = std::sync::atomic::AtomicU64::new(0);
+        img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+            let mut scratch = Scratch::default();
+            for (i, out) in row.iter_mut().enumerate() {
+                let dir = cam.ray_dir(i as u32, j as u32);
+                if let Some(p) = self.tracer.surface_point(cam.eye, dir) {
+                    let pixel = j as u64 * w as u64 + i as u64;
+                    *out = self.visibility(&p, pattern, pixel, &mut scratch).visibility as f32;
+                }
+            }
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+        });
+        img
+    }
+}

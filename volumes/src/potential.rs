@@ -1,0 +1,172 @@
+//! Potential silhouette edges of a scene with respect to a rectangular light, and a hierarchy
+//! over them that finds those a receiver's view of the light can meet.
+//!
+//! An edge is a silhouette from a point `L` when the faces meeting there lie on the same side of
+//! the plane through `L` and the edge (seen from `L`, the surface folds back at the edge). It is
+//! a *potential* silhouette edge when that holds for at least one point of the light (Laine,
+//! Aila, Assarsson, Lehtinen & Akenine-Möller, "Soft Shadow Volumes for Ray Tracing", 2005):
+//!
+//! - every boundary edge (one face) and every edge with three or more faces;
+//! - a two-face edge unless the light rectangle lies wholly on one side of one face's plane and
+//!   wholly on the other side of the other's, in the orientation the edge gives them (then no
+//!   light point sees the fold). The face side of the light is linear along the rectangle, so
+//!   its four corners decide.
+//!
+//! Orientation plays no part: a face counts by the side of the edge its third vertex lies on,
+//! so inconsistently oriented, open and non-manifold meshes need no special case. Edges wholly
+//! behind the light's plane never come between a receiver and the light and are left out.
+//!
+//! Everything is kept in light space (see [`RectLight::to_light_space`]), an affine image of
+//! world space with a positive determinant: sides and orientations are the world's.
+
+use glam::DVec3;
+use penumbra_geom::boxtree::{BoxTree, Plane};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Scene};
+
+/// One face on a potential silhouette edge: its vertex off the edge, and its scene triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeFace {
+    /// Light-space position of the face's third vertex.
+    pub apex: DVec3,
+    /// Index of the face in [`Scene::triangles`].
+    pub triangle: u32,
+}
+
+/// A potential silhouette edge: light-space ends and the faces meeting there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PotentialEdge {
+    /// Light-space start.
+    pub a: DVec3,
+    /// Light-space end.
+    pub b: DVec3,
+    /// First of its faces in [`PotentialEdges::faces`].
+    pub first_face: u32,
+    /// Number of faces (1 for a boundary edge, 3 or more for a non-manifold one).
+    pub face_count: u32,
+}
+
+/// The light rectangle's corners in light space, counter-clockwise.
+pub const LIGHT_CORNERS: [DVec3; 4] = [
+    DVec3::new(-1.0, -1.0, 0.0),
+    DVec3::new(1.0, -1.0, 0.0),
+    DVec3::new(1.0, 1.0, 0.0),
+    DVec3::new(-1.0, 1.0, 0.0),
+];
+
+/// Every potential silhouette edge of a scene, and their hierarchy.
+pub struct PotentialEdges {
+    /// The light they were chosen for.
+    pub light: RectLight,
+    /// The edges.
+    pub edges: Vec<PotentialEdge>,
+    /// Their faces, `face_count` per edge from `first_face`.
+    pub faces: Vec<EdgeFace>,
+    /// Edges of the scene's meshes before the selection.
+    pub all_edges: usize,
+    bvh: BoxTree,
+}
+
+/// `(b - a) x (c - a) . (d - a)`: the side of `d` relative to the plane through `a`, `b`, `c`.
+#[inline]
+fn orient(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+    (b - a).cross(c - a).dot(d - a)
+}
+
+/// Whether some point of the light sees the two faces with apices `w0`, `w1` on the same side
+/// of the edge `a b` (conservatively: only a light wholly on opposite sides says no).
+fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
+    let side = |w: DVec3| LIGHT_CORNERS.map(|l| orient(a, b, l, w));
+    let (s0, s1) = (side(w0), side(w1));
+    let opposite =
+        |p: [f64; 4], q: [f64; 4]| p.iter().all(|&x| x > 0.0) && q.iter().all(|&x| x < 0.0);
+    !(opposite(s0, s1) || opposite(s1, s0))
+}
+
+impl PotentialEdges {
+    /// Finds the potential silhouette edges of every mesh of `scene` for its light.
+    pub fn build(scene: &Scene) -> Self {
+        let light = scene.light;
+        let mut edges = Vec::new();
+        let mut faces = Vec::new();
+        let mut all_edges = 0;
+        let mut first_triangle = 0u32;
+        for m in &scene.meshes {
+            let mesh = HalfEdgeMesh::build(&m.mesh);
+            all_edges += mesh.edges.len();
+            let pos: Vec<DVec3> = mesh
+                .positions
+                .iter()
+                .map(|&p| light.to_light_space(p))
+                .collect();
+            for e in &mesh.edges {
+                let [ia, ib] = e.vertices;
+                let (a, b) = (pos[ia as usize], pos[ib as usize]);
+                if a.z <= 0.0 && b.z <= 0.0 {
+                    continue;
+                }
+                let apex = |h: u32| {
+                    let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
+                    let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
+                    EdgeFace {
+                        apex: pos[w as usize],
+                        triangle: first_triangle + HalfEdgeMesh::face(h),
+                    }
+                };
+                let on: Vec<EdgeFace> = e.half_edges.iter().map(|&h| apex(h)).collect();
+                if on.len() == 2 && !may_fold(a, b, on[0].apex, on[1].apex) {
+                    continue;
+                }
+                edges.push(PotentialEdge {
+                    a,
+                    b,
+                    first_face: faces.len() as u32,
+                    face_count: on.len() as u32,
+                });
+                faces.extend(on);
+            }
+            first_triangle += m.mesh.triangles.len() as u32;
+        }
+        let boxes: Vec<(DVec3, DVec3)> =
+            edges.iter().map(|e| (e.a.min(e.b), e.a.max(e.b))).collect();
+        let bvh = BoxTree::build(&boxes);
+        PotentialEdges {
+            light,
+            edges,
+            faces,
+            all_edges,
+            bvh,
+        }
+    }
+
+    /// The faces of edge `e`.
+    pub fn faces_of(&self, e: &PotentialEdge) -> &[EdgeFace] {
+        &self.faces[e.first_face as usize..(e.first_face + e.face_count) as usize]
+    }
+
+    /// Calls `f` with every edge that may meet the pyramid from the light-space point `p`
+    /// (`p.z > 0`) to the light rectangle: a superset of the edges that come between `p` and
+    /// some point of the light.
+    pub fn for_each_near(&self, p: DVec3, mut f: impl FnMut(u32)) {
+        let planes = pyramid_planes(p);
+        self.bvh.query_planes(&planes, &mut f);
+    }
+}
+
+/// The five planes bounding the pyramid from `p` to the light rectangle: its four sides through
+/// `p` and the light's edges, and the light's plane `z >= 0`.
+fn pyramid_planes(p: DVec3) -> [Plane; 5] {
+    let mut planes = [Plane {
+        n: DVec3::Z,
+        d: 0.0,
+    }; 5];
+    for k in 0..4 {
+        let (c0, c1) = (LIGHT_CORNERS[k], LIGHT_CORNERS[(k + 1) % 4]);
+        let mut n = (c0 - p).cross(c1 - p);
+        // The light's centre (the origin) is inside.
+        if n.dot(-p) < 0.0 {
+            n = -n;
+        }
+        planes[k + 1] = Plane { n, d: -n.dot(p) };
+    }
+    planes
+}
