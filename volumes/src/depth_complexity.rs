@@ -51,7 +51,6 @@ use penumbra_geom::reference::REFERENCE_SEED;
 use penumbra_geom::{Rng, Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
-use crate::clip::clip_halfplane;
 use crate::potential::PotentialEdges;
 
 /// A face is seen edge-on from the receiver point `P` when its orientation against `P` and the
@@ -134,6 +133,91 @@ impl Line {
     }
 }
 
+/// A convex polygon of at most eight vertices: the light square cut by four lines.
+#[derive(Clone, Copy, Debug)]
+struct Polygon {
+    v: [DVec2; 8],
+    len: usize,
+}
+
+impl Polygon {
+    const LIGHT: Polygon = Polygon {
+        v: [
+            DVec2::new(-1.0, -1.0),
+            DVec2::new(1.0, -1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(-1.0, 1.0),
+            DVec2::ZERO,
+            DVec2::ZERO,
+            DVec2::ZERO,
+            DVec2::ZERO,
+        ],
+        len: 4,
+    };
+
+    /// Keeps the part where `line >= 0` (Sutherland & Hodgman); returns whether any is left.
+    /// Each cut adds at most one vertex to a convex polygon.
+    fn clip(&mut self, line: Line) -> bool {
+        let mut out = [DVec2::ZERO; 8];
+        let mut k = 0;
+        for i in 0..self.len {
+            let (a, b) = (self.v[i], self.v[(i + 1) % self.len]);
+            let (fa, fb) = (line.at(a), line.at(b));
+            if fa >= 0.0 && k < 8 {
+                out[k] = a;
+                k += 1;
+            }
+            if (fa >= 0.0) != (fb >= 0.0) && k < 8 {
+                out[k] = a + (b - a) * (fa / (fa - fb));
+                k += 1;
+            }
+        }
+        self.v = out;
+        self.len = k;
+        k > 0
+    }
+
+    fn bounds(&self) -> (DVec2, DVec2) {
+        let mut lo = self.v[0];
+        let mut hi = lo;
+        for &q in &self.v[1..self.len] {
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        (lo, hi)
+    }
+}
+
+/// The samples one edge changes: up to two convex parts of the light, each the samples where
+/// four lines are positive, with its bounding box.
+struct Region {
+    delta: i32,
+    parts: [Option<([Line; 4], (DVec2, DVec2))>; 2],
+}
+
+impl Region {
+    /// Adds the change to the counts of the samples inside, looking only at the cells the parts'
+    /// boxes reach (sample `j * n + i` lies in cell `(i, j)`). Returns whether any was inside.
+    fn apply(&self, n: usize, points: &[DVec2], counts: &mut [i32]) -> bool {
+        let cell = 2.0 / n as f64;
+        let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
+        let mut reached = false;
+        for ([l0, l1, l2, l3], (lo, hi)) in self.parts.iter().flatten() {
+            for j in index(lo.y)..=index(hi.y) {
+                let row = j * n;
+                for i in index(lo.x)..=index(hi.x) {
+                    let s = points[row + i];
+                    if l0.at(s) > 0.0 && l1.at(s) > 0.0 && l2.at(s) > 0.0 && l3.at(s) > 0.0 {
+                        counts[row + i] += self.delta;
+                        reached = true;
+                    }
+                }
+            }
+        }
+        reached
+    }
+}
+
 /// Per-thread working memory of [`DepthComplexity::visibility`].
 #[derive(Default)]
 pub struct Scratch {
@@ -211,37 +295,40 @@ impl DepthComplexity {
         self.tracer.near_triangles(p, &mut scratch.near);
         let centre_count = self.centre_count(p, &scratch.near, &mut scratch.hits);
         let n = pattern.per_axis;
-        pattern.points(pixel, &mut scratch.points);
-        scratch.counts.clear();
-        scratch.counts.resize(n * n, 0);
         let mut edges = 0;
-        let (points, counts) = (&scratch.points, &mut scratch.counts);
+        let mut ready = false;
         self.edges.for_each_near(pl, |ei| {
-            if self.apply_edge(pl, p.triangle, ei, n, points, counts) {
+            let Some(region) = self.region(pl, p.triangle, ei) else {
+                return;
+            };
+            if !ready {
+                // Only points that some edge reaches need their samples.
+                pattern.points(pixel, &mut scratch.points);
+                scratch.counts.clear();
+                scratch.counts.resize(n * n, 0);
+                ready = true;
+            }
+            if region.apply(n, &scratch.points, &mut scratch.counts) {
                 edges += 1;
             }
         });
+        if !ready {
+            scratch.counts.clear();
+            scratch.counts.push(0);
+        }
+        let counts = &scratch.counts;
         let base = centre_count as i32;
         let seen = counts.iter().filter(|&&c| base + c <= 0).count();
         PointVisibility {
-            visibility: seen as f64 / (n * n) as f64,
+            visibility: seen as f64 / counts.len() as f64,
             centre_count,
             edges,
         }
     }
 
-    /// Adds edge `ei`'s change to the count of every sample it separates from the centre, as
-    /// seen from the light-space point `pl` on triangle `receiver`. Returns whether any sample's
-    /// region was reached.
-    fn apply_edge(
-        &self,
-        pl: DVec3,
-        receiver: u32,
-        ei: u32,
-        n: usize,
-        points: &[DVec2],
-        counts: &mut [i32],
-    ) -> bool {
+    /// The samples edge `ei` separates from the centre as seen from the light-space point `pl`
+    /// on triangle `receiver`, and the change of their counts; `None` when it changes none.
+    fn region(&self, pl: DVec3, receiver: u32, ei: u32) -> Option<Region> {
         let e = &self.edges.edges[ei as usize];
         let (a, b) = (e.a, e.b);
         let c = DVec3::ZERO;
@@ -249,7 +336,7 @@ impl DepthComplexity {
         let normal = (a - pl).cross(b - pl);
         let side_c = normal.dot(c - pl);
         if side_c == 0.0 {
-            return false;
+            return None;
         }
         let reach = (a - pl).length() * (b - pl).length();
         let mut delta = 0i32;
@@ -273,61 +360,33 @@ impl DepthComplexity {
             }
         }
         if delta == 0 {
-            return false;
+            return None;
         }
         // The segment-triangle test's four functions of s.
         let l = b - a;
         let o1 = l.cross(pl - a).dot(c - a);
         if o1 == 0.0 {
-            return false;
+            return None;
         }
         let flip = o1.signum();
         let o2 = Line::through(l.cross(c - a) * flip, a);
         let o3 = Line::through(-l.cross(pl - a) * flip, a);
         let f0 = Line::through(-(c - pl).cross(a - pl), pl);
         let f1 = Line::through(-(c - pl).cross(b - pl), pl);
-        // The cells the region can reach: the light clipped by the four lines, for both signs of
-        // the pair (f0, f1).
-        let cell = 2.0 / n as f64;
-        let mut reached = false;
-        for (g0, g1) in [(f0, f1.neg()), (f0.neg(), f1)] {
-            let mut poly = vec![
-                DVec2::new(-1.0, -1.0),
-                DVec2::new(1.0, -1.0),
-                DVec2::new(1.0, 1.0),
-                DVec2::new(-1.0, 1.0),
-            ];
-            for line in [o2, o3, g0, g1] {
-                poly = clip_halfplane(&poly, |s| line.at(s));
-                if poly.is_empty() {
-                    break;
-                }
-            }
-            if poly.is_empty() {
-                continue;
-            }
-            let (mut lo, mut hi) = (poly[0], poly[0]);
-            for &q in &poly[1..] {
-                lo = lo.min(q);
-                hi = hi.max(q);
-            }
-            let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
-            let (i0, i1) = (index(lo.x), index(hi.x));
-            let (j0, j1) = (index(lo.y), index(hi.y));
-            for j in j0..=j1 {
-                let row = j * n;
-                for i in i0..=i1 {
-                    let s = points[row + i];
-                    let inside =
-                        o2.at(s) > 0.0 && o3.at(s) > 0.0 && g0.at(s) > 0.0 && g1.at(s) > 0.0;
-                    if inside {
-                        counts[row + i] += delta;
-                        reached = true;
-                    }
-                }
+        // The light clipped by the four lines, for both signs of the pair (f0, f1): at most one
+        // of the two is not empty unless the edge's line passes behind P.
+        let mut light = Polygon::LIGHT;
+        if !(light.clip(o2) && light.clip(o3)) {
+            return None;
+        }
+        let mut parts = [None; 2];
+        for (k, (g0, g1)) in [(f0, f1.neg()), (f0.neg(), f1)].into_iter().enumerate() {
+            let mut poly = light;
+            if poly.clip(g0) && poly.clip(g1) {
+                parts[k] = Some(([o2, o3, g0, g1], poly.bounds()));
             }
         }
-        reached
+        (parts[0].is_some() || parts[1].is_some()).then_some(Region { delta, parts })
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows.
@@ -355,3 +414,7 @@ impl DepthComplexity {
         img
     }
 }
+
+#[cfg(test)]
+#[path = "depth_complexity_tests.rs"]
+mod tests;
