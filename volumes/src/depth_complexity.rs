@@ -53,11 +53,10 @@ use rayon::prelude::*;
 
 use crate::potential::PotentialEdges;
 
-/// A face is seen edge-on from the receiver point `P` when its orientation against `P` and the
-/// edge, `[P a b w]`, is below this share of `|a - P| |b - P| |w - P|`: within rounding (about
-/// 1e-16 of it) of the plane through `P` and the edge, where the reference's rays meet it only
-/// in ties.
-const EDGE_ON: f64 = 1e-12;
+/// A face is seen edge-on from the receiver point `P` when `P` lies within this share of
+/// `|P - a|` of the face's plane (`a` an end of the edge): within rounding of it, where the
+/// reference's rays meet the face only in ties.
+const EDGE_ON: f64 = 1e-10;
 
 /// Where the `N x N` light samples lie.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -332,25 +331,23 @@ impl DepthComplexity {
         let e = &self.edges.edges[ei as usize];
         let (a, b) = (e.a, e.b);
         let c = DVec3::ZERO;
-        // The plane through P and the edge: the sides of c and of each face.
-        let normal = (a - pl).cross(b - pl);
-        let side_c = normal.dot(c - pl);
+        // The plane through P and the edge: the sides of c and of each face, each the sign of
+        // the plane through the edge and that point (or that face) at P.
+        let d = pl - a;
+        let side_c = e.toward_centre.dot(d);
         if side_c == 0.0 {
             return None;
         }
-        let reach = (a - pl).length() * (b - pl).length();
+        let d2 = d.length_squared();
         let mut delta = 0i32;
         for f in self.edges.faces_of(e) {
             if f.triangle == receiver {
                 continue;
             }
-            // A face within rounding of the plane through P (a neighbour coplanar with the
-            // receiver, say) is seen edge-on: it covers no sample. The bound is the
-            // orientation's rounding, which grows with the three lengths, not with the normal
-            // (short when P lies near the edge's line).
-            let w = f.apex - pl;
-            let s = normal.dot(w);
-            if s.abs() <= EDGE_ON * reach * w.length() {
+            // P within rounding of a face's plane (a neighbour coplanar with the receiver, say)
+            // sees it edge-on: it covers no sample.
+            let s = f.normal.dot(d);
+            if s * s <= EDGE_ON * EDGE_ON * f.normal.length_squared() * d2 {
                 continue;
             }
             if s * side_c < 0.0 {

@@ -23,11 +23,13 @@ use glam::DVec3;
 use penumbra_geom::boxtree::{BoxTree, Plane};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene};
 
-/// One face on a potential silhouette edge: its vertex off the edge, and its scene triangle.
+/// One face on a potential silhouette edge `a b`, as the plane through the edge and the face's
+/// third vertex `w`: `F(x) = n . (x - a)` with `n = (b - a) x (w - a)`, whose sign at a point
+/// tells the side of the plane through that point and the edge the face lies on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EdgeFace {
-    /// Light-space position of the face's third vertex.
-    pub apex: DVec3,
+    /// `(b - a) x (w - a)`, light space.
+    pub normal: DVec3,
     /// Index of the face in [`Scene::triangles`].
     pub triangle: u32,
 }
@@ -39,6 +41,9 @@ pub struct PotentialEdge {
     pub a: DVec3,
     /// Light-space end.
     pub b: DVec3,
+    /// `(b - a) x (c - a)` for the light's centre `c` (the origin): the plane through the edge
+    /// and the centre, in the form of [`EdgeFace::normal`].
+    pub toward_centre: DVec3,
     /// First of its faces in [`PotentialEdges::faces`].
     pub first_face: u32,
     /// Number of faces (1 for a boundary edge, 3 or more for a non-manifold one).
@@ -107,22 +112,23 @@ impl PotentialEdges {
                 let apex = |h: u32| {
                     let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
                     let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
-                    EdgeFace {
-                        apex: pos[w as usize],
-                        triangle: first_triangle + HalfEdgeMesh::face(h),
-                    }
+                    pos[w as usize]
                 };
-                let on: Vec<EdgeFace> = e.half_edges.iter().map(|&h| apex(h)).collect();
-                if on.len() == 2 && !may_fold(a, b, on[0].apex, on[1].apex) {
+                let apices: Vec<DVec3> = e.half_edges.iter().map(|&h| apex(h)).collect();
+                if apices.len() == 2 && !may_fold(a, b, apices[0], apices[1]) {
                     continue;
                 }
                 edges.push(PotentialEdge {
                     a,
                     b,
+                    toward_centre: (b - a).cross(-a),
                     first_face: faces.len() as u32,
-                    face_count: on.len() as u32,
+                    face_count: apices.len() as u32,
                 });
-                faces.extend(on);
+                faces.extend(e.half_edges.iter().zip(&apices).map(|(&h, &w)| EdgeFace {
+                    normal: (b - a).cross(w - a),
+                    triangle: first_triangle + HalfEdgeMesh::face(h),
+                }));
             }
             first_triangle += m.mesh.triangles.len() as u32;
         }
