@@ -104,6 +104,21 @@ impl BoxTree {
         BoxTree { nodes, order }
     }
 
+    /// The items in leaf order: reordering one's items by it (item `k` becoming the old item
+    /// `order()[k]`) and then calling [`BoxTree::renumber`] puts each leaf's items next to each
+    /// other in memory.
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// Makes the tree's items `0, 1, 2, ...` in leaf order, after the caller has reordered its
+    /// items by [`BoxTree::order`].
+    pub fn renumber(&mut self) {
+        for (k, i) in self.order.iter_mut().enumerate() {
+            *i = k as u32;
+        }
+    }
+
     /// Calls `f` with every item in a leaf whose box no plane of `planes` leaves wholly outside.
     pub fn query_planes(&self, planes: &[Plane], f: &mut impl FnMut(u32)) {
         self.query(

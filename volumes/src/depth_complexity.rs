@@ -51,7 +51,8 @@ use penumbra_geom::reference::REFERENCE_SEED;
 use penumbra_geom::{Rng, Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
-use crate::potential::PotentialEdges;
+use crate::potential::{PotentialEdges, pyramid_planes};
+use penumbra_geom::boxtree::Plane;
 
 /// A face is seen edge-on from the receiver point `P` when `P` lies within this share of
 /// `|P - a|` of the face's plane (`a` an end of the edge): within rounding of it, where the
@@ -187,34 +188,58 @@ impl Polygon {
     }
 }
 
-/// The samples one edge changes: up to two convex parts of the light, each the samples where
-/// four lines are positive, with its bounding box.
+/// The samples one edge changes: those of the light where four lines are positive, a convex
+/// part of it, with its bounding box.
 struct Region {
     delta: i32,
-    parts: [Option<([Line; 4], (DVec2, DVec2))>; 2],
+    lines: [Line; 4],
+    bounds: (DVec2, DVec2),
 }
 
 impl Region {
-    /// Adds the change to the counts of the samples inside, looking only at the cells the parts'
-    /// boxes reach (sample `j * n + i` lies in cell `(i, j)`). Returns whether any was inside.
+    /// Adds the change to the counts of the samples inside, looking only at the cells the box
+    /// reaches (sample `j * n + i` lies in cell `(i, j)`). Returns whether any was inside.
     fn apply(&self, n: usize, points: &[DVec2], counts: &mut [i32]) -> bool {
         let cell = 2.0 / n as f64;
         let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
+        let [l0, l1, l2, l3] = self.lines;
+        let (lo, hi) = self.bounds;
         let mut reached = false;
-        for ([l0, l1, l2, l3], (lo, hi)) in self.parts.iter().flatten() {
-            for j in index(lo.y)..=index(hi.y) {
-                let row = j * n;
-                for i in index(lo.x)..=index(hi.x) {
-                    let s = points[row + i];
-                    if l0.at(s) > 0.0 && l1.at(s) > 0.0 && l2.at(s) > 0.0 && l3.at(s) > 0.0 {
-                        counts[row + i] += self.delta;
-                        reached = true;
-                    }
+        for j in index(lo.y)..=index(hi.y) {
+            let row = j * n;
+            for i in index(lo.x)..=index(hi.x) {
+                let s = points[row + i];
+                if l0.at(s) > 0.0 && l1.at(s) > 0.0 && l2.at(s) > 0.0 && l3.at(s) > 0.0 {
+                    counts[row + i] += self.delta;
+                    reached = true;
                 }
             }
         }
         reached
     }
+}
+
+/// The parameters `(t0, t1)` of the part of the segment from depth `za` to depth `zb` that lies
+/// strictly between depths 0 and `zp` (empty when `t0 >= t1`).
+fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let dz = zb - za;
+    for (bound, above) in [(0.0, true), (zp, false)] {
+        // Keep z > bound (above) or z < bound.
+        if dz == 0.0 {
+            if (za > bound) != above || za == bound {
+                return (1.0, 0.0);
+            }
+            continue;
+        }
+        let t = (bound - za) / dz;
+        if (dz > 0.0) == above {
+            t0 = t0.max(t);
+        } else {
+            t1 = t1.min(t);
+        }
+    }
+    (t0, t1)
 }
 
 /// Per-thread working memory of [`DepthComplexity::visibility`].
@@ -224,6 +249,82 @@ pub struct Scratch {
     counts: Vec<i32>,
     hits: Vec<u32>,
     near: Vec<u32>,
+    candidates: Candidates,
+}
+
+/// The candidate edges of a point or a tile, with what the silhouette pre-test reads of each
+/// in `f32`, one array per number so that the test runs four edges to an instruction.
+///
+/// A two-face edge changes no count unless both faces lie on one side of the plane through P
+/// and the edge, that is unless `F0(P)` and `F1(P)` have one sign (`F_k(x) = n_k . (x - a)`,
+/// [`crate::potential::EdgeFace`]). The pre-test drops an edge only when the two values have
+/// opposite signs and each is larger than a margin far above its `f32` rounding; every other
+/// edge (one within the margin, a boundary or non-manifold edge, whose second normal is stored
+/// as zero) goes to the exact `f64` test.
+#[derive(Default)]
+struct Candidates {
+    ids: Vec<u32>,
+    a: [Vec<f32>; 3],
+    n0: [Vec<f32>; 3],
+    n1: [Vec<f32>; 3],
+    /// `(MARGIN |n_k|)^2`.
+    t0: Vec<f32>,
+    t1: Vec<f32>,
+    keep: Vec<bool>,
+}
+
+/// The pre-test's margin, relative to `|n_k| sqrt(|P - a|^2 + R^2)` with `R` the largest
+/// light-space coordinate: a hundred times the rounding of the `f32` products.
+const MARGIN: f32 = 1e-5;
+
+impl Candidates {
+    fn clear(&mut self) {
+        self.ids.clear();
+        for v in self.a.iter_mut().chain(&mut self.n0).chain(&mut self.n1) {
+            v.clear();
+        }
+        self.t0.clear();
+        self.t1.clear();
+    }
+
+    fn push(&mut self, edges: &PotentialEdges, ei: u32) {
+        let e = &edges.edges[ei as usize];
+        let faces = edges.faces_of(e);
+        let (n0, n1) = match faces {
+            [f0, f1] => (f0.normal, f1.normal),
+            _ => (DVec3::ZERO, DVec3::ZERO),
+        };
+        self.ids.push(ei);
+        for k in 0..3 {
+            self.a[k].push(e.a[k] as f32);
+            self.n0[k].push(n0[k] as f32);
+            self.n1[k].push(n1[k] as f32);
+        }
+        let t = |n: DVec3| (MARGIN * n.length() as f32).powi(2);
+        self.t0.push(t(n0));
+        self.t1.push(t(n1));
+    }
+
+    /// Marks in `keep` the edges that may change a count seen from `p`; `r2` is `R^2`.
+    fn pretest(&mut self, p: DVec3, r2: f32) {
+        let n = self.ids.len();
+        self.keep.clear();
+        self.keep.resize(n, false);
+        // Slices of one length, so that the loop runs without bounds checks, four to a step.
+        let [ax, ay, az] = self.a.each_ref().map(|v| &v[..n]);
+        let [n0x, n0y, n0z] = self.n0.each_ref().map(|v| &v[..n]);
+        let [n1x, n1y, n1z] = self.n1.each_ref().map(|v| &v[..n]);
+        let (t0, t1, keep) = (&self.t0[..n], &self.t1[..n], &mut self.keep[..n]);
+        let (px, py, pz) = (p.x as f32, p.y as f32, p.z as f32);
+        for k in 0..n {
+            let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
+            let m = dx * dx + dy * dy + dz * dz + r2;
+            let s0 = n0x[k] * dx + n0y[k] * dy + n0z[k] * dz;
+            let s1 = n1x[k] * dx + n1y[k] * dy + n1z[k] * dz;
+            let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
+            keep[k] = !apart;
+        }
+    }
 }
 
 /// The depth-complexity renderer of one scene: its ray tracer (for the surface points and the
@@ -233,14 +334,27 @@ pub struct DepthComplexity {
     pub tracer: Tracer,
     /// The light's potential silhouette edges.
     pub edges: PotentialEdges,
+    /// `R^2` of the pre-test ([`MARGIN`]): the square of the largest light-space coordinate of
+    /// an edge or a receiver.
+    reach2: f32,
 }
 
 impl DepthComplexity {
     /// Builds the BVH and the potential silhouette edges of `scene`.
     pub fn new(scene: &Scene) -> Self {
+        let tracer = Tracer::new(scene);
+        let edges = PotentialEdges::build(scene);
+        let light = &tracer.light;
+        let reach = tracer
+            .triangles
+            .iter()
+            .flatten()
+            .map(|&v| light.to_light_space(v).abs().max_element())
+            .fold(1.0f64, f64::max);
         DepthComplexity {
-            tracer: Tracer::new(scene),
-            edges: PotentialEdges::build(scene),
+            reach2: (reach * reach) as f32,
+            tracer,
+            edges,
         }
     }
 
@@ -291,14 +405,41 @@ impl DepthComplexity {
                 edges: 0,
             };
         }
+        let mut candidates = std::mem::take(&mut scratch.candidates);
+        candidates.clear();
+        self.edges
+            .for_each_near(pl, |ei| candidates.push(&self.edges, ei));
+        let v = self.visibility_among(p, pl, &mut candidates, pattern, pixel, scratch);
+        scratch.candidates = candidates;
+        v
+    }
+
+    /// [`DepthComplexity::visibility`] of `p` (light space `pl`, lit side) with its edges taken
+    /// from `candidates`, a superset of those near it.
+    fn visibility_among(
+        &self,
+        p: &SurfacePoint,
+        pl: DVec3,
+        candidates: &mut Candidates,
+        pattern: SamplePattern,
+        pixel: u64,
+        scratch: &mut Scratch,
+    ) -> PointVisibility {
         self.tracer.near_triangles(p, &mut scratch.near);
         let centre_count = self.centre_count(p, &scratch.near, &mut scratch.hits);
         let n = pattern.per_axis;
         let mut edges = 0;
         let mut ready = false;
-        self.edges.for_each_near(pl, |ei| {
-            let Some(region) = self.region(pl, p.triangle, ei) else {
-                return;
+        let pyramid = pyramid_planes(pl);
+        candidates.pretest(pl, self.reach2);
+        for (&ei, _) in candidates
+            .ids
+            .iter()
+            .zip(&candidates.keep)
+            .filter(|(_, keep)| **keep)
+        {
+            let Some(region) = self.region(pl, &pyramid, p.triangle, ei) else {
+                continue;
             };
             if !ready {
                 // Only points that some edge reaches need their samples.
@@ -310,13 +451,13 @@ impl DepthComplexity {
             if region.apply(n, &scratch.points, &mut scratch.counts) {
                 edges += 1;
             }
-        });
+        }
         if !ready {
             scratch.counts.clear();
             scratch.counts.push(0);
         }
-        let counts = &scratch.counts;
         let base = centre_count as i32;
+        let counts = &scratch.counts;
         let seen = counts.iter().filter(|&&c| base + c <= 0).count();
         PointVisibility {
             visibility: seen as f64 / counts.len() as f64,
@@ -327,7 +468,7 @@ impl DepthComplexity {
 
     /// The samples edge `ei` separates from the centre as seen from the light-space point `pl`
     /// on triangle `receiver`, and the change of their counts; `None` when it changes none.
-    fn region(&self, pl: DVec3, receiver: u32, ei: u32) -> Option<Region> {
+    fn region(&self, pl: DVec3, pyramid: &[Plane; 5], receiver: u32, ei: u32) -> Option<Region> {
         let e = &self.edges.edges[ei as usize];
         let (a, b) = (e.a, e.b);
         let c = DVec3::ZERO;
@@ -359,6 +500,19 @@ impl DepthComplexity {
         if delta == 0 {
             return None;
         }
+        // An edge wholly outside one plane of P's pyramid meets no triangle P c s.
+        if pyramid
+            .iter()
+            .any(|q| q.n.dot(a) + q.d < 0.0 && q.n.dot(b) + q.d < 0.0)
+        {
+            return None;
+        }
+        // Only the part of the edge between the light's plane and P's depth can cross a
+        // triangle P c s (its points lie at depths between 0 and P's); none, no change.
+        let (t0, t1) = slab(a.z, b.z, pl.z);
+        if !(t0 < t1) {
+            return None;
+        }
         // The segment-triangle test's four functions of s.
         let l = b - a;
         let o1 = l.cross(pl - a).dot(c - a);
@@ -370,23 +524,31 @@ impl DepthComplexity {
         let o3 = Line::through(-l.cross(pl - a) * flip, a);
         let f0 = Line::through(-(c - pl).cross(a - pl), pl);
         let f1 = Line::through(-(c - pl).cross(b - pl), pl);
-        // The light clipped by the four lines, for both signs of the pair (f0, f1): at most one
-        // of the two is not empty unless the edge's line passes behind P.
-        let mut light = Polygon::LIGHT;
-        if !(light.clip(o2) && light.clip(o3)) {
+        // `f0 f1 < 0` holds on two opposite cones at c; the samples the edge changes lie in the
+        // one that holds the edge's own projection from P, seen through its middle.
+        let mid = a + l * (0.5 * (t0 + t1));
+        let q = pl + (mid - pl) * (pl.z / (pl.z - mid.z));
+        let q = DVec2::new(q.x, q.y);
+        let (g0, g1) = if f0.at(q) > 0.0 {
+            (f0, f1.neg())
+        } else {
+            (f0.neg(), f1)
+        };
+        let mut poly = Polygon::LIGHT;
+        if !(poly.clip(o3) && poly.clip(g0) && poly.clip(g1)) {
             return None;
         }
-        let mut parts = [None; 2];
-        for (k, (g0, g1)) in [(f0, f1.neg()), (f0.neg(), f1)].into_iter().enumerate() {
-            let mut poly = light;
-            if poly.clip(g0) && poly.clip(g1) {
-                parts[k] = Some(([o2, o3, g0, g1], poly.bounds()));
-            }
-        }
-        (parts[0].is_some() || parts[1].is_some()).then_some(Region { delta, parts })
+        Some(Region {
+            delta,
+            lines: [o2, o3, g0, g1],
+            bounds: poly.bounds(),
+        })
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows.
+    ///
+    /// Pixels go in tiles of [`TILE`] x [`TILE`]: one query of the edge hierarchy finds the
+    /// candidates of a whole tile (the union of its points' pyramids), and its pixels share them.
     pub fn render(
         &self,
         scene: &Scene,
@@ -395,22 +557,63 @@ impl DepthComplexity {
     ) -> VisibilityImage {
         let cam = &scene.camera;
         let w = cam.width as usize;
+        let light = &self.tracer.light;
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
-        img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-            let mut scratch = Scratch::default();
-            for (i, out) in row.iter_mut().enumerate() {
-                let dir = cam.ray_dir(i as u32, j as u32);
-                if let Some(p) = self.tracer.surface_point(cam.eye, dir) {
-                    let pixel = j as u64 * w as u64 + i as u64;
-                    *out = self.visibility(&p, pattern, pixel, &mut scratch).visibility as f32;
+        img.data
+            .par_chunks_mut(w * TILE)
+            .enumerate()
+            .for_each(|(tile_row, block)| {
+                let mut scratch = Scratch::default();
+                let mut lit: Vec<(usize, SurfacePoint, DVec3)> = Vec::new();
+                let mut at = Vec::new();
+                let rows = block.len() / w;
+                for x0 in (0..w).step_by(TILE) {
+                    lit.clear();
+                    for dy in 0..rows {
+                        let j = tile_row * TILE + dy;
+                        for i in x0..(x0 + TILE).min(w) {
+                            let dir = cam.ray_dir(i as u32, j as u32);
+                            let Some(p) = self.tracer.surface_point(cam.eye, dir) else {
+                                continue;
+                            };
+                            let pl = light.to_light_space(p.position);
+                            if light.is_lit_side(p.position) && pl.z > 0.0 {
+                                lit.push((dy * w + i, p, pl));
+                            } else {
+                                block[dy * w + i] = 0.0;
+                            }
+                        }
+                    }
+                    at.clear();
+                    at.extend(lit.iter().map(|l| l.2));
+                    let mut candidates = std::mem::take(&mut scratch.candidates);
+                    candidates.clear();
+                    self.edges
+                        .for_each_near_any(&at, |ei| candidates.push(&self.edges, ei));
+                    for (k, p, pl) in &lit {
+                        let pixel = (tile_row * TILE * w + k) as u64;
+                        let v = self.visibility_among(
+                            p,
+                            *pl,
+                            &mut candidates,
+                            pattern,
+                            pixel,
+                            &mut scratch,
+                        );
+                        block[*k] = v.visibility as f32;
+                    }
+                    scratch.candidates = candidates;
                 }
-            }
-            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-        });
+                let n = done.fetch_add(rows as u64, std::sync::atomic::Ordering::Relaxed);
+                progress(n + rows as u64);
+            });
         img
     }
 }
+
+/// Side of the square tiles of pixels that share one query of the edge hierarchy.
+pub const TILE: usize = 8;
 
 #[cfg(test)]
 #[path = "depth_complexity_tests.rs"]

@@ -134,7 +134,19 @@ impl PotentialEdges {
         }
         let boxes: Vec<(DVec3, DVec3)> =
             edges.iter().map(|e| (e.a.min(e.b), e.a.max(e.b))).collect();
-        let bvh = BoxTree::build(&boxes);
+        let mut bvh = BoxTree::build(&boxes);
+        // Edges and faces in the tree's leaf order: a query reads them in runs.
+        let mut sorted = Vec::with_capacity(edges.len());
+        let mut sorted_faces = Vec::with_capacity(faces.len());
+        for &i in bvh.order() {
+            let mut e: PotentialEdge = edges[i as usize];
+            let from = e.first_face as usize;
+            e.first_face = sorted_faces.len() as u32;
+            sorted_faces.extend_from_slice(&faces[from..from + e.face_count as usize]);
+            sorted.push(e);
+        }
+        bvh.renumber();
+        let (edges, faces) = (sorted, sorted_faces);
         PotentialEdges {
             light,
             edges,
@@ -152,15 +164,37 @@ impl PotentialEdges {
     /// Calls `f` with every edge that may meet the pyramid from the light-space point `p`
     /// (`p.z > 0`) to the light rectangle: a superset of the edges that come between `p` and
     /// some point of the light.
-    pub fn for_each_near(&self, p: DVec3, mut f: impl FnMut(u32)) {
-        let planes = pyramid_planes(p);
+    pub fn for_each_near(&self, p: DVec3, f: impl FnMut(u32)) {
+        self.for_each_near_any(&[p], f);
+    }
+
+    /// [`PotentialEdges::for_each_near`] for several points at once (`z > 0` each): every edge
+    /// that may meet one of their pyramids, each once, in increasing order.
+    ///
+    /// The pyramids' union lies in the light's half-space and, for each edge of the light, in
+    /// the outermost of the planes through that edge and a point: planes through one line are
+    /// ordered by their angle with the light's plane, and a point lies inside those at least as
+    /// steep as its own.
+    pub fn for_each_near_any(&self, points: &[DVec3], mut f: impl FnMut(u32)) {
+        let Some((&first, rest)) = points.split_first() else {
+            return;
+        };
+        let mut planes = pyramid_planes(first);
+        for &p in rest {
+            let own = pyramid_planes(p);
+            for k in 1..5 {
+                if planes[k].n.dot(p) + planes[k].d < 0.0 {
+                    planes[k] = own[k];
+                }
+            }
+        }
         self.bvh.query_planes(&planes, &mut f);
     }
 }
 
 /// The five planes bounding the pyramid from `p` to the light rectangle: its four sides through
 /// `p` and the light's edges, and the light's plane `z >= 0`.
-fn pyramid_planes(p: DVec3) -> [Plane; 5] {
+pub fn pyramid_planes(p: DVec3) -> [Plane; 5] {
     let mut planes = [Plane {
         n: DVec3::Z,
         d: 0.0,
