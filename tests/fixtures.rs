@@ -23,6 +23,37 @@ fn every_fixture_loads_with_valid_half_edges() {
                 "sphere.obj" => assert!(h.is_closed(), "{name}: sphere must be closed"),
                 "quad.obj" => assert_eq!(h.edge_counts(), [4, 1, 0, 0]),
                 "book.obj" => assert_eq!(h.edge_counts()[3], 1, "one edge with three faces"),
+                // The real meshes copied from common-3d-test-models (fixtures/meshes), with the
+                // triangle counts and topology its note gives them; edge_counts = [boundary,
+                // manifold, inconsistent, non-manifold].
+                "spot.obj" | "fandisk.obj" | "cheburashka.obj" => {
+                    let triangles = match &*file {
+                        "spot.obj" => 5856,
+                        "fandisk.obj" => 12946,
+                        _ => 13334,
+                    };
+                    assert_eq!(m.mesh.triangles.len(), triangles, "{name}: {file}");
+                    assert!(h.is_closed(), "{name}: {file} must be closed");
+                }
+                "beetle.obj" => {
+                    assert_eq!(m.mesh.triangles.len(), 2053, "{name}: beetle");
+                    assert_eq!(
+                        h.edge_counts(),
+                        [296, 2861, 0, 47],
+                        "{name}: beetle: 296 boundary edges, 47 in three faces"
+                    );
+                }
+                "woody.obj" => {
+                    assert_eq!(m.mesh.triangles.len(), 1267, "{name}: woody");
+                    assert_eq!(h.edge_counts(), [119, 1841, 0, 0], "{name}: woody is open");
+                    let p = &m.mesh.positions;
+                    let [a, b, c] = m.mesh.triangles[0].map(|i| p[i as usize]);
+                    let n = (b - a).cross(c - a).normalize();
+                    assert!(
+                        p.iter().all(|q| (*q - a).dot(n).abs() < 1e-9),
+                        "{name}: woody must be planar"
+                    );
+                }
                 other => panic!("unexpected fixture mesh {other}"),
             }
         }

@@ -2,12 +2,16 @@
 //!
 //! Meshes are written once and instanced by the scenes through `scale`, `rotate_axis_angle` and
 //! `translate`, so each scene file also shows the contract's transforms in use.
+//!
+//! The five real meshes of [`REAL_SCENES`] are data, not generated: they are copied byte for byte
+//! into `fixtures/meshes/` from the public collection common-3d-test-models, and the generator
+//! writes only their scenes.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use penumbra_geom::TriangleMesh;
 
 /// Triangles of the fixture sphere: a UV sphere of 20 stacks and 20 slices, as in seed 004's
@@ -116,7 +120,119 @@ fn sphere_grid(n: usize) -> SceneText {
 
 const DOWN_LIGHT: &str = "normal = [0.0, -1.0, 0.0]\ntangent = [1.0, 0.0, 0.0]";
 
-/// Writes every fixture mesh to `dir/meshes` and scene to `dir/scenes`.
+/// A scene around one real mesh: the model standing (or leaning) just above the ground, so that
+/// its ground shadow has a contact edge, under a tilted light that also makes it shadow itself.
+struct RealMesh {
+    /// File name in `fixtures/meshes/`, also the scene's name.
+    obj: &'static str,
+    /// What the scene shows (the first lines of its comment).
+    about: &'static str,
+    /// Who the collection names as the model's source.
+    source: &'static str,
+    eye: [f64; 3],
+    target: [f64; 3],
+    /// Light centre, the point its normal aims at, the turn of its tangent about the normal
+    /// (degrees, from the horizontal `normalize(y x normal)`) and its size.
+    light: ([f64; 3], [f64; 3], f64, [f64; 2]),
+    scale: &'static str,
+    rotate: Option<[f64; 4]>,
+    /// Chosen from the transformed mesh's bounding box: its lowest point 0.02 above the ground.
+    translate: [f64; 3],
+}
+
+/// The real meshes copied from github.com/alecjacobson/common-3d-test-models (its `data/`
+/// folder), one scene each; placements and lights chosen by trial on quick reference renders.
+const REAL_SCENES: [RealMesh; 5] = [
+    RealMesh {
+        obj: "spot.obj",
+        about: "Spot the cow (5,856 triangles, closed), hooves 0.02 above the ground, under a light tilted\ntowards it from the front left: contact shadows under the hooves, the head and belly shadowing\nthe neck and legs, the ground penumbra behind.",
+        source: "Keenan Crane (CC0)",
+        eye: [3.2, 3.6, 5.2],
+        target: [0.2, 1.3, -0.2],
+        light: ([-1.0, 7.0, 3.5], [0.6, 0.0, -0.8], 20.0, [3.0, 3.0]),
+        scale: "1.6",
+        rotate: Some([0.0, 1.0, 0.0, -25.0]),
+        translate: [0.31, 1.2, -0.217],
+    },
+    RealMesh {
+        obj: "fandisk.obj",
+        about: "The fandisk CAD part (12,946 triangles, closed, sharp creases) lying on its flat face 0.02\nabove the ground, under a light tilted from the right: the ridges shadow the curved faces,\nthe base's edges give a contact shadow, the ground penumbra on the left.",
+        source: "Hugues Hoppe",
+        eye: [3.3, 4.3, 5.0],
+        target: [-0.2, 0.5, 0.0],
+        light: ([4.0, 6.5, -1.0], [-0.5, 0.0, 0.3], 30.0, [3.0, 2.0]),
+        scale: "0.7",
+        rotate: Some([1.0, 0.0, 0.0, 90.0]),
+        translate: [-1.69, 0.02, -10.66],
+    },
+    RealMesh {
+        obj: "cheburashka.obj",
+        about: "Cheburashka (13,334 triangles, closed) standing 0.02 above the ground under a light tilted\nfrom the front left: the ears shadow the head, the arms the body, contact shadows at the\nfeet, the ground penumbra on the right.",
+        source: "Ilya Baran",
+        eye: [0.8, 3.2, 5.0],
+        target: [0.1, 1.2, 0.0],
+        light: ([-2.5, 6.5, 3.5], [0.4, 0.0, -0.6], 15.0, [3.0, 3.0]),
+        scale: "3.2",
+        rotate: None,
+        translate: [-1.6, -0.233, -1.6],
+    },
+    RealMesh {
+        obj: "beetle.obj",
+        about: "The VW beetle body (2,053 triangles, open: 296 boundary edges, 47 edges in three faces),\nside on, its lowest point 0.02 above the ground, under a light tilted from behind on the\nleft: light through the windows and wheel arches onto the inside, the roof shadowing the\nside, contact shadows under the sills, the ground penumbra in front.",
+        source: "Ivan Sutherland (1972)",
+        eye: [3.5, 3.0, 4.5],
+        target: [0.0, 0.6, 0.0],
+        light: ([-1.5, 6.5, -2.5], [0.5, 0.0, 0.7], 25.0, [3.0, 3.0]),
+        scale: "5.0",
+        rotate: Some([0.0, 1.0, 0.0, 100.0]),
+        translate: [-0.972, -1.51, 0.0],
+    },
+    RealMesh {
+        obj: "woody.obj",
+        about: "Woody (1,267 triangles, a flat open cut-out, 119 boundary edges) leaning 55 degrees over the\nground, feet 0.02 above it, seen from behind and above under a tilted light: its shadow\nruns from sharp at the feet to wide at the head. Planar, so it cannot shadow itself: the\none occluder for which penumbra wedges are exact.",
+        source: "Scott Schaefer",
+        eye: [4.0, 5.0, -1.5],
+        target: [0.0, 0.4, 0.9],
+        light: ([-2.0, 6.5, 2.5], [0.3, 0.0, 0.8], 20.0, [2.5, 2.5]),
+        scale: "0.007",
+        rotate: Some([1.0, 0.0, 0.0, 55.0]),
+        translate: [-1.222, 0.022, -0.355],
+    },
+];
+
+/// A light at `center` whose unit normal points at `aim`, its tangent the horizontal
+/// `normalize(y x normal)` turned by `spin_deg` about the normal (so orthogonal to it).
+fn aimed_light(center: [f64; 3], aim: [f64; 3], spin_deg: f64, size: [f64; 2]) -> String {
+    let c = DVec3::from(center);
+    let n = (DVec3::from(aim) - c).normalize();
+    let t = DQuat::from_axis_angle(n, spin_deg.to_radians()) * DVec3::Y.cross(n).normalize();
+    format!(
+        "center = {center:?}\nnormal = {:?}\ntangent = {:?}\nsize = {size:?}\n",
+        n.to_array(),
+        t.to_array()
+    )
+}
+
+impl RealMesh {
+    fn scene(&self) -> SceneText {
+        let (center, aim, spin, size) = self.light;
+        let mut s = SceneText::new(
+            &format!(
+                "{}\nMesh copied byte for byte from the public collection common-3d-test-models by Alec Jacobson\n(github.com/alecjacobson/common-3d-test-models, data/{}); source: {}.",
+                self.about, self.obj, self.source
+            ),
+            self.eye,
+            self.target,
+            &aimed_light(center, aim, spin, size),
+        );
+        s.ground();
+        s.mesh(self.obj, self.scale, self.rotate, self.translate);
+        s
+    }
+}
+
+/// Writes every generated fixture mesh to `dir/meshes` and every scene to `dir/scenes` (the
+/// scenes of [`REAL_SCENES`] refer to the copied meshes beside the generated ones).
 pub fn generate(dir: &Path) -> Result<Vec<String>> {
     let meshes = dir.join("meshes");
     let scenes = dir.join("scenes");
@@ -263,5 +379,11 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     s.mesh("quad.obj", "6.0", None, [0.0, 3.0, 0.0]);
     s.mesh("sphere.obj", "0.6", None, [1.0, 0.8, -6.0]);
     write(scenes.join("camera-in-shadow.toml"), s.0)?;
+
+    // One scene per real mesh; the meshes themselves are copied data, not written here.
+    for m in &REAL_SCENES {
+        let name = m.obj.trim_end_matches(".obj");
+        write(scenes.join(format!("{name}.toml")), m.scene().0)?;
+    }
     Ok(written)
 }

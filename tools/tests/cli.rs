@@ -332,6 +332,16 @@ fn probe_prints_point_and_both_values() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("outside"));
 }
 
+/// The real meshes of `fixtures/meshes/`, copied byte for byte from common-3d-test-models: data
+/// that the generator never writes, though it writes a scene for each.
+const COPIED_MESHES: [&str; 5] = [
+    "beetle.obj",
+    "cheburashka.obj",
+    "fandisk.obj",
+    "spot.obj",
+    "woody.obj",
+];
+
 #[test]
 fn committed_fixtures_are_what_the_generator_writes() {
     let d = scratch("gen");
@@ -344,7 +354,18 @@ fn committed_fixtures_are_what_the_generator_writes() {
     assert!(out.status.success());
     for sub in ["meshes", "scenes", "bench"] {
         let names = files_in(&d.join(sub));
-        assert_eq!(names, files_in(&fixtures().join(sub)), "{sub}");
+        let mut committed = files_in(&fixtures().join(sub));
+        if sub == "meshes" {
+            for c in COPIED_MESHES {
+                assert!(
+                    !names.iter().any(|n| n == c),
+                    "the generator wrote {c}, which is copied data"
+                );
+                let at = committed.iter().position(|n| n == c);
+                committed.remove(at.unwrap_or_else(|| panic!("fixtures/meshes/{c} is missing")));
+            }
+        }
+        assert_eq!(names, committed, "{sub}");
         for n in names {
             assert!(
                 std::fs::read(d.join(sub).join(&n)).unwrap()
@@ -352,6 +373,19 @@ fn committed_fixtures_are_what_the_generator_writes() {
                 "fixtures/{sub}/{n} differs from the generator's output: run `penumbra gen-fixtures`"
             );
         }
+    }
+    // Each copied mesh has a generated scene of its name that uses it and keeps its attribution.
+    for c in COPIED_MESHES {
+        let scene = c.replace(".obj", ".toml");
+        let text = std::fs::read_to_string(d.join("scenes").join(&scene)).unwrap();
+        assert!(
+            text.contains(&format!("obj = \"../meshes/{c}\"")),
+            "{scene}"
+        );
+        assert!(
+            text.contains("common-3d-test-models by Alec Jacobson"),
+            "{scene}: attribution"
+        );
     }
     let _ = std::fs::remove_dir_all(&d);
 }
