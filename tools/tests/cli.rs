@@ -332,6 +332,92 @@ fn probe_prints_point_and_both_values() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("outside"));
 }
 
+/// The value printed after `key =` in `text`, e.g. `V ref      = 0.25 (...)`.
+fn printed(text: &str, key: &str) -> f64 {
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(key))
+        .unwrap_or_else(|| panic!("no {key:?} line in {text}"));
+    line.split('=')
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn probe_prints_the_depth_complexity_value_and_its_edges() {
+    // A ground pixel in the penumbra of the sphere, at the reference's own 64 samples.
+    let out = penumbra()
+        .arg("probe")
+        .arg(fixtures().join("scenes/sphere-over-plane.toml"))
+        .args(["--pixel", "160,160", "--samples", "64"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (reference, depth) = (printed(&text, "V ref"), printed(&text, "V depth"));
+    assert!(
+        reference > 0.0 && reference < 1.0,
+        "not a penumbra pixel: {text}"
+    );
+    assert_eq!(depth, reference, "{text}");
+    let edges: usize = text
+        .split(" edges touched it")
+        .next()
+        .and_then(|t| t.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no edge count in {text}"));
+    assert!(edges > 0, "{text}");
+}
+
+#[test]
+fn depth_complexity_with_jitter_renders_the_reference_image() {
+    let d = scratch("depth-complexity");
+    let scene = fixtures().join("scenes/nonmanifold.toml");
+    for (tech, file, extra) in [
+        ("reference", "r.exr", vec![]),
+        ("depth-complexity", "j.exr", vec!["--jitter"]),
+        ("depth-complexity", "g.exr", vec![]),
+    ] {
+        let out = penumbra()
+            .arg("render")
+            .arg(&scene)
+            .args(["--technique", tech, "--samples", "64", "--backend", "cpu"])
+            .args(extra)
+            .arg("--out")
+            .arg(d.join(file))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let read = |f: &str| penumbra_geom::VisibilityImage::read_exr(&d.join(f)).unwrap();
+    let (r, j, g) = (read("r.exr"), read("j.exr"), read("g.exr"));
+    let differ = |a: &penumbra_geom::VisibilityImage| {
+        a.data.iter().zip(&r.data).filter(|(x, y)| x != y).count()
+    };
+    // The reference's samples: its image. The grid's cell centres: another sampling of the
+    // same shadow, equal in the umbra and the light, not in the penumbra.
+    assert!(differ(&j) <= 8, "jittered: {} pixels differ", differ(&j));
+    assert!(
+        differ(&g) > 1000,
+        "the grid should differ in the penumbra: {}",
+        differ(&g)
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 /// The real meshes of `fixtures/meshes/`, copied byte for byte from common-3d-test-models: data
 /// that the generator never writes, though it writes a scene for each.
 const COPIED_MESHES: [&str; 5] = [
