@@ -543,6 +543,11 @@ fn render(
         per_axis: samples_per_axis(sampling.samples)?,
         jitter: sampling.jitter,
     };
+    if sampling.jitter && !matches!(technique, Technique::DepthComplexity | Technique::Reference) {
+        bail!(
+            "--jitter: {technique:?} takes no light samples (depth-complexity does; the reference always jitters)"
+        );
+    }
     let mut outputs = vec![out];
     outputs.extend(png);
     // Checked before and after loading: the scene names the meshes.

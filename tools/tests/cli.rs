@@ -410,6 +410,24 @@ fn depth_complexity_with_jitter_renders_the_reference_image() {
     // The reference's samples: its image. The grid's cell centres: another sampling of the
     // same shadow, equal in the umbra and the light, not in the penumbra.
     assert!(differ(&j) <= 8, "jittered: {} pixels differ", differ(&j));
+    // --jitter means nothing to a technique without light samples: refused, nothing written.
+    let out = penumbra()
+        .arg("render")
+        .arg(&scene)
+        .args([
+            "--technique",
+            "wedges",
+            "--jitter",
+            "--backend",
+            "cpu",
+            "--out",
+        ])
+        .arg(d.join("w.exr"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--jitter"));
+    assert!(!d.join("w.exr").exists());
     assert!(
         differ(&g) > 1000,
         "the grid should differ in the penumbra: {}",
