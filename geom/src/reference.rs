@@ -7,8 +7,9 @@
 //! `vis` is 1 when the open segment from P to `L_k` meets no triangle other than the one P lies
 //! on. `V = 1` where the ray hits nothing; `V = 0` where P is not strictly on the emitting side.
 //!
-//! The segment is cast in `f32` from [`Tracer::epsilon`] past P to as far before the light, so
-//! that P's rounding never makes it hit P's own surface. The triangles that pass within that
+//! The segment is cast in `f32` from [`Tracer::epsilon`] past P to the light point (less
+//! [`Tracer::touch`]: a triangle through the light's plane blocks the samples behind it up to
+//! its crossing), so that P's rounding never makes it hit P's own surface. The triangles that pass within that
 //! distance of P (its neighbours when P lies near an edge of its triangle, a surface it touches)
 //! are tested again over the whole segment in `f64` from P itself, where only a crossing within
 //! [`TOUCH_EPSILON`] of P counts as touching rather than crossing: so the segment's start
@@ -110,8 +111,8 @@ impl Tracer {
             });
     }
 
-    /// Whether the segment from `p` to `l` crosses triangle `t` in `f64`, between
-    /// [`Tracer::touch`] from `p` and [`Tracer::epsilon`] before `l` (Möller & Trumbore,
+    /// Whether the segment from `p` to `l` crosses triangle `t` in `f64`, farther than
+    /// [`Tracer::touch`] from both ends (Möller & Trumbore,
     /// "Fast, Minimum Storage Ray/Triangle Intersection", 1997, edges included).
     pub fn crosses(&self, p: DVec3, l: DVec3, t: u32) -> bool {
         let [a, b, c] = self.triangles[t as usize];
@@ -131,7 +132,7 @@ impl Tracer {
             return false;
         }
         let at = e2.dot(r) / det * dist;
-        at > self.touch && at < dist - self.epsilon
+        at > self.touch && at < dist - self.touch
     }
 
     /// First surface hit by the ray `origin + t * dir` (`dir` unit).
@@ -154,7 +155,7 @@ impl Tracer {
     }
 
     /// The `f32` part of [`Tracer::sees`]: nothing blocks the segment from [`Tracer::epsilon`]
-    /// past `p` to as far before `l`.
+    /// past `p` to [`Tracer::touch`] before `l`.
     #[inline]
     fn sees_far(&self, p: &SurfacePoint, l: DVec3) -> bool {
         let d = l - p.position;
@@ -168,7 +169,7 @@ impl Tracer {
             o,
             dir.as_vec3().into(),
             self.epsilon as f32,
-            (dist - self.epsilon) as f32,
+            (dist - self.touch) as f32,
             p.triangle,
         )
     }

@@ -51,7 +51,8 @@ use penumbra_geom::reference::REFERENCE_SEED;
 use penumbra_geom::{Rng, Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
-use crate::potential::{PotentialEdges, pyramid_planes};
+use crate::clip::cross;
+use crate::potential::{LightCrossing, PotentialEdges, pyramid_planes};
 use penumbra_geom::boxtree::Plane;
 
 /// A face is seen edge-on from the receiver point `P` when `P` lies within this share of
@@ -219,6 +220,49 @@ impl Region {
     }
 }
 
+/// The samples whose count a triangle through the light's plane changes, as seen from `pl`
+/// on triangle `receiver`: the triangle `P c s` meets the light's plane in the segment `c s`,
+/// so it meets the triangle's crossing segment `a b` where `c s` does (in the plane), and the
+/// samples beyond it from `c` enter the triangle's projection, or leave it, by the side the
+/// projection of a point of the triangle next to the segment lies on.
+fn crossing_region(x: &LightCrossing, pl: DVec3, receiver: u32) -> Option<Region> {
+    if x.triangle == receiver || !(x.inside.z < pl.z) {
+        return None;
+    }
+    let (a, b) = (x.a.truncate(), x.b.truncate());
+    let side = |s: DVec2| cross(b - a, s - a);
+    let side_c = side(DVec2::ZERO);
+    let q = pl + (x.inside - pl) * (pl.z / (pl.z - x.inside.z));
+    let side_q = side(q.truncate());
+    if side_c == 0.0 || side_q == 0.0 {
+        return None;
+    }
+    let delta = if side_q * side_c < 0.0 { 1 } else { -1 };
+    // Beyond the segment's line from c, within the cone from c over the segment.
+    let beyond = Line {
+        k: DVec3::new(-(b - a).y, (b - a).x, cross(b - a, -a)) * -side_c.signum(),
+    };
+    let ray = |e: DVec2| Line {
+        k: DVec3::new(-e.y, e.x, 0.0),
+    };
+    let (ga, gb) = (ray(a), ray(b).neg());
+    let mid = 0.5 * (a + b);
+    let (g0, g1) = if ga.at(mid) > 0.0 {
+        (ga, gb)
+    } else {
+        (ga.neg(), gb.neg())
+    };
+    let mut poly = Polygon::LIGHT;
+    if !(poly.clip(beyond) && poly.clip(g0) && poly.clip(g1)) {
+        return None;
+    }
+    Some(Region {
+        delta,
+        lines: [beyond, g0, g1, beyond],
+        bounds: poly.bounds(),
+    })
+}
+
 /// The parameters `(t0, t1)` of the part of the segment from depth `za` to depth `zb` that lies
 /// strictly between depths 0 and `zp` (empty when `t0 >= t1`).
 fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
@@ -375,7 +419,7 @@ impl DepthComplexity {
                 o,
                 dir.as_vec3().into(),
                 t.epsilon as f32,
-                (dist - t.epsilon) as f32,
+                (dist - t.touch) as f32,
                 p.triangle,
                 |tri| hits.push(tri),
             );
@@ -443,6 +487,20 @@ impl DepthComplexity {
             };
             if !ready {
                 // Only points that some edge reaches need their samples.
+                pattern.points(pixel, &mut scratch.points);
+                scratch.counts.clear();
+                scratch.counts.resize(n * n, 0);
+                ready = true;
+            }
+            if region.apply(n, &scratch.points, &mut scratch.counts) {
+                edges += 1;
+            }
+        }
+        for crossing in &self.edges.crossings {
+            let Some(region) = crossing_region(crossing, pl, p.triangle) else {
+                continue;
+            };
+            if !ready {
                 pattern.points(pixel, &mut scratch.points);
                 scratch.counts.clear();
                 scratch.counts.resize(n * n, 0);

@@ -282,6 +282,87 @@ fn receivers_on_back_facing_triangles() {
 }
 
 #[test]
+fn occluders_through_the_light_plane() {
+    // A closed box standing up through the light's plane beside its centre, and a quad tilted
+    // through it: their projections on the light end where they cross its plane, not at edges.
+    let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let p = [
+        c(-0.1, 3.0, -0.7),
+        c(0.5, 3.0, -0.7),
+        c(0.5, 3.0, -0.1),
+        c(-0.1, 3.0, -0.1),
+        c(-0.1, 6.0, -0.7),
+        c(0.5, 6.0, -0.7),
+        c(0.5, 6.0, -0.1),
+        c(-0.1, 6.0, -0.1),
+    ];
+    let t = [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [1, 2, 6],
+        [1, 6, 5],
+        [2, 3, 7],
+        [2, 7, 6],
+        [3, 0, 4],
+        [3, 4, 7],
+    ];
+    let cube = mesh(&p, &t);
+    assert!(penumbra_geom::HalfEdgeMesh::build(&cube).is_closed());
+    let q = [
+        c(-2.2, 4.0, -1.0),
+        c(-1.0, 6.0, -1.0),
+        c(-1.0, 6.0, 0.2),
+        c(-2.2, 4.0, 0.2),
+    ];
+    let quad = mesh(&q, &[[0, 1, 2], [0, 2, 3]]);
+    let s = scene(
+        vec![cube, quad],
+        DVec3::new(1.0, 3.5, 4.5),
+        DVec3::new(-0.5, 0.5, -0.3),
+    );
+    let dc = DepthComplexity::new(&s);
+    assert!(
+        dc.edges.crossings.len() >= 4,
+        "both should cross the light: {:?}",
+        dc.edges.crossings
+    );
+    agrees_with_the_reference("through the light", &s);
+    // And both are right: against the exact evaluator, within the sampling error, at the
+    // penumbra pixels (every third).
+    let cam = &s.camera;
+    let pattern = SamplePattern {
+        per_axis: 32,
+        jitter: true,
+    };
+    let mut scratch = Scratch::default();
+    let mut checked = 0;
+    for k in (0..cam.pixel_count()).step_by(3) {
+        let (i, j) = ((k % 64) as u32, (k / 64) as u32);
+        let Some(p) = dc.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
+            continue;
+        };
+        let exact = dc.tracer.exact_visibility(&p);
+        if !(exact > 0.01 && exact < 0.99) {
+            continue;
+        }
+        let v = dc
+            .visibility(&p, pattern, k as u64, &mut scratch)
+            .visibility;
+        let sigma = (exact * (1.0 - exact) / 1024.0).sqrt();
+        assert!(
+            (v - exact).abs() <= 5.0 * sigma + 1.0 / 1024.0,
+            "pixel {i},{j}: {v} against the exact {exact}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 100, "only {checked} penumbra pixels");
+}
+
+#[test]
 fn the_pattern_points_are_the_references() {
     let pattern = SamplePattern {
         per_axis: 4,

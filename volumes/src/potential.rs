@@ -68,7 +68,57 @@ pub struct PotentialEdges {
     pub faces: Vec<EdgeFace>,
     /// Edges of the scene's meshes before the selection.
     pub all_edges: usize,
+    /// Where triangles pass through the light's plane across the light.
+    pub crossings: Vec<LightCrossing>,
     bvh: BoxTree,
+}
+
+/// A triangle passing through the light's plane where the light is: the segment `a b` (light
+/// space, `z = 0`) where it crosses, which bounds its projection on the light as an edge does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightCrossing {
+    /// Start, on the light's plane.
+    pub a: DVec3,
+    /// End, on the light's plane.
+    pub b: DVec3,
+    /// A point of the triangle just on the emitting side of the segment, whose projection from
+    /// a receiver tells which side of the segment the triangle's projection lies on.
+    pub inside: DVec3,
+    /// Index of the triangle in [`Scene::triangles`].
+    pub triangle: u32,
+}
+
+/// The segment where the triangle `t` (light space) crosses the light's plane, if it does
+/// with vertices strictly on both sides and the segment meets the light; with a point of the
+/// triangle just on the emitting side of it.
+fn light_crossing(t: [DVec3; 3], triangle: u32) -> Option<LightCrossing> {
+    if !(t.iter().any(|v| v.z > 0.0) && t.iter().any(|v| v.z < 0.0)) {
+        return None;
+    }
+    let mut ends = Vec::with_capacity(3);
+    for k in 0..3 {
+        let (p, q) = (t[k], t[(k + 1) % 3]);
+        if p.z == 0.0 {
+            ends.push(DVec3::new(p.x, p.y, 0.0));
+        } else if (p.z < 0.0) != (q.z < 0.0) && q.z != 0.0 {
+            let x = p + (q - p) * (p.z / (p.z - q.z));
+            ends.push(DVec3::new(x.x, x.y, 0.0));
+        }
+    }
+    let (&a, &b) = (ends.first()?, ends.last()?);
+    if a == b || !crate::wedge::segment_meets_square(a.truncate(), b.truncate()) {
+        return None;
+    }
+    // The vertices on the emitting side, pulled towards the segment's middle.
+    let lit: Vec<DVec3> = t.into_iter().filter(|v| v.z > 0.0).collect();
+    let centre = lit.iter().copied().sum::<DVec3>() / lit.len() as f64;
+    let mid = 0.5 * (a + b);
+    Some(LightCrossing {
+        a,
+        b,
+        inside: mid + (centre - mid) * 1e-3,
+        triangle,
+    })
 }
 
 /// `(b - a) x (c - a) . (d - a)`: the side of `d` relative to the plane through `a`, `b`, `c`.
@@ -95,6 +145,7 @@ impl PotentialEdges {
         let mut faces = Vec::new();
         let mut all_edges = 0;
         let mut first_triangle = 0u32;
+        let mut crossings = Vec::new();
         for m in &scene.meshes {
             let mesh = HalfEdgeMesh::build(&m.mesh);
             all_edges += mesh.edges.len();
@@ -130,6 +181,10 @@ impl PotentialEdges {
                     triangle: first_triangle + HalfEdgeMesh::face(h),
                 }));
             }
+            for (f, tri) in mesh.faces.iter().enumerate() {
+                let t = tri.map(|v| pos[v as usize]);
+                crossings.extend(light_crossing(t, first_triangle + f as u32));
+            }
             first_triangle += m.mesh.triangles.len() as u32;
         }
         let boxes: Vec<(DVec3, DVec3)> =
@@ -152,6 +207,7 @@ impl PotentialEdges {
             edges,
             faces,
             all_edges,
+            crossings,
             bvh,
         }
     }
