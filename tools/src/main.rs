@@ -265,8 +265,8 @@ enum Command {
         /// Light samples per pixel for `reference` and `depth-complexity`: a perfect square.
         #[arg(long, default_value_t = 256)]
         samples: usize,
-        /// `depth-complexity`: one random point per cell of the sample grid, the reference's own
-        /// points pixel for pixel, instead of the cells' centres.
+        /// `depth-complexity`: the reference's own jittered points, pixel for pixel, instead of
+        /// its correlated multi-jittered ones.
         #[arg(long)]
         jitter: bool,
         /// Also write an 8-bit greyscale PNG.
@@ -744,7 +744,11 @@ fn render_image(
             let img = r.render(scene, pattern, progress);
             let detail = format!(
                 " (cpu, {samples} {} samples, {} potential silhouette edges of {})",
-                if pattern.jitter { "jittered" } else { "grid" },
+                if pattern.jitter {
+                    "jittered"
+                } else {
+                    "multi-jittered"
+                },
                 r.edges.edges.len(),
                 r.edges.all_edges
             );

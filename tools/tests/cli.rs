@@ -305,20 +305,26 @@ fn hard_reference_is_binary_and_compare_reports_metrics() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
-#[test]
-fn probe_prints_point_and_both_values() {
+/// `penumbra probe` of a fixture scene at `pixel` with 64 samples: what it prints, asserting
+/// success.
+fn probe(scene: &str, pixel: &str) -> String {
     let out = penumbra()
         .arg("probe")
-        .arg(fixtures().join("scenes/quad-over-plane.toml"))
-        .args(["--pixel", "160,200", "--samples", "64"])
+        .arg(fixtures().join("scenes").join(scene))
+        .args(["--pixel", pixel, "--samples", "64"])
         .output()
         .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+fn probe_prints_point_and_both_values() {
+    let text = probe("quad-over-plane.toml", "160,200");
     for w in ["P ", "V exact", "V ref"] {
         assert!(text.contains(w), "{text}");
     }
@@ -351,18 +357,7 @@ fn printed(text: &str, key: &str) -> f64 {
 #[test]
 fn probe_prints_the_depth_complexity_value_and_its_edges() {
     // A ground pixel in the penumbra of the sphere, at the reference's own 64 samples.
-    let out = penumbra()
-        .arg("probe")
-        .arg(fixtures().join("scenes/sphere-over-plane.toml"))
-        .args(["--pixel", "160,160", "--samples", "64"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let text = probe("sphere-over-plane.toml", "160,160");
     let (reference, depth) = (printed(&text, "V ref"), printed(&text, "V depth"));
     assert!(
         reference > 0.0 && reference < 1.0,
@@ -407,7 +402,7 @@ fn depth_complexity_with_jitter_renders_the_reference_image() {
     let differ = |a: &penumbra_geom::VisibilityImage| {
         a.data.iter().zip(&r.data).filter(|(x, y)| x != y).count()
     };
-    // The reference's samples: its image. The grid's cell centres: another sampling of the
+    // The reference's samples: its image. The multi-jittered ones: another sampling of the
     // same shadow, equal in the umbra and the light, not in the penumbra.
     assert!(differ(&j) <= 8, "jittered: {} pixels differ", differ(&j));
     // --jitter means nothing to a technique without light samples: refused, nothing written.
@@ -430,7 +425,7 @@ fn depth_complexity_with_jitter_renders_the_reference_image() {
     assert!(!d.join("w.exr").exists());
     assert!(
         differ(&g) > 1000,
-        "the grid should differ in the penumbra: {}",
+        "the multi-jittered samples should differ in the penumbra: {}",
         differ(&g)
     );
     let _ = std::fs::remove_dir_all(&d);

@@ -47,57 +47,18 @@
 
 use glam::{DVec2, DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::reference::REFERENCE_SEED;
-use penumbra_geom::{Rng, Scene, SurfacePoint, Tracer};
+use penumbra_geom::{Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
 use crate::clip::cross;
 use crate::potential::{LightCrossing, PotentialEdges, pyramid_planes};
+pub use crate::samples::SamplePattern;
 use penumbra_geom::boxtree::Plane;
 
 /// A face is seen edge-on from the receiver point `P` when `P` lies within this share of
 /// `|P - a|` of the face's plane (`a` an end of the edge): within rounding of it, where the
 /// reference's rays meet the face only in ties.
 const EDGE_ON: f64 = 1e-10;
-
-/// Where the `N x N` light samples lie.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SamplePattern {
-    /// Samples per axis, `N`.
-    pub per_axis: usize,
-    /// One uniform point per cell drawn from the reference's per-pixel stream (the same points
-    /// as [`Tracer::sampled_visibility`]), instead of the cells' centres.
-    pub jitter: bool,
-}
-
-impl SamplePattern {
-    /// The pattern's points for camera pixel `pixel` (`y * width + x`), in `[-1, 1]^2`, row by
-    /// row: sample `j * N + i` lies in cell `(i, j)`.
-    pub fn points(&self, pixel: u64, out: &mut Vec<DVec2>) {
-        let n = self.per_axis;
-        let cell = 2.0 / n as f64;
-        out.clear();
-        if self.jitter {
-            let mut rng = Rng::stream(REFERENCE_SEED, pixel);
-            for j in 0..n {
-                for i in 0..n {
-                    let u = -1.0 + (i as f64 + rng.next_f64()) * cell;
-                    let v = -1.0 + (j as f64 + rng.next_f64()) * cell;
-                    out.push(DVec2::new(u, v));
-                }
-            }
-        } else {
-            for j in 0..n {
-                for i in 0..n {
-                    out.push(DVec2::new(
-                        -1.0 + (i as f64 + 0.5) * cell,
-                        -1.0 + (j as f64 + 0.5) * cell,
-                    ));
-                }
-            }
-        }
-    }
-}
 
 /// What depth-complexity sampling found at one point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -476,31 +437,20 @@ impl DepthComplexity {
         let mut ready = false;
         let pyramid = pyramid_planes(pl);
         candidates.pretest(pl, self.reach2);
-        for (&ei, _) in candidates
+        let edge_regions = candidates
             .ids
             .iter()
             .zip(&candidates.keep)
             .filter(|(_, keep)| **keep)
-        {
-            let Some(region) = self.region(pl, &pyramid, p.triangle, ei) else {
-                continue;
-            };
+            .filter_map(|(&ei, _)| self.region(pl, &pyramid, p.triangle, ei));
+        let crossing_regions = self
+            .edges
+            .crossings
+            .iter()
+            .filter_map(|x| crossing_region(x, pl, p.triangle));
+        for region in edge_regions.chain(crossing_regions) {
             if !ready {
                 // Only points that some edge reaches need their samples.
-                pattern.points(pixel, &mut scratch.points);
-                scratch.counts.clear();
-                scratch.counts.resize(n * n, 0);
-                ready = true;
-            }
-            if region.apply(n, &scratch.points, &mut scratch.counts) {
-                edges += 1;
-            }
-        }
-        for crossing in &self.edges.crossings {
-            let Some(region) = crossing_region(crossing, pl, p.triangle) else {
-                continue;
-            };
-            if !ready {
                 pattern.points(pixel, &mut scratch.points);
                 scratch.counts.clear();
                 scratch.counts.resize(n * n, 0);

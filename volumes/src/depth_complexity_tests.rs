@@ -361,22 +361,3 @@ fn occluders_through_the_light_plane() {
     }
     assert!(checked > 100, "only {checked} penumbra pixels");
 }
-
-#[test]
-fn the_pattern_points_are_the_references() {
-    let pattern = SamplePattern {
-        per_axis: 4,
-        jitter: true,
-    };
-    let mut got = Vec::new();
-    pattern.points(77, &mut got);
-    let mut rng = penumbra_geom::Rng::stream(penumbra_geom::reference::REFERENCE_SEED, 77);
-    let want = RectLight::stratified_samples(4, &mut rng);
-    assert_eq!(got, want);
-    let grid = SamplePattern {
-        per_axis: 4,
-        jitter: false,
-    };
-    grid.points(77, &mut got);
-    assert_eq!(got[5], DVec2::new(-0.25, -0.25));
-}

@@ -8,6 +8,7 @@ pub mod clip;
 pub mod depth_complexity;
 pub mod potential;
 pub mod render;
+pub mod samples;
 pub mod shadow_volume;
 pub mod silhouette;
 pub mod wedge;
