@@ -155,29 +155,35 @@ impl Polygon {
 struct Region {
     delta: i32,
     lines: [Line; 4],
+    /// The bounding box of the light clipped by the lines: only the cells it reaches can hold
+    /// samples inside.
     bounds: (DVec2, DVec2),
 }
 
 impl Region {
     /// Adds the change to the counts of the samples inside, looking only at the cells the box
-    /// reaches (sample `j * n + i` lies in cell `(i, j)`). Returns whether any was inside.
-    fn apply(&self, n: usize, points: &[DVec2], counts: &mut [i32]) -> bool {
+    /// reaches (sample `j * n + i` lies in cell `(i, j)`, at `(xs, ys)`). Returns whether any
+    /// was inside.
+    ///
+    /// The lines are evaluated in `f32`, eight samples to a step: their rounding (about 1e-7 of
+    /// the light's half side) is that of the reference's `f32` shadow rays.
+    fn apply(&self, n: usize, xs: &[f32], ys: &[f32], counts: &mut [i32]) -> bool {
         let cell = 2.0 / n as f64;
         let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
-        let [l0, l1, l2, l3] = self.lines;
+        let k = self.lines.map(|l| l.k.as_vec3());
         let (lo, hi) = self.bounds;
-        let mut reached = false;
+        let (i0, i1) = (index(lo.x), index(hi.x) + 1);
+        let mut inside = 0;
         for j in index(lo.y)..=index(hi.y) {
-            let row = j * n;
-            for i in index(lo.x)..=index(hi.x) {
-                let s = points[row + i];
-                if l0.at(s) > 0.0 && l1.at(s) > 0.0 && l2.at(s) > 0.0 && l3.at(s) > 0.0 {
-                    counts[row + i] += self.delta;
-                    reached = true;
-                }
+            let r = j * n + i0..j * n + i1;
+            for ((c, &x), &y) in counts[r.clone()].iter_mut().zip(&xs[r.clone()]).zip(&ys[r]) {
+                let at = |k: glam::Vec3| k.x * x + k.y * y + k.z;
+                let hit = (at(k[0]) > 0.0) & (at(k[1]) > 0.0) & (at(k[2]) > 0.0) & (at(k[3]) > 0.0);
+                *c += self.delta * hit as i32;
+                inside += hit as u32;
             }
         }
-        reached
+        inside > 0
     }
 }
 
@@ -251,6 +257,9 @@ fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
 #[derive(Default)]
 pub struct Scratch {
     points: Vec<DVec2>,
+    /// The points' coordinates in `f32`, one array per axis.
+    xs: Vec<f32>,
+    ys: Vec<f32>,
     counts: Vec<i32>,
     hits: Vec<u32>,
     near: Vec<u32>,
@@ -437,27 +446,32 @@ impl DepthComplexity {
         let mut ready = false;
         let pyramid = pyramid_planes(pl);
         candidates.pretest(pl, self.reach2);
-        let edge_regions = candidates
-            .ids
-            .iter()
-            .zip(&candidates.keep)
-            .filter(|(_, keep)| **keep)
-            .filter_map(|(&ei, _)| self.region(pl, &pyramid, p.triangle, ei));
-        let crossing_regions = self
-            .edges
-            .crossings
-            .iter()
-            .filter_map(|x| crossing_region(x, pl, p.triangle));
-        for region in edge_regions.chain(crossing_regions) {
+        let mut add = |region: Region, scratch: &mut Scratch| {
             if !ready {
                 // Only points that some edge reaches need their samples.
                 pattern.points(pixel, &mut scratch.points);
+                scratch.xs.clear();
+                scratch.ys.clear();
+                scratch.xs.extend(scratch.points.iter().map(|q| q.x as f32));
+                scratch.ys.extend(scratch.points.iter().map(|q| q.y as f32));
                 scratch.counts.clear();
                 scratch.counts.resize(n * n, 0);
                 ready = true;
             }
-            if region.apply(n, &scratch.points, &mut scratch.counts) {
+            if region.apply(n, &scratch.xs, &scratch.ys, &mut scratch.counts) {
                 edges += 1;
+            }
+        };
+        for (k, &ei) in candidates.ids.iter().enumerate() {
+            if candidates.keep[k] {
+                if let Some(region) = self.region(pl, &pyramid, p.triangle, ei) {
+                    add(region, scratch);
+                }
+            }
+        }
+        for x in &self.edges.crossings {
+            if let Some(region) = crossing_region(x, pl, p.triangle) {
+                add(region, scratch);
             }
         }
         if !ready {
@@ -597,8 +611,15 @@ impl DepthComplexity {
                     at.extend(lit.iter().map(|l| l.2));
                     let mut candidates = std::mem::take(&mut scratch.candidates);
                     candidates.clear();
-                    self.edges
-                        .for_each_near_any(&at, |ei| candidates.push(&self.edges, ei));
+                    let (lo, hi) = at.iter().fold(
+                        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                        |(lo, hi), &q| (lo.min(q), hi.max(q)),
+                    );
+                    self.edges.for_each_near_any(&at, |ei| {
+                        if self.edges.may_fold_within(ei, lo, hi) {
+                            candidates.push(&self.edges, ei);
+                        }
+                    });
                     for (k, p, pl) in &lit {
                         let pixel = (tile_row * TILE * w + k) as u64;
                         let v = self.visibility_among(

@@ -217,6 +217,26 @@ impl PotentialEdges {
         &self.faces[e.first_face as usize..(e.first_face + e.face_count) as usize]
     }
 
+    /// Whether edge `ei` may be a silhouette seen from some point of the light-space box
+    /// `[lo, hi]`: false only for a two-face edge whose faces' planes through the edge keep the
+    /// box on opposite sides of each, `F0 > 0 > F1` or `F0 < 0 < F1` everywhere in it
+    /// ([`EdgeFace`]). Each `F` is linear, so its range over the box is its value at the centre
+    /// plus or minus `|n| . half-size`; a margin of 1e-9 of that range's scale covers rounding.
+    pub fn may_fold_within(&self, ei: u32, lo: DVec3, hi: DVec3) -> bool {
+        let e = &self.edges[ei as usize];
+        let [f0, f1] = self.faces_of(e) else {
+            return true;
+        };
+        let (centre, half) = (0.5 * (lo + hi) - e.a, 0.5 * (hi - lo));
+        let range = |n: DVec3| {
+            let (mid, spread) = (n.dot(centre), n.abs().dot(half));
+            let margin = 1e-9 * (n.length() * centre.length() + spread);
+            (mid - spread - margin, mid + spread + margin)
+        };
+        let ((lo0, hi0), (lo1, hi1)) = (range(f0.normal), range(f1.normal));
+        !((lo0 > 0.0 && hi1 < 0.0) || (hi0 < 0.0 && lo1 > 0.0))
+    }
+
     /// Calls `f` with every edge that may meet the pyramid from the light-space point `p`
     /// (`p.z > 0`) to the light rectangle: a superset of the edges that come between `p` and
     /// some point of the light.

@@ -40,16 +40,24 @@ impl SamplePattern {
         } else {
             let seed = (pixel ^ (pixel >> 32)) as u32;
             let m = n as u32;
+            let fine = 1.0 / n as f64;
+            // The fine column within cell (i, j) is a permutation of the row index j, the fine
+            // row one of the column index i: one point per fine row and column.
+            let columns: Vec<u32> = (0..m)
+                .map(|j| permute(j, m, seed.wrapping_mul(0x63d8_3595)))
+                .collect();
+            let rows: Vec<u32> = (0..m)
+                .map(|i| permute(i, m, seed.wrapping_mul(0xa511_e9b3)))
+                .collect();
             for s in 0..m * m {
                 let (i, j) = (s % m, s / m);
-                // The fine column within cell (i, j) is a permutation of the row index j, the
-                // fine row one of the column index i: one point per fine row and column.
-                let sx = permute(j, m, seed.wrapping_mul(0x63d8_3595));
-                let sy = permute(i, m, seed.wrapping_mul(0xa511_e9b3));
-                let jx = unit(s, seed.wrapping_mul(0xa399_d265));
-                let jy = unit(s, seed.wrapping_mul(0x711a_d6a5));
-                let x = (i as f64 + (sx as f64 + jx) / n as f64) * cell;
-                let y = (j as f64 + (sy as f64 + jy) / n as f64) * cell;
+                let (sx, sy) = (columns[j as usize], rows[i as usize]);
+                // Both jitters from one hash, 16 bits each: a 65,536th of a fine cell.
+                let h = hash(s, seed.wrapping_mul(0xa399_d265));
+                let jx = (h & 0xffff) as f64 / 65_536.0;
+                let jy = (h >> 16) as f64 / 65_536.0;
+                let x = (i as f64 + (sx as f64 + jx) * fine) * cell;
+                let y = (j as f64 + (sy as f64 + jy) * fine) * cell;
                 out.push(DVec2::new(-1.0 + x, -1.0 + y));
             }
         }
@@ -90,8 +98,9 @@ fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     }
 }
 
-/// A number in `[0, 1)` hashed from `i` and `p` (Kensler 2013, listing 4).
-fn unit(mut i: u32, p: u32) -> f64 {
+/// 32 bits hashed from `i` and `p` (Kensler 2013, listing 4, which divides them by 2^32 for
+/// one jitter; here they serve both).
+fn hash(mut i: u32, p: u32) -> u32 {
     i ^= p;
     i ^= i >> 17;
     i ^= i >> 10;
@@ -101,8 +110,7 @@ fn unit(mut i: u32, p: u32) -> f64 {
     i = i.wrapping_mul(0x93fc_4795);
     i ^= 0xdf6e_307f;
     i ^= i >> 17;
-    i = i.wrapping_mul(1 | p >> 18);
-    i as f64 / 4_294_967_296.0
+    i.wrapping_mul(1 | p >> 18)
 }
 
 #[cfg(test)]
