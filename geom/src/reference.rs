@@ -98,8 +98,9 @@ impl Tracer {
         }
     }
 
-    /// The triangles other than `p`'s that pass within [`Tracer::epsilon`] of it (by their
-    /// bounding boxes), into `out`.
+    /// Into `out`, the triangles other than `p`'s that may pass within [`Tracer::epsilon`] of
+    /// it: those of the box hierarchy's leaves that reach that far (a superset: [`Tracer::sees`]
+    /// tests each exactly).
     pub fn near_triangles(&self, p: &SurfacePoint, out: &mut Vec<u32>) {
         out.clear();
         let r = DVec3::splat(self.epsilon);
