@@ -194,13 +194,19 @@ mod tests {
             });
             for (i, (a, b)) in boxes.iter().enumerate() {
                 let meets = a.cmple(hi).all() && b.cmpge(lo).all();
-                assert!(!meets || got[i], "box {i} meets the query but was not reported");
+                assert!(
+                    !meets || got[i],
+                    "box {i} meets the query but was not reported"
+                );
                 meeting += usize::from(meets);
             }
             reported += got.iter().filter(|&&g| g).count();
         }
         // Leaves of four: a few more than meet, far fewer than all.
-        assert!(meeting > 0 && reported <= 8 * meeting, "{reported} for {meeting}");
+        assert!(
+            meeting > 0 && reported <= 8 * meeting,
+            "{reported} for {meeting}"
+        );
     }
 
     #[test]
