@@ -42,7 +42,7 @@ impl Default for PcfParams {
     }
 }
 
-/// `pcss`: Fernando 2005 as seed 001 describes it.
+/// `pcss`: Fernando 2005 as Shinde 2022 describes it.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PcssParams {
@@ -50,7 +50,7 @@ pub struct PcssParams {
     pub search: u32,
     /// Most filter taps per side of the variable PCF.
     pub filter_max: u32,
-    /// Seed 001 section 4.4: four of a 4x4 lattice of taps per pixel, chosen by the pixel's
+    /// Shinde 2022, section 4.4: four of a 4x4 lattice of taps per pixel, chosen by the pixel's
     /// position in its 2x2 screen quad.
     pub dither: bool,
 }
@@ -65,7 +65,7 @@ impl Default for PcssParams {
     }
 }
 
-/// `fractional-disk`: Valient & de Boer (seed 000).
+/// `fractional-disk`: Valient & de Boer (2004).
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct FractionalDiskParams {
@@ -100,13 +100,13 @@ impl Default for FractionalDiskParams {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum MdsmExtra {
-    /// The neighbourhood's maximum (seed 002, section 5).
+    /// The neighbourhood's maximum (Pagot et al. 2004, section 5).
     Max,
     /// The neighbourhood's minimum.
     Min,
 }
 
-/// `mdsm`: Pagot, Comba & Oliveira (seed 002).
+/// `mdsm`: Pagot, Comba & Oliveira (2004).
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MdsmParams {
@@ -131,7 +131,7 @@ impl Default for MdsmParams {
     }
 }
 
-/// The three filters of seed 003.
+/// The three filters of Cherry & Kooima 2015.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum GaussianVariant {
@@ -143,7 +143,7 @@ pub enum GaussianVariant {
     Multi,
 }
 
-/// `gaussian`: multi-pass Gaussian contact-hardening shadows (seed 003).
+/// `gaussian`: multi-pass Gaussian contact-hardening shadows (Cherry & Kooima 2015).
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct GaussianParams {
@@ -348,7 +348,7 @@ impl TechniqueParams {
     }
 }
 
-/// Seed 000's Eq. 2: the number of PCF samples for a disk of radius `q` texels,
+/// Valient & de Boer's Eq. 2: the number of PCF samples for a disk of radius `q` texels,
 /// `f(q) = ceil(pi q² / a)`, capped at `max`.
 pub fn fractional_disk_samples(q: f64, a: f64, max: u32) -> u32 {
     let f = (std::f64::consts::PI * q * q / a).ceil();
@@ -367,7 +367,7 @@ mod tests {
 
     #[test]
     fn sample_count_follows_eq_2() {
-        // Fig. 2 of seed 000: q = 2 and q = 5 texels with a = 2.
+        // Fig. 2 of Valient & de Boer 2004: q = 2 and q = 5 texels with a = 2.
         assert_eq!(fractional_disk_samples(2.0, 2.0, 1000), 7);
         assert_eq!(fractional_disk_samples(5.0, 2.0, 1000), 40);
         assert_eq!(fractional_disk_samples(16.0, 2.0, 50), 50);

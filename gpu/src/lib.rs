@@ -1,8 +1,8 @@
-//! The wgpu back end of penumbra: one module and one WGSL file per pass (seed 004, section 4).
+//! The wgpu back end of penumbra: one module and one WGSL file per pass (Forest et al. 2006, section 4).
 //!
 //! The device (any adapter, hardware first, Mesa's lavapipe otherwise), the depth pre-pass, the
 //! z-fail stencil pass of the shadow volumes, the penumbra-wedge pass, the blend pass and the
-//! resolve: `hard`, additive `wedges` and seed 004's `wedges-blend`, each checked against the
+//! resolve: `hard`, additive `wedges` and Forest et al.'s `wedges-blend`, each checked against the
 //! CPU oracle of `penumbra-volumes`. And the shadow-map techniques of the other papers
 //! ([`shadow_maps`]): `pcf`, `pcss`, `fractional-disk`, `mdsm` and `gaussian`.
 #![warn(missing_docs)]

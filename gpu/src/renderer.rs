@@ -1,6 +1,6 @@
 //! The volume techniques on the GPU. `hard`: depth pre-pass, z-fail stencil pass, resolve.
 //! `wedges` (additive): the same, plus the wedge pass of every silhouette edge before the resolve.
-//! `wedges-blend`: the depth pre-pass, then seed 004's "per-silhouette 3 passes algorithm" for
+//! `wedges-blend`: the depth pre-pass, then Forest et al.'s "per-silhouette 3 passes algorithm" for
 //! each occluder (stencil pass of its volume, wedge pass of its edges into a silhouette buffer,
 //! blend of that buffer into the final one), then the resolve. Occluders whose screen tiles
 //! are disjoint share those three passes (`passes::blend::disjoint_groups`): their silhouette
@@ -558,7 +558,7 @@ impl<'a> GpuRenderer<'a> {
                     let ranges = |r: &[std::ops::Range<u32>]| -> Vec<std::ops::Range<u32>> {
                         group.iter().map(|&o| r[o].clone()).collect()
                     };
-                    // Seed 004's three passes for these silhouettes.
+                    // Forest et al.'s three passes for these silhouettes.
                     self.stencil.record(
                         &mut enc,
                         &frame,

@@ -29,13 +29,13 @@ use crate::timing::{Pass as Kind, PassTimes, Timer};
 pub enum ShadowTechnique {
     /// Reeves, Salesin & Cook 1987: a fixed PCF kernel.
     Pcf,
-    /// Fernando 2005 as seed 001 describes it.
+    /// Fernando 2005 as Shinde 2022 describes it.
     Pcss,
-    /// Valient & de Boer (seed 000).
+    /// Valient & de Boer (2004).
     FractionalDisk,
-    /// Pagot, Comba & Oliveira (seed 002).
+    /// Pagot, Comba & Oliveira (2004).
     Mdsm,
-    /// Multi-pass Gaussian contact hardening (seed 003).
+    /// Multi-pass Gaussian contact hardening (Cherry & Kooima 2015).
     Gaussian,
 }
 
@@ -170,7 +170,7 @@ pub fn closed_first(scene: &Scene) -> (Vec<[DVec3; 3]>, usize) {
     (closed, n)
 }
 
-/// The triangles that the back-face ("second-depth") map of `fractional-disk` draws (seed 000,
+/// The triangles that the back-face ("second-depth") map of `fractional-disk` draws (Valient & de Boer 2004,
 /// "Shadow map generation": "we render only polygons facing away from the light"), of
 /// `triangles` and `closed` as [`closed_first`] gives them: those of closed meshes whose outward
 /// normal points away from the light's centre `c`, and every triangle of the other meshes, which
@@ -238,7 +238,7 @@ fn best_candidates(
     pts
 }
 
-/// Seed 003's table of Poisson points in [-1, 1]² ("The first point is fixed at the origin so
+/// Cherry & Kooima's table of Poisson points in [-1, 1]² ("The first point is fixed at the origin so
 /// the center texel is always examined"), deterministic.
 pub fn poisson_taps() -> Vec<DVec2> {
     let mut rng = Rng::new(0x9a55_0003);

@@ -207,7 +207,7 @@ fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
     }
 }
 
-/// Issue 4's memory bound: seed 004's four `RGBA32F`, 64 bytes per pixel, for the silhouette and
+/// The memory bound of Forest et al. 2006: four `RGBA32F`, 64 bytes per pixel, for the silhouette and
 /// final buffers of `wedges-blend` together.
 #[test]
 fn blend_visibility_buffers_take_at_most_64_bytes_per_pixel() {
@@ -434,7 +434,7 @@ fn probe_uniforms(t: ShadowTechnique, size: u32) -> ShadowUniforms {
     u
 }
 
-/// Seed 002, Table 1: PCF(k, n) of an n-depth map reaches n k + 1 distinct outcomes, on the
+/// Pagot et al. 2004, Table 1: PCF(k, n) of an n-depth map reaches n k + 1 distinct outcomes, on the
 /// synthetic base map ((7x + 13y + 5xy) mod 17) / 17 and receiver depths (j + 0.5) / 17, for every
 /// n (2-SM with either extra depth) and k = 4, 9, 16; a plain shadow map (n = 1) only k + 1.
 #[test]
@@ -487,7 +487,7 @@ fn mdsm_pcf_reaches_n_k_plus_1_distinct_values() {
     }
 }
 
-/// Seed 000, Eq. 2 in the shader: f(q) = ceil(pi q^2 / a), capped, as the CPU's function.
+/// Valient & de Boer 2004, Eq. 2 in the shader: f(q) = ceil(pi q^2 / a), capped, as the CPU's function.
 #[test]
 fn fractional_disk_sample_count_follows_eq_2() {
     let Some(ctx) = context() else { return };

@@ -14,7 +14,7 @@ use anyhow::{Context, Result};
 use glam::{DQuat, DVec3};
 use penumbra_geom::TriangleMesh;
 
-/// Triangles of the fixture sphere: a UV sphere of 20 stacks and 20 slices, as in seed 004's
+/// Triangles of the fixture sphere: a UV sphere of 20 stacks and 20 slices, as in Forest et al.'s
 /// Figure 1 (spheres of about 760 triangles).
 pub const SPHERE_STACKS: u32 = 20;
 /// Slices of the fixture sphere.
@@ -93,12 +93,12 @@ impl SceneText {
     }
 }
 
-/// `n x n` spheres of 760 triangles over a plane on two heights in a checkerboard: seed 004's
+/// `n x n` spheres of 760 triangles over a plane on two heights in a checkerboard: Forest et al.'s
 /// Figure 1 at `n = 9`, and its Figure 12's sweep of sphere counts.
 fn sphere_grid(n: usize) -> SceneText {
     let mut s = SceneText::new(
         &format!(
-            "{} spheres of 760 triangles in a {n}x{n} grid over a plane, as in seed 004's Figure 1, on\ntwo heights in a checkerboard so that their penumbrae overlap.",
+            "{} spheres of 760 triangles in a {n}x{n} grid over a plane, as in Figure 1 of Forest et al. 2006, on\ntwo heights in a checkerboard so that their penumbrae overlap.",
             n * n
         ),
         [0.0, 11.0, 12.0],
@@ -296,9 +296,9 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     s.mesh("sphere.obj", "", None, [0.0, 1.6, 0.0]);
     write(scenes.join("sphere-over-plane.toml"), s.0)?;
 
-    // spheres-9x9: seed 004, Figure 1.
+    // spheres-9x9: Forest et al. 2006, Figure 1.
     write(scenes.join("spheres-9x9.toml"), sphere_grid(9).0)?;
-    // The sweep of seed 004's Figure 12 (benchmarks only, not tests).
+    // The sweep of Figure 12 of Forest et al. 2006 (benchmarks only, not tests).
     let bench = dir.join("bench");
     std::fs::create_dir_all(&bench).with_context(|| format!("creating {}", bench.display()))?;
     for n in [1, 2, 4, 6, 8, 9] {

@@ -47,13 +47,13 @@ enum Technique {
     DepthComplexity,
     /// Percentage-closer filtering of a light-centre shadow map (Reeves et al. 1987; GPU).
     Pcf,
-    /// Percentage-closer soft shadows (Fernando 2005, seed 001; GPU).
+    /// Percentage-closer soft shadows (Fernando 2005, as Shinde 2022 analyses it; GPU).
     Pcss,
-    /// Fractional-disk soft shadows (Valient & de Boer, seed 000; GPU).
+    /// Fractional-disk soft shadows (Valient & de Boer 2004; GPU).
     FractionalDisk,
-    /// Multiple-depth shadow maps (Pagot, Comba & Oliveira, seed 002; GPU).
+    /// Multiple-depth shadow maps (Pagot, Comba & Oliveira 2004; GPU).
     Mdsm,
-    /// Multi-pass Gaussian contact-hardening shadows (seed 003; GPU).
+    /// Multi-pass Gaussian contact-hardening shadows (Cherry & Kooima 2015; GPU).
     Gaussian,
 }
 
@@ -120,7 +120,7 @@ struct ParamArgs {
     /// pcss: most filter taps per side [pcss.filter_max, 16].
     #[arg(long, help_heading = "Shadow maps")]
     pcss_filter_max: Option<u32>,
-    /// pcss: dithered 4-of-16 sampling, seed 001 section 4.4 [pcss.dither, false].
+    /// pcss: dithered 4-of-16 sampling, Shinde 2022, section 4.4 [pcss.dither, false].
     #[arg(long, help_heading = "Shadow maps")]
     pcss_dither: Option<bool>,
     /// fractional-disk: Eq. 2's a [fractional_disk.a, 2].

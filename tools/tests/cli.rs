@@ -497,7 +497,7 @@ fn every_shadow_map_technique_renders_from_the_command_line() {
         let mut args = vec!["--technique", t, "--shadow-map-resolution", "128"];
         if t == "gaussian" {
             // Its screen-space blur, sized for full images, would blur the few shadowed pixels
-            // of a 24x16 one away: D = 0 leaves the hard shadow (seed 003's identity case).
+            // of a 24x16 one away: D = 0 leaves the hard shadow (Cherry & Kooima's identity case).
             args.extend(["--gaussian-dm", "0"]);
         }
         let (d, out) = render_case_with(t, GOOD_SCENE, GOOD_OBJ, &args);

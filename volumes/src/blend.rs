@@ -1,4 +1,4 @@
-//! Visibility buffers and seed 004's blending of a silhouette's buffer into the final one.
+//! Visibility buffers and Forest et al.'s blending of a silhouette's buffer into the final one.
 //!
 //! A buffer holds, per radial part of the light (see [`crate::clip::RADIAL_PARTS`]), the occluded
 //! area `A` (light-space units; each part has area 1) and a rectangle `B` bounding the occluded
@@ -53,7 +53,7 @@ impl VBuffer {
         (self.parts.iter().map(|p| p.area).sum::<f64>() / (4.0 * PART_AREA)).clamp(0.0, 1.0)
     }
 
-    /// Blends the silhouette buffer `s` into `self` (seed 004, section 3.2).
+    /// Blends the silhouette buffer `s` into `self` (Forest et al. 2006, section 3.2).
     pub fn blend(&mut self, s: &VBuffer) {
         for (f, s) in self.parts.iter_mut().zip(&s.parts) {
             *f = blend_part(f, s);
@@ -61,7 +61,7 @@ impl VBuffer {
     }
 }
 
-/// Seed 004's blending function for one radial part.
+/// Forest et al.'s blending function for one radial part.
 pub fn blend_part(f: &Part, s: &Part) -> Part {
     if s.area <= 0.0 {
         return *f;

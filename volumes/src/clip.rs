@@ -1,5 +1,5 @@
 //! 2-D convex clipping in light space, where the light is the square `[-1, 1]^2` and its centre
-//! the origin, and the light's four radial parts (seed 004, section 3.1, Figure 6).
+//! the origin, and the light's four radial parts (Forest et al. 2006, section 3.1, Figure 6).
 
 use glam::DVec2;
 

@@ -13,7 +13,7 @@
 //!   overlapping occluders are still counted twice, which is what blending corrects;
 //! - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per occluder, its hard
 //!   shadow plus its own edges' integrals per radial part, blended into the final buffer in
-//!   occluder order with seed 004's function.
+//!   occluder order with Forest et al.'s function.
 //!
 //! The hard shadow is the shadow volumes' winding number. Counted along the ray from P towards
 //! the light's centre, no side quad is crossed (each lies in a plane through the centre) and the
@@ -24,7 +24,7 @@
 //!
 //! The blending unit is the occluder (a scene mesh): the loops of one mesh are signed parts of one
 //! region (a hole's loop subtracts from its outer loop's area), so they share one buffer. For the
-//! fixtures each occluder has one loop, as seed 004's spheres do.
+//! fixtures each occluder has one loop, as Forest et al.'s spheres do.
 
 use glam::{DVec2, DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
@@ -44,7 +44,7 @@ pub enum Technique {
     Hard,
     /// Additive penumbra wedges.
     Wedges,
-    /// Seed 004's penumbra-wedges blending.
+    /// Forest et al.'s penumbra-wedges blending.
     WedgesBlend,
 }
 
@@ -461,7 +461,7 @@ impl Accum {
             if area <= 0.0 {
                 continue;
             }
-            // Seed 004, Figure 10: in hard shadow the occluded region reaches the part's border
+            // Forest et al. 2006, Figure 10: in hard shadow the occluded region reaches the part's border
             // unless the inner half-wedges cover the whole border, in which case it ends at them.
             let hard_rect = if self.hard == 0 {
                 Rect::EMPTY

@@ -16,7 +16,7 @@
 //! where `m_e` is the edge's multiplicity and `s_e(P) = +1` when P lies on the outer side of the
 //! plane through the edge and `c` (the side away from the edge's caster triangles: the edge's
 //! outer half-wedge), `-1` on the inner side. Integrating over one radial part `T_k` of the light
-//! (seed 004, section 3.1) gives the occluded area of the part,
+//! (Forest et al. 2006, section 3.1) gives the occluded area of the part,
 //!
 //! ```text
 //! A_k = |T_k| · [N(P, c) > 0] + Σ_e s_e(P) · m_e · |R_e ∩ T_k|,
@@ -26,9 +26,9 @@
 //! `R_e` is the region of the light behind the projected edge as seen from the centre: the light
 //! square clipped by the two sides of the cone from `c` over the edge and by the edge's line.
 //! The first term is the hard shadow (the stencil count from the centre); the sum adds the outer
-//! half-wedges' areas and subtracts the inner ones', exactly as seed 004 states. The edge is
+//! half-wedges' areas and subtracts the inner ones', exactly as Forest et al. 2006 state. The edge is
 //! first clipped to the local near plane (the plane through P parallel to the light: only the
-//! part between P and the light plane can be projected, seed 004 section 4.2, Figure 9), then
+//! part between P and the light plane can be projected, Forest et al. 2006, section 4.2, Figure 9), then
 //! projected from P onto the light plane, `X' = P + (X - P) · z_P / (z_P - z_X)`.
 //!
 //! For a single planar occluder, whose silhouette is the same from every light point, this is
@@ -72,7 +72,7 @@ pub struct EdgeIntegral {
     pub near: [Rect; 4],
     /// Length of the part's outer side (the light's border, length 2) inside the cone over the
     /// edge: where the inner half-wedges of a loop cover the whole side, the occluded region of
-    /// a part in hard shadow ends at the edges (seed 004, Figure 10).
+    /// a part in hard shadow ends at the edges (Forest et al. 2006, Figure 10).
     pub cover: [f64; 4],
 }
 

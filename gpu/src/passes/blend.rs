@@ -154,7 +154,7 @@ impl TileMask {
 
 /// Occluders in groups whose tile masks are pairwise disjoint (first fit, in order): their
 /// silhouette buffers cannot meet, so each group's stencil, wedge and blend passes serve all of
-/// its occluders at once (seed 004's per-silhouette loop, one pass per group instead of one per
+/// its occluders at once (Forest et al.'s per-silhouette loop, one pass per group instead of one per
 /// silhouette). Empty masks are left out. Also each group's union of tiles, which its blend
 /// covers.
 pub fn disjoint_groups(masks: &[TileMask]) -> Vec<(Vec<usize>, TileMask)> {

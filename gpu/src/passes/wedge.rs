@@ -173,7 +173,7 @@ impl WedgePass {
                     cull_mode: Some(wgpu::Face::Front),
                     ..Default::default()
                 },
-                // Lengyel's depth test (seed 004, section 4.2): a receiver behind the solid's back
+                // Lengyel's depth test (Forest et al. 2006, section 4.2): a receiver behind the solid's back
                 // face (reversed z: a greater depth than the face's) is outside the wedge.
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: super::DEPTH_FORMAT,

@@ -1,4 +1,4 @@
-// Depth pre-pass (seed 004, section 4: the visibility buffer needs the receivers' depth).
+// Depth pre-pass (Forest et al. 2006, section 4: the visibility buffer needs the receivers' depth).
 // Every scene triangle, both sides, into a Depth32FloatStencil8 target with reversed z, and the
 // eye-relative surface position P into an Rgba32Float target (w = 1 where something was hit),
 // and the surface's geometric normal, turned to face the camera, into an Rgba16Float target (the

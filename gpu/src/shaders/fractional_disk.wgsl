@@ -1,4 +1,4 @@
-// `fractional-disk`: Valient & de Boer, "Fractional-Disk Soft Shadows" (seed 000). The light is
+// `fractional-disk`: Valient & de Boer, "Fractional-Disk Soft Shadows" (2004). The light is
 // the disk of the rectangle's area, radius r = shadow.light.z. Inputs: map0, the back-face
 // ("second-depth") light map; map1, its preprocessed form (R depth, G nearest occluder depth,
 // B inverse distance to the hard-shadow edge); map2, the NOISE_SIZE² noise map (RG a Poisson disk set

@@ -60,7 +60,7 @@ fn part_rect(k: u32) -> vec4<f32> {
     return r[k];
 }
 
-// Levels of a rectangle coordinate in the visibility buffers: 8 bits per coordinate, as seed 004
+// Levels of a rectangle coordinate in the visibility buffers: 8 bits per coordinate, as Forest et al. 2006
 // packs them (section 4.4), relative to the part's own rectangle: the levels of the `Rgba8Unorm`
 // rectangle targets (`passes::blend::SILHOUETTE_FORMATS`) and of the final buffer's
 // `pack4x8unorm` words.

@@ -1,4 +1,4 @@
-// `gaussian`: multi-pass Gaussian contact-hardening soft shadows (seed 003). Screen-space: a
+// `gaussian`: multi-pass Gaussian contact-hardening soft shadows (Cherry & Kooima 2015). Screen-space: a
 // distance map per camera pixel (r = S, the hard-shadow bit from the light's centre; g = D, the
 // occluder distance ^ Dp * Dm), an optional Gaussian dilation of D, then one of three filters of
 // S whose size follows D ("pcf", "single" separable Gaussian, "multi": several Poisson-tap

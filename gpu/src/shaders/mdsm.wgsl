@@ -1,4 +1,4 @@
-// `mdsm`: multiple-depth shadow maps, Pagot, Comba & Oliveira (seed 002), a point-light filter
+// `mdsm`: multiple-depth shadow maps, Pagot, Comba & Oliveira (2004), a point-light filter
 // at the light's centre (the paper has no light size).
 // Build pass (section 4.3, section 5: "The second and third depth values were chosen as the
 // maximum and minimum values on a neighborhood in the first shadow map"): per texel the base

@@ -1,5 +1,5 @@
 // `pcf`: percentage-closer filtering, Reeves, Salesin & Cook, "Rendering antialiased shadows
-// with depth maps" (SIGGRAPH 1987), as seed 001 (section 3.6) and seed 002 (section 2.1) recall
+// with depth maps" (SIGGRAPH 1987), as Shinde 2022 (section 3.6) and Pagot et al. 2004 (section 2.1) recall
 // it: the fraction of a fixed kernel x kernel block of light-map texels around the receiver's
 // projection whose stored depth does not occlude it. Odd kernels are centred on the receiver's
 // texel, even ones on the nearest texel corner. Each texel is tested at its centre against the

@@ -1,4 +1,4 @@
-// `pcss`: percentage-closer soft shadows, Fernando 2005, as seed 001 (Shinde 2022) analyses it:
+// `pcss`: percentage-closer soft shadows, Fernando 2005, as Shinde 2022 analyses it:
 // blocker search, penumbra estimate, variable PCF (its section 2.1.4: "Blocker search, Penumbra
 // estimation and filtering").
 // 1. Blocker search (4.2.1): an iparams.x^2 grid over the region where a blocker can hide part of
@@ -9,7 +9,7 @@
 // 2. Penumbra width (Eq. 2): w = (d_R - d_B) * w_light / d_B, per axis of the rectangle light.
 // 3. PCF over a box of half-width w / 2 on the receiver (the light's own shape, so exact for
 //    parallel planes): an F x F grid, F = clamp(ceil(2 * kernel in texels), 1, iparams.y).
-//    iparams.z = 1: seed 001's section 4.4 instead, four taps of a 4x4 lattice per pixel,
+//    iparams.z = 1: Shinde's section 4.4 instead, four taps of a 4x4 lattice per pixel,
 //    chosen by the pixel's place in its 2x2 screen quad (GPU Gems 1, 11.4).
 
 fn cell(i: u32, n: u32) -> f32 {

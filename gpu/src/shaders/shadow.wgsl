@@ -203,7 +203,7 @@ fn occlusion_threshold(r: Receiver, uv: vec2<f32>) -> f32 {
 }
 
 // The first texel of a kernel x kernel footprint around continuous texel coordinate t: odd
-// kernels centred on t's texel, even ones on the nearest texel corner (seed 002's PCF(k, n)).
+// kernels centred on t's texel, even ones on the nearest texel corner (Pagot et al.'s PCF(k, n)).
 fn footprint_origin(t: vec2<f32>, kernel: i32) -> vec2<i32> {
     if (kernel % 2 == 0) {
         return vec2<i32>(floor(t - 0.5)) - (kernel / 2 - 1);

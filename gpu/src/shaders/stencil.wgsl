@@ -1,4 +1,4 @@
-// z-fail stencil pass of the shadow volumes (Carmack 2000; Everitt & Kilgard 2002), seed 004's
+// z-fail stencil pass of the shadow volumes (Carmack 2000; Everitt & Kilgard 2002), Forest et al.'s
 // first per-silhouette pass. Vertices are homogeneous: w = 1 for the casters' vertices (eye-
 // relative), w = 0 for their projections to infinity away from the light's centre, so the side
 // quads and dark caps reach infinity and the reversed, infinite projection puts them at depth 0.

@@ -1,4 +1,4 @@
-// Penumbra-wedge pass (Akenine-Möller & Assarsson 2002; seed 004, sections 3.1, 4.2 and 4.3).
+// Penumbra-wedge pass (Akenine-Möller & Assarsson 2002; Forest et al. 2006, sections 3.1, 4.2 and 4.3).
 // Each instance is one silhouette edge. A convex light-space solid holding its wedge (the smaller
 // of a box and a frustum narrowing to the edge, `penumbra_volumes::render::wedge_frustum`; both
 // the unit cube mapped by depth) is rasterised by its back faces, so that every pixel whose view
@@ -337,13 +337,13 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
     return i.area * i.sign;
 }
 
-// The silhouette buffer of seed 004, in one pass split by the silhouette's stencil count: the
+// The silhouette buffer of Forest et al. 2006, in one pass split by the silhouette's stencil count: the
 // signed areas (added, `Rgba32Float`), the inner half-wedges' cover of each part's border
 // (added, `Rgba16Float`), and one rectangle per part, encoded in 8 bits per coordinate
 // (`encode_rect`, `Rgba8Unorm`) and kept by `Min` blending. Where the silhouette's stencil count
 // is zero the rectangle bounds the outer half-wedges' regions only; in its hard shadow it bounds
 // the outer regions and the inner half-wedges' near regions together, which is all the blend
-// needs (seed 004, Figure 10). 40 bytes per pixel.
+// needs (Forest et al. 2006, Figure 10). 40 bytes per pixel.
 struct Silhouette {
     @location(0) area: vec4<f32>,
     @location(1) cover: vec4<f32>,
