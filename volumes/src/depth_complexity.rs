@@ -50,15 +50,9 @@ use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
-use crate::clip::cross;
-use crate::potential::{LightCrossing, PotentialEdges, pyramid_planes};
+use crate::potential::{PotentialEdges, pyramid_planes};
+use crate::region::{Region, crossing_region, edge_region};
 pub use crate::samples::SamplePattern;
-use penumbra_geom::boxtree::Plane;
-
-/// A face is seen edge-on from the receiver point `P` when `P` lies within this share of
-/// `|P - a|` of the face's plane (`a` an end of the edge): within rounding of it, where the
-/// reference's rays meet the face only in ties.
-const EDGE_ON: f64 = 1e-10;
 
 /// What depth-complexity sampling found at one point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,188 +63,6 @@ pub struct PointVisibility {
     pub centre_count: u32,
     /// Potential silhouette edges that changed the count of at least one sample.
     pub edges: usize,
-}
-
-/// An affine function `f(u, v) = k.x u + k.y v + k.z` on the light's plane.
-#[derive(Clone, Copy, Debug)]
-struct Line {
-    k: DVec3,
-}
-
-impl Line {
-    /// `m . (s - o)` for `s = (u, v, 0)`.
-    fn through(m: DVec3, o: DVec3) -> Self {
-        Line {
-            k: DVec3::new(m.x, m.y, -m.dot(o)),
-        }
-    }
-
-    #[inline(always)]
-    fn at(&self, s: DVec2) -> f64 {
-        self.k.x * s.x + self.k.y * s.y + self.k.z
-    }
-
-    fn neg(self) -> Self {
-        Line { k: -self.k }
-    }
-}
-
-/// A convex polygon of at most eight vertices: the light square cut by four lines.
-#[derive(Clone, Copy, Debug)]
-struct Polygon {
-    v: [DVec2; 8],
-    len: usize,
-}
-
-impl Polygon {
-    const LIGHT: Polygon = Polygon {
-        v: [
-            DVec2::new(-1.0, -1.0),
-            DVec2::new(1.0, -1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(-1.0, 1.0),
-            DVec2::ZERO,
-            DVec2::ZERO,
-            DVec2::ZERO,
-            DVec2::ZERO,
-        ],
-        len: 4,
-    };
-
-    /// Keeps the part where `line >= 0` (Sutherland & Hodgman); returns whether any is left.
-    /// Each cut adds at most one vertex to a convex polygon.
-    fn clip(&mut self, line: Line) -> bool {
-        let mut out = [DVec2::ZERO; 8];
-        let mut k = 0;
-        for i in 0..self.len {
-            let (a, b) = (self.v[i], self.v[(i + 1) % self.len]);
-            let (fa, fb) = (line.at(a), line.at(b));
-            if fa >= 0.0 && k < 8 {
-                out[k] = a;
-                k += 1;
-            }
-            if (fa >= 0.0) != (fb >= 0.0) && k < 8 {
-                out[k] = a + (b - a) * (fa / (fa - fb));
-                k += 1;
-            }
-        }
-        self.v = out;
-        self.len = k;
-        k > 0
-    }
-
-    fn bounds(&self) -> (DVec2, DVec2) {
-        let mut lo = self.v[0];
-        let mut hi = lo;
-        for &q in &self.v[1..self.len] {
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        (lo, hi)
-    }
-}
-
-/// The samples one edge changes: those of the light where four lines are positive, a convex
-/// part of it, with its bounding box.
-struct Region {
-    delta: i32,
-    lines: [Line; 4],
-    /// The bounding box of the light clipped by the lines: only the cells it reaches can hold
-    /// samples inside.
-    bounds: (DVec2, DVec2),
-}
-
-impl Region {
-    /// Adds the change to the counts of the samples inside, looking only at the cells the box
-    /// reaches (sample `j * n + i` lies in cell `(i, j)`, at `(xs, ys)`). Returns whether any
-    /// was inside.
-    ///
-    /// The lines are evaluated in `f32`, eight samples to a step: their rounding (about 1e-7 of
-    /// the light's half side) is that of the reference's `f32` shadow rays.
-    fn apply(&self, n: usize, xs: &[f32], ys: &[f32], counts: &mut [i32]) -> bool {
-        let cell = 2.0 / n as f64;
-        let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
-        let k = self.lines.map(|l| l.k.as_vec3());
-        let (lo, hi) = self.bounds;
-        let (i0, i1) = (index(lo.x), index(hi.x) + 1);
-        let mut inside = 0;
-        for j in index(lo.y)..=index(hi.y) {
-            let r = j * n + i0..j * n + i1;
-            for ((c, &x), &y) in counts[r.clone()].iter_mut().zip(&xs[r.clone()]).zip(&ys[r]) {
-                let at = |k: glam::Vec3| k.x * x + k.y * y + k.z;
-                let hit = (at(k[0]) > 0.0) & (at(k[1]) > 0.0) & (at(k[2]) > 0.0) & (at(k[3]) > 0.0);
-                *c += self.delta * hit as i32;
-                inside += hit as u32;
-            }
-        }
-        inside > 0
-    }
-}
-
-/// The samples whose count a triangle through the light's plane changes, as seen from `pl`
-/// on triangle `receiver`: the triangle `P c s` meets the light's plane in the segment `c s`,
-/// so it meets the triangle's crossing segment `a b` where `c s` does (in the plane), and the
-/// samples beyond it from `c` enter the triangle's projection, or leave it, by the side the
-/// projection of a point of the triangle next to the segment lies on.
-fn crossing_region(x: &LightCrossing, pl: DVec3, receiver: u32) -> Option<Region> {
-    if x.triangle == receiver || !(x.inside.z < pl.z) {
-        return None;
-    }
-    let (a, b) = (x.a.truncate(), x.b.truncate());
-    let side = |s: DVec2| cross(b - a, s - a);
-    let side_c = side(DVec2::ZERO);
-    let q = pl + (x.inside - pl) * (pl.z / (pl.z - x.inside.z));
-    let side_q = side(q.truncate());
-    if side_c == 0.0 || side_q == 0.0 {
-        return None;
-    }
-    let delta = if side_q * side_c < 0.0 { 1 } else { -1 };
-    // Beyond the segment's line from c, within the cone from c over the segment.
-    let beyond = Line {
-        k: DVec3::new(-(b - a).y, (b - a).x, cross(b - a, -a)) * -side_c.signum(),
-    };
-    let ray = |e: DVec2| Line {
-        k: DVec3::new(-e.y, e.x, 0.0),
-    };
-    let (ga, gb) = (ray(a), ray(b).neg());
-    let mid = 0.5 * (a + b);
-    let (g0, g1) = if ga.at(mid) > 0.0 {
-        (ga, gb)
-    } else {
-        (ga.neg(), gb.neg())
-    };
-    let mut poly = Polygon::LIGHT;
-    if !(poly.clip(beyond) && poly.clip(g0) && poly.clip(g1)) {
-        return None;
-    }
-    Some(Region {
-        delta,
-        lines: [beyond, g0, g1, beyond],
-        bounds: poly.bounds(),
-    })
-}
-
-/// The parameters `(t0, t1)` of the part of the segment from depth `za` to depth `zb` that lies
-/// strictly between depths 0 and `zp` (empty when `t0 >= t1`).
-fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    let dz = zb - za;
-    for (bound, above) in [(0.0, true), (zp, false)] {
-        // Keep z > bound (above) or z < bound.
-        if dz == 0.0 {
-            if (za > bound) != above || za == bound {
-                return (1.0, 0.0);
-            }
-            continue;
-        }
-        let t = (bound - za) / dz;
-        if (dz > 0.0) == above {
-            t0 = t0.max(t);
-        } else {
-            t1 = t1.min(t);
-        }
-    }
-    (t0, t1)
 }
 
 /// Per-thread working memory of [`DepthComplexity::visibility`].
@@ -464,7 +276,7 @@ impl DepthComplexity {
         };
         for (k, &ei) in candidates.ids.iter().enumerate() {
             if candidates.keep[k] {
-                if let Some(region) = self.region(pl, &pyramid, p.triangle, ei) {
+                if let Some(region) = edge_region(&self.edges, pl, &pyramid, p.triangle, ei) {
                     add(region, scratch);
                 }
             }
@@ -486,85 +298,6 @@ impl DepthComplexity {
             centre_count,
             edges,
         }
-    }
-
-    /// The samples edge `ei` separates from the centre as seen from the light-space point `pl`
-    /// on triangle `receiver`, and the change of their counts; `None` when it changes none.
-    fn region(&self, pl: DVec3, pyramid: &[Plane; 5], receiver: u32, ei: u32) -> Option<Region> {
-        let e = &self.edges.edges[ei as usize];
-        let (a, b) = (e.a, e.b);
-        let c = DVec3::ZERO;
-        // The plane through P and the edge: the sides of c and of each face, each the sign of
-        // the plane through the edge and that point (or that face) at P.
-        let d = pl - a;
-        let side_c = e.toward_centre.dot(d);
-        if side_c == 0.0 {
-            return None;
-        }
-        let d2 = d.length_squared();
-        let mut delta = 0i32;
-        for f in self.edges.faces_of(e) {
-            if f.triangle == receiver {
-                continue;
-            }
-            // P within rounding of a face's plane (a neighbour coplanar with the receiver, say)
-            // sees it edge-on: it covers no sample.
-            let s = f.normal.dot(d);
-            if s * s <= EDGE_ON * EDGE_ON * f.normal.length_squared() * d2 {
-                continue;
-            }
-            if s * side_c < 0.0 {
-                delta += 1;
-            } else {
-                delta -= 1;
-            }
-        }
-        if delta == 0 {
-            return None;
-        }
-        // An edge wholly outside one plane of P's pyramid meets no triangle P c s.
-        if pyramid
-            .iter()
-            .any(|q| q.n.dot(a) + q.d < 0.0 && q.n.dot(b) + q.d < 0.0)
-        {
-            return None;
-        }
-        // Only the part of the edge between the light's plane and P's depth can cross a
-        // triangle P c s (its points lie at depths between 0 and P's); none, no change.
-        let (t0, t1) = slab(a.z, b.z, pl.z);
-        if !(t0 < t1) {
-            return None;
-        }
-        // The segment-triangle test's four functions of s.
-        let l = b - a;
-        let o1 = l.cross(pl - a).dot(c - a);
-        if o1 == 0.0 {
-            return None;
-        }
-        let flip = o1.signum();
-        let o2 = Line::through(l.cross(c - a) * flip, a);
-        let o3 = Line::through(-l.cross(pl - a) * flip, a);
-        let f0 = Line::through(-(c - pl).cross(a - pl), pl);
-        let f1 = Line::through(-(c - pl).cross(b - pl), pl);
-        // `f0 f1 < 0` holds on two opposite cones at c; the samples the edge changes lie in the
-        // one that holds the edge's own projection from P, seen through its middle.
-        let mid = a + l * (0.5 * (t0 + t1));
-        let q = pl + (mid - pl) * (pl.z / (pl.z - mid.z));
-        let q = DVec2::new(q.x, q.y);
-        let (g0, g1) = if f0.at(q) > 0.0 {
-            (f0, f1.neg())
-        } else {
-            (f0.neg(), f1)
-        };
-        let mut poly = Polygon::LIGHT;
-        if !(poly.clip(o3) && poly.clip(g0) && poly.clip(g1)) {
-            return None;
-        }
-        Some(Region {
-            delta,
-            lines: [o2, o3, g0, g1],
-            bounds: poly.bounds(),
-        })
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows.

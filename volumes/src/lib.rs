@@ -7,6 +7,7 @@ pub mod blend;
 pub mod clip;
 pub mod depth_complexity;
 pub mod potential;
+mod region;
 pub mod render;
 pub mod samples;
 pub mod shadow_volume;
