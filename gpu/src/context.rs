@@ -39,6 +39,10 @@ pub enum GpuError {
 }
 
 /// A device and its queue, with what the adapter offered.
+///
+/// On Linux with Mesa, the device-select layer (an implicit Vulkan layer) prints
+/// "XDG_RUNTIME_DIR is invalid or not set" when no display is reachable. It is harmless, and
+/// `NODEVICE_SELECT=1` in the environment turns it off; the `penumbra` command sets it.
 pub struct GpuContext {
     /// The device.
     pub device: wgpu::Device,

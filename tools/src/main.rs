@@ -389,12 +389,27 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    quiet_device_select();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Turns off Mesa's device-select layer, an implicit Vulkan layer that connects to a Wayland or
+/// X11 display to choose a default GPU and, on a machine without one, prints "XDG_RUNTIME_DIR is
+/// invalid or not set" twice per instance. The command chooses its adapter itself
+/// (`penumbra_gpu::GpuContext`), so the layer has nothing to add. A value the user set is kept.
+fn quiet_device_select() {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        // Safe: no other thread exists yet to read the environment concurrently.
+        #[allow(unsafe_code)] // `set_var` is unsafe since edition 2024; see the line above.
+        unsafe {
+            std::env::set_var("NODEVICE_SELECT", "1")
+        };
     }
 }
 

@@ -431,6 +431,26 @@ fn depth_complexity_with_jitter_renders_the_reference_image() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+#[test]
+fn a_gpu_render_prints_no_window_system_noise() {
+    // Mesa's device-select layer says "XDG_RUNTIME_DIR is invalid" on a machine without a
+    // display, unless turned off; the command turns it off itself.
+    let d = scratch("xdg");
+    let out = penumbra()
+        .env_remove("NODEVICE_SELECT")
+        .env_remove("XDG_RUNTIME_DIR")
+        .arg("render")
+        .arg(fixtures().join("scenes/quad-over-plane.toml"))
+        .args(["--technique", "hard", "--backend", "gpu", "--out"])
+        .arg(d.join("h.exr"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(!err.contains("XDG_RUNTIME_DIR"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 /// The real meshes of `fixtures/meshes/`, copied byte for byte from common-3d-test-models: data
 /// that the generator never writes, though it writes a scene for each.
 const COPIED_MESHES: [&str; 5] = [
