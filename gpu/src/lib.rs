@@ -7,9 +7,11 @@
 //! ([`shadow_maps`]): `pcf`, `pcss`, `fractional-disk`, `mdsm` and `gaussian`.
 #![warn(missing_docs)]
 
+pub mod constants;
 pub mod context;
 pub mod frame;
 pub mod passes;
+pub mod readback;
 pub mod renderer;
 pub mod shadow_maps;
 pub mod timing;

@@ -30,7 +30,7 @@ use crate::passes::{
     texture, view,
 };
 pub use crate::timing::PassTimes;
-use crate::timing::{Pass, Timer};
+use crate::timing::{Pass, Timer, read_frame};
 
 /// A technique the GPU renders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -614,107 +614,6 @@ impl<'a> GpuRenderer<'a> {
         );
         read_frame(self.ctx, enc, &timer, &screen.visibility)
     }
-}
-
-/// Submits a frame's commands `enc` and reads back its V from `visibility` (`R32Float`), with
-/// the pass times of `timer` where the device has timestamp queries.
-pub(crate) fn read_frame(
-    ctx: &GpuContext,
-    mut enc: wgpu::CommandEncoder,
-    timer: &Timer,
-    visibility: &wgpu::Texture,
-) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
-    let (width, height) = (visibility.width(), visibility.height());
-    let stamps = timer.resolve(&ctx.device, &mut enc);
-    let data = read_r32f(ctx, &mut enc, visibility, width, height)?;
-    let times = stamps.map(|s| s.read(ctx)).transpose()?;
-    Ok((
-        VisibilityImage {
-            width,
-            height,
-            data,
-        },
-        times,
-    ))
-}
-
-/// Copies an `R32Float` texture into a buffer, submits `enc` and waits for the values.
-pub fn read_r32f(
-    ctx: &GpuContext,
-    enc: &mut wgpu::CommandEncoder,
-    texture: &wgpu::Texture,
-    w: u32,
-    h: u32,
-) -> Result<Vec<f32>, GpuError> {
-    let row =
-        (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: row as u64 * h as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
-    let encoder = std::mem::replace(enc, ctx.device.create_command_encoder(&Default::default()));
-    ctx.queue.submit([encoder.finish()]);
-    let bytes = map_read(ctx, &buffer)?;
-    let mut out = Vec::with_capacity((w * h) as usize);
-    for y in 0..h as usize {
-        let r = &bytes[y * row as usize..y * row as usize + w as usize * 4];
-        out.extend(
-            r.chunks_exact(4)
-                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-        );
-    }
-    Ok(out)
-}
-
-/// Maps a buffer whose copies were submitted, waits, and returns its bytes.
-pub(crate) fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-    let err = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
-    let slice = buffer.slice(..);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.device
-        .poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })
-        .map_err(|e| err(&e))?;
-    rx.recv().map_err(|e| err(&e))?.map_err(|e| err(&e))?;
-    let bytes = slice.get_mapped_range().map_err(|e| err(&e))?.to_vec();
-    buffer.unmap();
-    Ok(bytes)
-}
-
-/// Maps a (submitted) buffer and reads it as `u64`s.
-pub(crate) fn read_u64(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u64>, GpuError> {
-    Ok(map_read(ctx, buffer)?
-        .chunks_exact(8)
-        .map(|c| u64::from_le_bytes(c.try_into().expect("8 bytes")))
-        .collect())
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ use penumbra_geom::params::{GaussianVariant, MdsmExtra, TechniqueParams, equal_a
 use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene};
 use wgpu::util::DeviceExt;
 
+pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameUniforms, eye_relative, frame_group, scene_radius};
 use crate::passes::fullscreen::{
@@ -21,7 +22,8 @@ use crate::passes::{
     depth::{DepthPass, ScreenTargets},
     frame_layout, texture, texture_descriptor, view,
 };
-use crate::renderer::{read_frame, read_r32f};
+use crate::readback::read_r32f;
+use crate::timing::read_frame;
 use crate::timing::{Pass as Kind, PassTimes, Timer};
 
 /// A shadow-map technique.
@@ -38,12 +40,6 @@ pub enum ShadowTechnique {
     /// Multi-pass Gaussian contact hardening (Cherry & Kooima 2015).
     Gaussian,
 }
-
-/// Size of the noise map of `fractional-disk` (texels per side) and of each Poisson row.
-pub const NOISE_SIZE: usize = 64;
-
-/// Most taps of a `gaussian` multi pass.
-pub const MAX_TAPS: usize = 64;
 
 /// The uniforms of every shadow-map pass (`struct Shadow` in `shadow.wgsl`).
 #[repr(C)]

@@ -4,7 +4,8 @@
 use std::cell::RefCell;
 
 use crate::context::{GpuContext, GpuError};
-use crate::renderer::read_u64;
+use crate::readback::{read_r32f, read_u64};
+use penumbra_geom::image::VisibilityImage;
 
 /// GPU time of each pass of one frame, from timestamp queries, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -174,4 +175,26 @@ impl Stamps {
         }
         Ok(times)
     }
+}
+
+/// Submits a frame's commands `enc` and reads back its V from `visibility` (`R32Float`), with
+/// the pass times of `timer` where the device has timestamp queries.
+pub(crate) fn read_frame(
+    ctx: &GpuContext,
+    mut enc: wgpu::CommandEncoder,
+    timer: &Timer,
+    visibility: &wgpu::Texture,
+) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+    let (width, height) = (visibility.width(), visibility.height());
+    let stamps = timer.resolve(&ctx.device, &mut enc);
+    let data = read_r32f(ctx, &mut enc, visibility, width, height)?;
+    let times = stamps.map(|s| s.read(ctx)).transpose()?;
+    Ok((
+        VisibilityImage {
+            width,
+            height,
+            data,
+        },
+        times,
+    ))
 }

@@ -2,6 +2,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
+pub use crate::constants::{FINAL_WORDS, MAX_WORKGROUPS, TILE};
+
 /// Formats of the silhouette buffer's targets: signed area per part (added), the inner
 /// half-wedges' cover of each part's border (added), one rectangle per part in 8 bits per
 /// coordinate (kept by `Min` blending). 16 + 8 + 4 x 4 = 40 bytes per pixel.
@@ -18,10 +20,6 @@ pub const SILHOUETTE_FORMATS: [wgpu::TextureFormat; 6] = [
 /// the others hold encoded rectangles, kept by `Min`.
 pub const SILHOUETTE_ADDED: usize = 2;
 
-/// Words (`u32`) per pixel of the final buffer, a storage buffer: areas as 16-bit unorm (2),
-/// rectangles as 8-bit unorm (4). Shared with the shaders ([`super::shared_constants`]).
-pub const FINAL_WORDS: u64 = 6;
-
 /// Bytes per pixel of the visibility buffers of `wedges-blend`: one silhouette buffer and the
 /// final buffer.
 pub fn bytes_per_pixel() -> u64 {
@@ -31,11 +29,6 @@ pub fn bytes_per_pixel() -> u64 {
         .sum();
     silhouette + 4 * FINAL_WORDS
 }
-
-/// Side in pixels of the square screen tiles that group the silhouettes ([`disjoint_groups`])
-/// and that the blend covers, one workgroup per tile. Shared with the shaders
-/// ([`super::shared_constants`]).
-pub const TILE: u32 = 8;
 
 /// A set of the screen's [`TILE`]-pixel tiles: where one silhouette can shadow, or a group's
 /// union of those. A bit per tile, row by row, stored only over the span of 64-tile words
@@ -187,10 +180,6 @@ pub struct TileRange {
 }
 
 const _: () = assert!(std::mem::size_of::<TileRange>() == 16);
-
-/// Largest workgroup count along one dispatch dimension (WebGPU's default limit); the blend's
-/// tile index is `x + MAX_WORKGROUPS y`.
-pub const MAX_WORKGROUPS: u32 = 65535;
 
 /// The blend pipeline.
 pub struct BlendPass {

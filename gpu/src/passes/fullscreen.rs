@@ -4,6 +4,8 @@
 //! share one bind group (group 1): the technique's uniforms, the receivers' positions and
 //! normals, and three input images.
 
+pub use crate::constants::BIG;
+
 /// The declarations shared by the shadow-map techniques' shaders.
 pub const SHADOW_WGSL: &str = include_str!("../shaders/shadow.wgsl");
 
@@ -21,10 +23,6 @@ pub const SHADOW_MAP_SHADERS: &[&str] = &[
 pub fn shadow_shader(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
     super::shader(device, label, &format!("{SHADOW_WGSL}\n{source}"))
 }
-
-/// What a light map holds where no surface is (`BIG` in the shaders, through
-/// [`super::shared_constants`]).
-pub const BIG: f32 = 1e30;
 
 /// Number of input images of the shared group (`map0`, `map1`, `map2`).
 pub const INPUT_IMAGES: usize = 3;
