@@ -25,7 +25,7 @@ pub const NOISE_SIZE: usize = 64;
 pub const MAX_TAPS: usize = 64;
 
 /// The constants that Rust and the shaders share, each written once, in Rust: the WGSL
-/// declarations that [`wgsl_source`] puts ahead of every shader (which use them by these names).
+/// declarations that [`crate::passes::wgsl_source`] puts ahead of every shader (which use them by these names).
 pub fn shared_constants() -> String {
     let words = [
         ("TILE", TILE),
