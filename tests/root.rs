@@ -5,4 +5,5 @@ mod depth_complexity;
 mod fixtures;
 mod quad_closed_form;
 mod reference_vs_exact;
+mod renderer;
 mod volumes;

@@ -15,6 +15,7 @@ pub mod raycast;
 pub mod reference;
 pub mod rng;
 pub mod scene;
+pub mod technique;
 
 pub use camera::Camera;
 pub use halfedge::HalfEdgeMesh;
@@ -24,3 +25,4 @@ pub use mesh::TriangleMesh;
 pub use reference::{SurfacePoint, Tracer};
 pub use rng::Rng;
 pub use scene::{Scene, SceneError};
+pub use technique::Technique;

@@ -43,6 +43,9 @@ pub enum GpuError {
 /// On Linux with Mesa, the device-select layer (an implicit Vulkan layer) prints
 /// "XDG_RUNTIME_DIR is invalid or not set" when no display is reachable. It is harmless, and
 /// `NODEVICE_SELECT=1` in the environment turns it off; the `penumbra` command sets it.
+///
+/// Cloning it is cheap: the device and the queue are shared handles.
+#[derive(Clone)]
 pub struct GpuContext {
     /// The device.
     pub device: wgpu::Device,

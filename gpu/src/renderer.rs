@@ -44,8 +44,8 @@ pub enum GpuTechnique {
 }
 
 /// Pipelines of the GPU techniques, built once per device.
-pub struct GpuRenderer<'a> {
-    ctx: &'a GpuContext,
+pub struct GpuRenderer {
+    ctx: GpuContext,
     frame_layout: wgpu::BindGroupLayout,
     depth: DepthPass,
     stencil: StencilPass,
@@ -325,9 +325,9 @@ pub fn vertex_data(scene: &Scene, triangles: &[[DVec3; 3]], volumes: &Volumes) -
     (tris, vol, ranges)
 }
 
-impl<'a> GpuRenderer<'a> {
+impl GpuRenderer {
     /// Builds the pipelines on `ctx`'s device.
-    pub fn new(ctx: &'a GpuContext) -> Self {
+    pub fn new(ctx: &GpuContext) -> Self {
         let device = &ctx.device;
         let frame_layout = frame_layout(device);
         let resolve = ResolvePass::new(device, &frame_layout);
@@ -339,7 +339,7 @@ impl<'a> GpuRenderer<'a> {
             wedge,
             resolve,
             frame_layout,
-            ctx,
+            ctx: ctx.clone(),
         }
     }
 
@@ -393,7 +393,7 @@ impl<'a> GpuRenderer<'a> {
         // Timestamp queries (for `wedges-blend` at most three passes per occluder: its group's).
         let blending = technique == GpuTechnique::WedgesBlend;
         let timer = Timer::new(
-            self.ctx,
+            &self.ctx,
             if blending {
                 2 + 3 * volumes.occluders.len()
             } else {
@@ -612,7 +612,7 @@ impl<'a> GpuRenderer<'a> {
             depth_view,
             stamp(Pass::Resolve),
         );
-        read_frame(self.ctx, enc, &timer, &screen.visibility)
+        read_frame(&self.ctx, enc, &timer, &screen.visibility)
     }
 }
 

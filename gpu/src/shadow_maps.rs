@@ -343,8 +343,8 @@ pub fn uniforms(
 }
 
 /// The pipelines of one shadow-map technique, built once per device.
-pub struct ShadowMapRenderer<'a> {
-    ctx: &'a GpuContext,
+pub struct ShadowMapRenderer {
+    ctx: GpuContext,
     technique: ShadowTechnique,
     frame_layout: wgpu::BindGroupLayout,
     shadow_layout: wgpu::BindGroupLayout,
@@ -407,9 +407,9 @@ fn upload(
     )
 }
 
-impl<'a> ShadowMapRenderer<'a> {
+impl ShadowMapRenderer {
     /// Builds the pipelines of `technique` on `ctx`'s device.
-    pub fn new(ctx: &'a GpuContext, technique: ShadowTechnique) -> Self {
+    pub fn new(ctx: &GpuContext, technique: ShadowTechnique) -> Self {
         let device = &ctx.device;
         let frame_layout = frame_layout(device);
         let shadow_layout = shadow_layout(device);
@@ -427,7 +427,7 @@ impl<'a> ShadowMapRenderer<'a> {
         ShadowMapRenderer {
             depth: DepthPass::new(device, &frame_layout),
             light: LightMapPass::new(device, &layout),
-            ctx,
+            ctx: ctx.clone(),
             technique,
             frame_layout,
             shadow_layout,
@@ -533,7 +533,7 @@ impl<'a> ShadowMapRenderer<'a> {
 
         // Timestamp queries.
         let timer = Timer::new(
-            self.ctx,
+            &self.ctx,
             8 + params.fractional_disk.passes as usize + params.gaussian.passes as usize,
         );
         let stamp = |kind| timer.render(kind);
@@ -626,7 +626,7 @@ impl<'a> ShadowMapRenderer<'a> {
                     );
                 }
                 let noise = upload(
-                    self.ctx,
+                    &self.ctx,
                     "noise",
                     (NOISE_SIZE as u32, NOISE_SIZE as u32),
                     rgba,
@@ -718,7 +718,7 @@ impl<'a> ShadowMapRenderer<'a> {
             }
         }
 
-        let frame = read_frame(self.ctx, enc, &timer, &targets.visibility);
+        let frame = read_frame(&self.ctx, enc, &timer, &targets.visibility);
         drop(keep);
         frame
     }
@@ -738,7 +738,7 @@ impl<'a> ShadowMapRenderer<'a> {
         let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let map_size = (base.map[0] as u32, base.map[1] as u32);
         let base_map = upload(
-            self.ctx,
+            &self.ctx,
             "probe map",
             map_size,
             LIGHT_MAP_FORMAT,
@@ -797,7 +797,7 @@ impl<'a> ShadowMapRenderer<'a> {
         let images = [&base_view, built.as_ref().unwrap_or(&dummy), &dummy];
         self.pass(entry)
             .record(&mut enc, &frame, &group(images), &view(&out), None);
-        read_r32f(self.ctx, &mut enc, &out, size.0, size.1)
+        read_r32f(&self.ctx, &mut enc, &out, size.0, size.1)
     }
 }
 

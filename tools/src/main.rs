@@ -7,17 +7,16 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
+use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra_geom::image::{self, VisibilityImage};
-use penumbra_geom::params::{GaussianVariant, MdsmExtra};
-use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_geom::{Rng, Scene};
-use penumbra_gpu::{GpuContext, PassTimes, ShadowTechnique};
-use penumbra_volumes::{
-    CpuRenderer, DepthComplexity, SamplePattern, Technique as VolumeTechnique, Volumes,
-};
-use std::cell::OnceCell;
+use penumbra::geom::image::{self, VisibilityImage};
+use penumbra::geom::params::{GaussianVariant, MdsmExtra};
+use penumbra::geom::reference::{self, Tracer};
+use penumbra::geom::{Rng, Scene};
+use penumbra::gpu::PassTimes;
+use penumbra::volumes::{DepthComplexity, SamplePattern, Volumes};
+use penumbra::{RenderOptions, Renderer, Technique};
 
 #[derive(Parser)]
 #[command(
@@ -30,53 +29,15 @@ struct Cli {
     command: Command,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Technique {
-    /// Ray-cast reference: N stratified-jittered light samples per pixel.
-    Reference,
-    /// Ray-cast hard shadow of a point light at the light's centre.
-    HardReference,
-    /// Hard shadow of the light's centre by shadow volumes (the stencil answer).
-    Hard,
-    /// Additive penumbra wedges (Akenine-Möller & Assarsson 2002).
-    Wedges,
-    /// Penumbra-wedges blending (Forest, Barthe & Paulin 2006).
-    WedgesBlend,
-    /// Exact for its N light samples: depth-complexity sampling over the potential silhouette
-    /// edges (Laine et al. 2005; Forest, Barthe & Paulin 2008; CPU).
-    DepthComplexity,
-    /// Percentage-closer filtering of a light-centre shadow map (Reeves et al. 1987; GPU).
-    Pcf,
-    /// Percentage-closer soft shadows (Fernando 2005, as Shinde 2022 analyses it; GPU).
-    Pcss,
-    /// Fractional-disk soft shadows (Valient & de Boer 2004; GPU).
-    FractionalDisk,
-    /// Multiple-depth shadow maps (Pagot, Comba & Oliveira 2004; GPU).
-    Mdsm,
-    /// Multi-pass Gaussian contact-hardening shadows (Cherry & Kooima 2015; GPU).
-    Gaussian,
-}
-
-impl Technique {
-    /// The volume techniques: the GPU or the CPU oracle renders them.
-    fn is_volume(self) -> bool {
-        matches!(
-            self,
-            Technique::Hard | Technique::Wedges | Technique::WedgesBlend
-        )
-    }
-
-    /// The shadow-map technique, for those that are one (they run on the GPU only).
-    fn shadow_map(self) -> Option<ShadowTechnique> {
-        Some(match self {
-            Technique::Pcf => ShadowTechnique::Pcf,
-            Technique::Pcss => ShadowTechnique::Pcss,
-            Technique::FractionalDisk => ShadowTechnique::FractionalDisk,
-            Technique::Mdsm => ShadowTechnique::Mdsm,
-            Technique::Gaussian => ShadowTechnique::Gaussian,
-            _ => return None,
-        })
-    }
+/// Parses a technique by its name, listing every name (with its description) in the help.
+fn technique_parser() -> impl clap::builder::TypedValueParser<Value = Technique> {
+    clap::builder::PossibleValuesParser::new(
+        Technique::ALL.map(|t| clap::builder::PossibleValue::new(t.name()).help(t.description())),
+    )
+    .map(|name| {
+        name.parse::<Technique>()
+            .expect("one of the possible values")
+    })
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -250,6 +211,16 @@ enum Backend {
     Cpu,
 }
 
+impl From<Backend> for penumbra::Backend {
+    fn from(b: Backend) -> Self {
+        match b {
+            Backend::Auto => penumbra::Backend::Auto,
+            Backend::Gpu => penumbra::Backend::Gpu,
+            Backend::Cpu => penumbra::Backend::Cpu,
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Render the visibility image V of a scene to a one-channel (`V`) float EXR.
@@ -257,7 +228,7 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
         /// Technique.
-        #[arg(long, value_enum, default_value = "wedges-blend")]
+        #[arg(long, value_parser = technique_parser(), default_value = "wedges-blend")]
         technique: Technique,
         /// Output EXR file.
         #[arg(long)]
@@ -331,7 +302,7 @@ enum Command {
         /// Techniques to measure.
         #[arg(
             long,
-            value_enum,
+            value_parser = technique_parser(),
             value_delimiter = ',',
             default_value = "hard,wedges,wedges-blend"
         )]
@@ -353,7 +324,7 @@ enum Command {
         /// `wedges,wedges-blend`).
         #[arg(
             long,
-            value_enum,
+            value_parser = technique_parser(),
             value_delimiter = ',',
             default_value = "wedges-blend"
         )]
@@ -554,11 +525,8 @@ fn render(
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
-    let pattern = SamplePattern {
-        per_axis: samples_per_axis(sampling.samples)?,
-        jitter: sampling.jitter,
-    };
-    if sampling.jitter && !matches!(technique, Technique::DepthComplexity | Technique::Reference) {
+    samples_per_axis(sampling.samples)?;
+    if sampling.jitter && !technique.takes_samples() {
         bail!(
             "--jitter: {technique:?} takes no light samples (depth-complexity does; the reference always jitters)"
         );
@@ -585,20 +553,17 @@ fn render(
     bar.set_message(format!("{technique:?}"));
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(rows);
-    let gpu = select_gpu(technique, backend)?;
-    let (img, triangles, detail) = match &gpu {
-        Some(ctx) => {
-            let img = GpuRenderers::new(ctx)
-                .render(&scene, &OnceCell::new(), technique)?
-                .0;
-            (
-                img,
-                scene.triangle_count(),
-                format!(" (gpu: {})", ctx.describe()),
-            )
-        }
-        None => render_image(&scene, technique, pattern, &progress)?,
+    let options = RenderOptions {
+        samples: sampling.samples,
+        jitter: sampling.jitter,
     };
+    let frame =
+        Renderer::new(backend.into()).render_frame(&scene, technique, &options, None, &progress)?;
+    let (img, triangles, detail) = (
+        frame.image,
+        scene.triangle_count(),
+        format!(" ({})", frame.detail),
+    );
     bar.finish_and_clear();
     img.check_finite()
         .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
@@ -622,155 +587,6 @@ fn render(
         out.display()
     );
     Ok(())
-}
-
-/// The GPU version of a volume technique.
-fn gpu_technique(t: Technique) -> penumbra_gpu::GpuTechnique {
-    match t {
-        Technique::Hard => penumbra_gpu::GpuTechnique::Hard,
-        Technique::Wedges => penumbra_gpu::GpuTechnique::Wedges,
-        _ => penumbra_gpu::GpuTechnique::WedgesBlend,
-    }
-}
-
-/// The GPU renderers of one device, each built when first needed.
-struct GpuRenderers<'a> {
-    ctx: &'a GpuContext,
-    volumes: Option<penumbra_gpu::GpuRenderer<'a>>,
-    shadow_maps: Vec<penumbra_gpu::ShadowMapRenderer<'a>>,
-}
-
-impl<'a> GpuRenderers<'a> {
-    fn new(ctx: &'a GpuContext) -> Self {
-        GpuRenderers {
-            ctx,
-            volumes: None,
-            shadow_maps: Vec::new(),
-        }
-    }
-
-    /// Renders `scene` with a GPU technique (volume or shadow map), with its pass times. The
-    /// volume techniques take the scene's volumes from `volumes`, built there on first use, so
-    /// that several renders of one scene build them once.
-    fn render(
-        &mut self,
-        scene: &Scene,
-        volumes: &OnceCell<Volumes>,
-        technique: Technique,
-    ) -> Result<(VisibilityImage, Option<PassTimes>)> {
-        let ctx = self.ctx;
-        if let Some(t) = technique.shadow_map() {
-            let i = match self.shadow_maps.iter().position(|r| r.technique() == t) {
-                Some(i) => i,
-                None => {
-                    self.shadow_maps
-                        .push(penumbra_gpu::ShadowMapRenderer::new(ctx, t));
-                    self.shadow_maps.len() - 1
-                }
-            };
-            return Ok(self.shadow_maps[i].render_timed(scene)?);
-        }
-        if !technique.is_volume() {
-            bail!("{technique:?} is not a GPU technique");
-        }
-        let r = self
-            .volumes
-            .get_or_insert_with(|| penumbra_gpu::GpuRenderer::new(ctx));
-        let volumes = volumes.get_or_init(|| Volumes::build(scene));
-        Ok(r.render_timed(scene, volumes, gpu_technique(technique))?)
-    }
-}
-
-/// The GPU to render `technique` on, or `None` for the CPU, saying which on stderr.
-fn select_gpu(technique: Technique, backend: Backend) -> Result<Option<GpuContext>> {
-    if technique.shadow_map().is_some() {
-        if backend == Backend::Cpu {
-            bail!(
-                "--backend cpu: {technique:?} is a shadow-map technique, which runs on the GPU only (lavapipe serves where there is no GPU)"
-            );
-        }
-        let c = GpuContext::new().with_context(|| {
-            format!("{technique:?} is a shadow-map technique and needs a GPU adapter (install Mesa's lavapipe: mesa-vulkan-drivers, libvulkan1)")
-        })?;
-        eprintln!("backend: gpu, {}", c.describe());
-        return Ok(Some(c));
-    }
-    let on_gpu = technique.is_volume();
-    match backend {
-        Backend::Cpu => Ok(None),
-        Backend::Gpu if !on_gpu => bail!(
-            "--backend gpu: {technique:?} runs on the CPU only (the GPU renders the volume techniques)"
-        ),
-        Backend::Gpu => Ok(Some(GpuContext::new()?)),
-        Backend::Auto if !on_gpu => {
-            if !matches!(technique, Technique::Reference | Technique::HardReference) {
-                eprintln!("backend: cpu ({technique:?} is a CPU technique)");
-            }
-            Ok(None)
-        }
-        Backend::Auto => match GpuContext::new() {
-            Ok(c) => {
-                eprintln!("backend: gpu, {}", c.describe());
-                Ok(Some(c))
-            }
-            Err(e) => {
-                eprintln!("backend: cpu ({e})");
-                Ok(None)
-            }
-        },
-    }
-}
-
-/// Renders `scene` with `technique`: the image, the triangle count and a note for the log.
-fn render_image(
-    scene: &Scene,
-    technique: Technique,
-    pattern: SamplePattern,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<(VisibilityImage, usize, String)> {
-    let per_axis = pattern.per_axis;
-    let samples = per_axis * per_axis;
-    match technique {
-        Technique::Reference | Technique::HardReference => {
-            let tracer = Tracer::new(scene);
-            let (reference, detail) = match technique {
-                Technique::Reference => (
-                    Reference::Sampled { per_axis },
-                    format!(" ({samples} samples)"),
-                ),
-                _ => (Reference::Hard, String::new()),
-            };
-            let img = reference::render(scene, &tracer, reference, progress);
-            Ok((img, tracer.triangles.len(), detail))
-        }
-        Technique::Hard | Technique::Wedges | Technique::WedgesBlend => {
-            let r = CpuRenderer::new(scene);
-            let t = match technique {
-                Technique::Hard => VolumeTechnique::Hard,
-                Technique::Wedges => VolumeTechnique::Wedges,
-                _ => VolumeTechnique::WedgesBlend,
-            };
-            let img = r.render(scene, t, progress);
-            let detail = format!(" (cpu, {} wedges)", r.volumes.wedges.len());
-            Ok((img, r.tracer.triangles.len(), detail))
-        }
-        Technique::DepthComplexity => {
-            let r = DepthComplexity::new(scene);
-            let img = r.render(scene, pattern, progress);
-            let detail = format!(
-                " (cpu, {samples} {} samples, {} potential silhouette edges of {})",
-                if pattern.jitter {
-                    "jittered"
-                } else {
-                    "multi-jittered"
-                },
-                r.edges.edges.len(),
-                r.edges.all_edges
-            );
-            Ok((img, r.tracer.triangles.len(), detail))
-        }
-        _ => bail!("{technique:?} runs on the GPU only"),
-    }
 }
 
 fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
@@ -902,18 +718,17 @@ fn accuracy(
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
-    let truth_pattern = SamplePattern {
-        per_axis: samples_per_axis(samples)?,
-        jitter: true,
+    samples_per_axis(samples)?;
+    samples_per_axis(sampling.samples)?;
+    let truth_options = RenderOptions {
+        samples,
+        jitter: false,
     };
-    let pattern = SamplePattern {
-        per_axis: samples_per_axis(sampling.samples)?,
-        jitter: sampling.jitter,
-    };
-    // The shadow-map techniques need the GPU; the volume ones take it when there is one.
-    let shadow_map = techniques.iter().find(|t| t.shadow_map().is_some());
-    let gpu = select_gpu(*shadow_map.unwrap_or(&Technique::WedgesBlend), backend)?;
-    let mut renderers = gpu.as_ref().map(GpuRenderers::new);
+    // Each technique's back end, decided (and any GPU opened) before the first render.
+    let mut renderer = Renderer::new(backend.into());
+    for &t in techniques {
+        renderer.uses_gpu(t)?;
+    }
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("reading {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -931,7 +746,9 @@ fn accuracy(
         } else {
             ""
         },
-        gpu.as_ref().map_or("the CPU".to_string(), |c| c.describe())
+        renderer
+            .gpu_description()
+            .unwrap_or_else(|| "the CPU".to_string())
     );
     println!(
         "| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |"
@@ -945,24 +762,23 @@ fn accuracy(
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        let (truth, _, _) = render_image(&scene, Technique::Reference, truth_pattern, &|_| {})?;
+        let truth = renderer.render(&scene, Technique::Reference, &truth_options)?;
         // Built before the timed renders.
-        let volumes = OnceCell::from(Volumes::build(&scene));
+        let volumes = Volumes::build(&scene);
         for &t in techniques {
-            let start = std::time::Instant::now();
-            let img = match renderers.as_mut() {
-                Some(r) if t.is_volume() || t.shadow_map().is_some() => {
-                    r.render(&scene, &volumes, t)?.0
-                }
-                _ => render_image(&scene, t, pattern, &|_| {})?.0,
+            let options = RenderOptions {
+                samples: sampling.samples,
+                jitter: sampling.jitter && t.takes_samples(),
             };
+            let start = std::time::Instant::now();
+            let img = renderer
+                .render_frame(&scene, t, &options, Some(&volumes), &|_| {})?
+                .image;
             let secs = start.elapsed().as_secs_f64();
             let c = image::compare(&img, &truth)?;
             println!(
                 "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {secs:.2} |",
-                t.to_possible_value()
-                    .map(|v| v.get_name().to_string())
-                    .unwrap_or_default(),
+                t.name(),
                 c.all.mae,
                 c.all.p99,
                 100.0 * c.all.share_over,
@@ -1026,7 +842,7 @@ fn bench(
     }
     if let Some(t) = techniques
         .iter()
-        .find(|t| backend == Backend::Gpu && !t.is_volume() && t.shadow_map().is_none())
+        .find(|t| backend == Backend::Gpu && t.cpu_only())
     {
         bail!("--backend gpu: {t:?} runs on the CPU only (the GPU renders the volume techniques)");
     }
@@ -1065,42 +881,32 @@ fn bench_one(
     sampling: Sampling,
     params: &ParamArgs,
 ) -> Result<serde_json::Value> {
-    let pattern = SamplePattern {
-        per_axis: samples_per_axis(sampling.samples)?,
+    samples_per_axis(sampling.samples)?;
+    let options = RenderOptions {
+        samples: sampling.samples,
         jitter: sampling.jitter,
     };
     let mut scene = load_scene(scene_path)?;
     params.apply(&mut scene)?;
-    let gpu = select_gpu(technique, backend)?;
+    let mut renderer = Renderer::new(backend.into());
+    let on_gpu = renderer.uses_gpu(technique)?;
+    // Built once, outside the timed frames: the frames time the GPU's work.
+    let volumes = (on_gpu && technique.is_volume()).then(|| Volumes::build(&scene));
     let mut wall = Vec::new();
     let mut passes: Vec<PassTimes> = Vec::new();
-    let device;
-    match &gpu {
-        Some(ctx) => {
-            device = ctx.describe();
-            let mut r = GpuRenderers::new(ctx);
-            // Built once, outside the timed frames: the frames time the GPU's work.
-            let volumes = OnceCell::new();
-            for k in 0..=frames {
-                let start = std::time::Instant::now();
-                let (_, times) = r.render(&scene, &volumes, technique)?;
-                if k > 0 {
-                    wall.push(start.elapsed().as_secs_f64() * 1e3);
-                    passes.extend(times);
-                }
-            }
-        }
-        None => {
-            device = format!("cpu, {} threads", rayon::current_num_threads());
-            for k in 0..=frames {
-                let start = std::time::Instant::now();
-                render_image(&scene, technique, pattern, &|_| {})?;
-                if k > 0 {
-                    wall.push(start.elapsed().as_secs_f64() * 1e3);
-                }
-            }
+    for k in 0..=frames {
+        let start = std::time::Instant::now();
+        let frame =
+            renderer.render_frame(&scene, technique, &options, volumes.as_ref(), &|_| {})?;
+        if k > 0 {
+            wall.push(start.elapsed().as_secs_f64() * 1e3);
+            passes.extend(frame.times);
         }
     }
+    let device = match renderer.gpu_description() {
+        Some(d) if on_gpu => d,
+        _ => format!("cpu, {} threads", rayon::current_num_threads()),
+    };
     let pass = |f: fn(&PassTimes) -> f64| {
         (!passes.is_empty()).then(|| median(passes.iter().map(f).collect()))
     };
@@ -1172,10 +978,7 @@ fn bench_compare(techniques: &[Technique], timing: Timing, json: bool) -> Result
     let mut rounds: Vec<Vec<serde_json::Value>> = vec![Vec::new(); techniques.len()];
     for _ in 0..timing.rounds {
         for (t, reports) in techniques.iter().zip(&mut rounds) {
-            let name = t
-                .to_possible_value()
-                .map(|v| v.get_name().to_string())
-                .unwrap_or_default();
+            let name = t.name().to_string();
             let out = std::process::Command::new(&exe)
                 .args(&args)
                 .args(["--technique", &name, "--json"])

@@ -1,0 +1,365 @@
+//! One renderer for every technique: the GPU where it helps and there is one, the CPU
+//! otherwise, with each back end's renderers built once and kept.
+
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::reference::{self, Reference, Tracer};
+use penumbra_geom::{Scene, Technique};
+use penumbra_gpu::{
+    GpuContext, GpuError, GpuRenderer, GpuTechnique, PassTimes, ShadowMapRenderer, ShadowTechnique,
+};
+use penumbra_volumes::{
+    CpuRenderer, DepthComplexity, SamplePattern, Technique as VolumeTechnique, Volumes,
+};
+
+/// Where the techniques that run on both the GPU and the CPU (`hard`, `wedges`,
+/// `wedges-blend`) run. The shadow-map techniques always need a GPU; the references and
+/// `depth-complexity` always run on the CPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Backend {
+    /// The GPU when an adapter exists (Mesa's lavapipe counts), else the CPU.
+    #[default]
+    Auto,
+    /// The GPU; an error without an adapter.
+    Gpu,
+    /// The CPU.
+    Cpu,
+}
+
+/// How the sampled techniques (`reference`, `depth-complexity`) sample the light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// Light samples per pixel, a perfect square (64, 256, 1024, ...).
+    pub samples: usize,
+    /// `depth-complexity`: the reference's jittered points instead of its own multi-jittered
+    /// ones, so that the two images agree pixel for pixel.
+    pub jitter: bool,
+}
+
+impl Default for RenderOptions {
+    /// 256 samples, not jittered.
+    fn default() -> Self {
+        RenderOptions {
+            samples: 256,
+            jitter: false,
+        }
+    }
+}
+
+impl RenderOptions {
+    /// The sample pattern, or an error for a sample count that is not a positive square.
+    pub fn pattern(&self) -> Result<SamplePattern, RenderError> {
+        let n = (self.samples as f64).sqrt().round() as usize;
+        if self.samples == 0 || n * n != self.samples {
+            return Err(RenderError::BadSamples {
+                samples: self.samples,
+            });
+        }
+        Ok(SamplePattern {
+            per_axis: n,
+            jitter: self.jitter,
+        })
+    }
+}
+
+/// Why a render could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// A shadow-map technique without a GPU adapter.
+    #[error("{technique} is a shadow-map technique and runs on a GPU only: {why}")]
+    NeedsGpu {
+        /// The technique.
+        technique: Technique,
+        /// Why there is none.
+        why: String,
+    },
+    /// A CPU-only technique asked for on the GPU.
+    #[error(
+        "{technique} runs on the CPU only (the GPU renders the volume and shadow-map techniques)"
+    )]
+    CpuOnly {
+        /// The technique.
+        technique: Technique,
+    },
+    /// A sample count that is not a positive perfect square.
+    #[error("{samples} samples: the count must be a positive perfect square (64, 256, 1024, ...)")]
+    BadSamples {
+        /// The count given.
+        samples: usize,
+    },
+    /// Jittered samples asked of a technique that takes none.
+    #[error(
+        "jitter: {technique} takes no light samples (depth-complexity does; the reference always jitters)"
+    )]
+    NoSamples {
+        /// The technique.
+        technique: Technique,
+    },
+    /// The GPU back end chosen, and no adapter.
+    #[error("no GPU: {why}")]
+    NoGpu {
+        /// Why there is none.
+        why: String,
+    },
+    /// The GPU failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+/// A rendered image, with where it was made.
+pub struct Frame {
+    /// The visibility image.
+    pub image: VisibilityImage,
+    /// The GPU passes' times, where the device has timestamp queries.
+    pub times: Option<PassTimes>,
+    /// `gpu: <adapter>` or `cpu`, and what the technique used (samples, edges, wedges).
+    pub detail: String,
+}
+
+/// Whether the GPU has been looked for yet, and what was found.
+enum GpuState {
+    Untried,
+    Ready(Box<GpuContext>),
+    Unavailable(String),
+}
+
+/// Renders scenes with any [`Technique`], keeping its GPU context and GPU renderers from one
+/// render to the next. The GPU is looked for the first time a technique could use it.
+///
+/// ```
+/// use penumbra::{Backend, RenderOptions, Renderer, Technique};
+/// use penumbra::geom::Scene;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/scenes/quad-over-plane.toml");
+/// let scene = Scene::load(std::path::Path::new(path))?;
+/// let mut renderer = Renderer::new(Backend::Cpu);
+/// let options = RenderOptions { samples: 16, jitter: false };
+/// let v = renderer.render(&scene, Technique::DepthComplexity, &options)?;
+/// assert_eq!((v.width, v.height), (320, 240));
+/// // Lit far from the quad, dark under it.
+/// assert_eq!(v.get(5, 235), 1.0);
+/// assert_eq!(v.get(160, 120), 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Renderer {
+    backend: Backend,
+    gpu: GpuState,
+    volumes: Option<GpuRenderer>,
+    shadow_maps: Vec<ShadowMapRenderer>,
+}
+
+impl Renderer {
+    /// A renderer choosing the GPU or the CPU by `backend`.
+    pub fn new(backend: Backend) -> Self {
+        Renderer {
+            backend,
+            gpu: GpuState::Untried,
+            volumes: None,
+            shadow_maps: Vec::new(),
+        }
+    }
+
+    /// A renderer on the caller's device, for the techniques that can use it.
+    pub fn with_context(ctx: GpuContext) -> Self {
+        Renderer {
+            gpu: GpuState::Ready(Box::new(ctx)),
+            ..Renderer::new(Backend::Gpu)
+        }
+    }
+
+    /// The GPU's description, once one has been opened.
+    pub fn gpu_description(&self) -> Option<String> {
+        match &self.gpu {
+            GpuState::Ready(ctx) => Some(ctx.describe()),
+            _ => None,
+        }
+    }
+
+    /// The GPU context, opened on first use; `Err` with the reason where there is none.
+    fn context(&mut self) -> Result<&GpuContext, String> {
+        if let GpuState::Untried = self.gpu {
+            self.gpu = match GpuContext::new() {
+                Ok(ctx) => GpuState::Ready(Box::new(ctx)),
+                Err(e) => GpuState::Unavailable(format!(
+                    "{e} (Mesa's lavapipe serves without a GPU: mesa-vulkan-drivers, libvulkan1)"
+                )),
+            };
+        }
+        match &self.gpu {
+            GpuState::Ready(ctx) => Ok(ctx),
+            GpuState::Unavailable(why) => Err(why.clone()),
+            GpuState::Untried => unreachable!("looked for above"),
+        }
+    }
+
+    /// Whether `technique` runs on the GPU with this renderer's back end (opening it if need be),
+    /// or an error where it cannot run at all.
+    pub fn uses_gpu(&mut self, technique: Technique) -> Result<bool, RenderError> {
+        if technique.needs_gpu() {
+            if self.backend == Backend::Cpu {
+                return Err(RenderError::NeedsGpu {
+                    technique,
+                    why: "the CPU back end was chosen".into(),
+                });
+            }
+            return match self.context() {
+                Ok(_) => Ok(true),
+                Err(why) => Err(RenderError::NeedsGpu { technique, why }),
+            };
+        }
+        if technique.cpu_only() {
+            return match self.backend {
+                Backend::Gpu => Err(RenderError::CpuOnly { technique }),
+                _ => Ok(false),
+            };
+        }
+        match self.backend {
+            Backend::Cpu => Ok(false),
+            Backend::Auto => Ok(self.context().is_ok()),
+            Backend::Gpu => match self.context() {
+                Ok(_) => Ok(true),
+                Err(why) => Err(RenderError::NoGpu { why }),
+            },
+        }
+    }
+
+    /// The visibility image of `scene` by `technique`.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+    ) -> Result<VisibilityImage, RenderError> {
+        Ok(self
+            .render_frame(scene, technique, options, None, &|_| {})?
+            .image)
+    }
+
+    /// [`Renderer::render`] with the GPU pass times and a description of the run. A volume
+    /// technique on the GPU takes the scene's silhouettes, volumes and wedges from `volumes`
+    /// when given (so that several frames build them once), and builds them otherwise. The CPU
+    /// renderers call `progress` with the number of image rows finished so far.
+    pub fn render_frame(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+        volumes: Option<&Volumes>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Frame, RenderError> {
+        let pattern = options.pattern()?;
+        if options.jitter && !technique.takes_samples() {
+            return Err(RenderError::NoSamples { technique });
+        }
+        if self.uses_gpu(technique)? {
+            let ctx = match &self.gpu {
+                GpuState::Ready(ctx) => GpuContext::clone(ctx),
+                _ => unreachable!("uses_gpu opened it"),
+            };
+            let (image, times) = if let Some(t) = shadow_technique(technique) {
+                let i = match self.shadow_maps.iter().position(|r| r.technique() == t) {
+                    Some(i) => i,
+                    None => {
+                        self.shadow_maps.push(ShadowMapRenderer::new(&ctx, t));
+                        self.shadow_maps.len() - 1
+                    }
+                };
+                self.shadow_maps[i].render_timed(scene)?
+            } else {
+                let r = self.volumes.get_or_insert_with(|| GpuRenderer::new(&ctx));
+                let built;
+                let volumes = match volumes {
+                    Some(v) => v,
+                    None => {
+                        built = Volumes::build(scene);
+                        &built
+                    }
+                };
+                r.render_timed(scene, volumes, gpu_technique(technique))?
+            };
+            return Ok(Frame {
+                image,
+                times,
+                detail: format!("gpu: {}", ctx.describe()),
+            });
+        }
+        Ok(render_cpu(scene, technique, pattern, progress))
+    }
+}
+
+/// Renders a technique that runs on the CPU.
+fn render_cpu(
+    scene: &Scene,
+    technique: Technique,
+    pattern: SamplePattern,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Frame {
+    let (image, detail) = match technique {
+        Technique::Reference | Technique::HardReference => {
+            let tracer = Tracer::new(scene);
+            let (reference, detail) = match technique {
+                Technique::Reference => (
+                    Reference::Sampled {
+                        per_axis: pattern.per_axis,
+                    },
+                    format!("cpu, {} samples", pattern.per_axis * pattern.per_axis),
+                ),
+                _ => (Reference::Hard, "cpu".to_string()),
+            };
+            (
+                reference::render(scene, &tracer, reference, progress),
+                detail,
+            )
+        }
+        Technique::DepthComplexity => {
+            let r = DepthComplexity::new(scene);
+            let detail = format!(
+                "cpu, {} {} samples, {} potential silhouette edges of {}",
+                pattern.per_axis * pattern.per_axis,
+                if pattern.jitter {
+                    "jittered"
+                } else {
+                    "multi-jittered"
+                },
+                r.edges.edges.len(),
+                r.edges.all_edges
+            );
+            (r.render(scene, pattern, progress), detail)
+        }
+        _ => {
+            let r = CpuRenderer::new(scene);
+            let t = match technique {
+                Technique::Hard => VolumeTechnique::Hard,
+                Technique::Wedges => VolumeTechnique::Wedges,
+                _ => VolumeTechnique::WedgesBlend,
+            };
+            let detail = format!("cpu, {} wedges", r.volumes.wedges.len());
+            (r.render(scene, t, progress), detail)
+        }
+    };
+    Frame {
+        image,
+        times: None,
+        detail,
+    }
+}
+
+/// The GPU renderer's name for a volume technique.
+fn gpu_technique(t: Technique) -> GpuTechnique {
+    match t {
+        Technique::Hard => GpuTechnique::Hard,
+        Technique::Wedges => GpuTechnique::Wedges,
+        _ => GpuTechnique::WedgesBlend,
+    }
+}
+
+/// The shadow-map renderer's name for a shadow-map technique.
+fn shadow_technique(t: Technique) -> Option<ShadowTechnique> {
+    Some(match t {
+        Technique::Pcf => ShadowTechnique::Pcf,
+        Technique::Pcss => ShadowTechnique::Pcss,
+        Technique::FractionalDisk => ShadowTechnique::FractionalDisk,
+        Technique::Mdsm => ShadowTechnique::Mdsm,
+        Technique::Gaussian => ShadowTechnique::Gaussian,
+        _ => return None,
+    })
+}

@@ -1,0 +1,58 @@
+//! The front door: one renderer for every technique, the back end chosen per technique.
+
+use penumbra::{Backend, RenderError, RenderOptions, Renderer, Technique};
+
+use crate::common::load;
+
+#[test]
+fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
+    let scene = load("quad-over-plane");
+    let small = RenderOptions {
+        samples: 16,
+        jitter: false,
+    };
+    let mut cpu = Renderer::new(Backend::Cpu);
+    assert!(matches!(
+        cpu.render(&scene, Technique::Pcss, &small),
+        Err(RenderError::NeedsGpu { .. })
+    ));
+    let mut gpu = Renderer::new(Backend::Gpu);
+    assert!(matches!(
+        gpu.render(&scene, Technique::DepthComplexity, &small),
+        Err(RenderError::CpuOnly { .. })
+    ));
+    let odd = RenderOptions {
+        samples: 15,
+        jitter: false,
+    };
+    assert!(matches!(
+        cpu.render(&scene, Technique::Reference, &odd),
+        Err(RenderError::BadSamples { samples: 15 })
+    ));
+    let jitter = RenderOptions {
+        samples: 16,
+        jitter: true,
+    };
+    assert!(matches!(
+        cpu.render(&scene, Technique::Wedges, &jitter),
+        Err(RenderError::NoSamples { .. })
+    ));
+    // The references and depth-complexity never open the GPU; a volume technique does on Auto
+    // where there is one, and its image is the CPU renderer's.
+    let mut auto = Renderer::new(Backend::Auto);
+    auto.render(&scene, Technique::HardReference, &small)
+        .unwrap();
+    assert!(auto.gpu_description().is_none());
+    let on_gpu = auto.render(&scene, Technique::Hard, &small).unwrap();
+    let on_cpu = cpu.render(&scene, Technique::Hard, &small).unwrap();
+    let differ = on_gpu
+        .data
+        .iter()
+        .zip(&on_cpu.data)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ <= 8, "{differ} pixels differ");
+    if std::env::var_os("CI").is_some() {
+        assert!(auto.gpu_description().is_some(), "CI has lavapipe");
+    }
+}
