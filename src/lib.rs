@@ -11,6 +11,7 @@
 
 mod render;
 
+pub use glam;
 pub use penumbra_geom as geom;
 pub use penumbra_geom::{Scene, Technique, VisibilityImage};
 pub use penumbra_gpu as gpu;

@@ -320,6 +320,49 @@ impl Scene {
         })
     }
 
+    /// A scene made in code: `camera` and `light`, no meshes yet (add them with
+    /// [`Scene::with_mesh`]) and the shadow-map techniques' default parameters. Nothing is read
+    /// from disk; its path reads `<in memory>`.
+    ///
+    /// ```
+    /// use glam::{DMat4, DVec2, DVec3};
+    /// use penumbra_geom::{Camera, RectLight, Scene, TriangleMesh};
+    ///
+    /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
+    /// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0));
+    /// let ground = TriangleMesh::from_raw(
+    ///     std::path::Path::new("ground"),
+    ///     &[DVec3::new(-5.0, 0.0, -5.0), DVec3::new(-5.0, 0.0, 5.0), DVec3::new(5.0, 0.0, 5.0), DVec3::new(5.0, 0.0, -5.0)],
+    ///     &[[0, 1, 2], [0, 2, 3]],
+    /// )?;
+    /// let scene = Scene::new(camera, light)
+    ///     .with_mesh("ground", &ground, DMat4::IDENTITY)
+    ///     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), DMat4::from_translation(DVec3::Y));
+    /// assert_eq!(scene.meshes.len(), 2);
+    /// assert_eq!(scene.triangle_count(), 2 + 2 * 16 * 11);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(camera: Camera, light: RectLight) -> Scene {
+        Scene {
+            path: PathBuf::from("<in memory>"),
+            camera,
+            light,
+            meshes: Vec::new(),
+            params: TechniqueParams::default(),
+        }
+    }
+
+    /// The scene with `mesh` added, its positions moved by `transform` into the world; `name`
+    /// stands for its file in messages.
+    pub fn with_mesh(mut self, name: &str, mesh: &TriangleMesh, transform: DMat4) -> Scene {
+        self.meshes.push(SceneMesh {
+            source: PathBuf::from(name),
+            transform,
+            mesh: mesh.transformed(&transform),
+        });
+        self
+    }
+
     /// Every world-space triangle of every mesh, meshes in order.
     pub fn triangles(&self) -> Vec<[DVec3; 3]> {
         self.meshes
