@@ -14,6 +14,17 @@ use penumbra_volumes::{
 /// Where the techniques that run on both the GPU and the CPU (`hard`, `wedges`,
 /// `wedges-blend`) run. The shadow-map techniques always need a GPU; the references and
 /// `depth-complexity` always run on the CPU.
+///
+/// ```
+/// use penumbra::{Backend, RenderError, Renderer, Technique};
+///
+/// let mut cpu = Renderer::new(Backend::Cpu);
+/// assert!(!cpu.uses_gpu(Technique::WedgesBlend)?);
+/// assert!(matches!(cpu.uses_gpu(Technique::Pcss), Err(RenderError::NeedsGpu { .. })));
+/// let mut gpu = Renderer::new(Backend::Gpu);
+/// assert!(matches!(gpu.uses_gpu(Technique::Reference), Err(RenderError::CpuOnly { .. })));
+/// # Ok::<(), RenderError>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Backend {
     /// The GPU when an adapter exists (Mesa's lavapipe counts), else the CPU.
@@ -47,6 +58,14 @@ impl Default for RenderOptions {
 
 impl RenderOptions {
     /// The sample pattern, or an error for a sample count that is not a positive square.
+    ///
+    /// ```
+    /// use penumbra::RenderOptions;
+    ///
+    /// let p = RenderOptions { samples: 1024, jitter: true }.pattern().unwrap();
+    /// assert_eq!((p.per_axis, p.jitter), (32, true));
+    /// assert!(RenderOptions { samples: 1000, jitter: false }.pattern().is_err());
+    /// ```
     pub fn pattern(&self) -> Result<SamplePattern, RenderError> {
         let n = (self.samples as f64).sqrt().round() as usize;
         if self.samples == 0 || n * n != self.samples {

@@ -51,7 +51,21 @@ pub enum ImageError {
     },
 }
 
-/// A visibility image, row-major, row 0 the top.
+/// A visibility image, row-major, row 0 the top: per pixel, the share of the light's area its
+/// surface point sees (1 where the ray from the camera hits nothing).
+///
+/// ```
+/// use penumbra_geom::VisibilityImage;
+///
+/// let mut v = VisibilityImage::filled(4, 3, 1.0);
+/// v.data[4 + 2] = 0.25; // column 2, row 1
+/// assert_eq!(v.get(2, 1), 0.25);
+/// let path = std::env::temp_dir().join(format!("doc-{}.exr", std::process::id()));
+/// v.write_exr(&path)?;
+/// assert_eq!(VisibilityImage::read_exr(&path)?, v);
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct VisibilityImage {
     /// Width in pixels.
@@ -263,6 +277,18 @@ pub struct Comparison {
 }
 
 /// Compares `a` against the reference `b`: all pixels, and penumbra pixels of `b` alone.
+///
+/// ```
+/// use penumbra_geom::VisibilityImage;
+/// use penumbra_geom::image::compare;
+///
+/// let truth = VisibilityImage { width: 2, height: 1, data: vec![0.5, 1.0] };
+/// let test = VisibilityImage { width: 2, height: 1, data: vec![0.6, 1.0] };
+/// let c = compare(&test, &truth)?;
+/// assert_eq!(c.penumbra.pixels, 1); // 0.02 < V < 0.98 in the reference
+/// assert!((c.all.mae - 0.05).abs() < 1e-6);
+/// # Ok::<(), penumbra_geom::image::ImageError>(())
+/// ```
 pub fn compare(a: &VisibilityImage, b: &VisibilityImage) -> Result<Comparison, ImageError> {
     if (a.width, a.height) != (b.width, b.height) {
         return Err(ImageError::SizeMismatch {

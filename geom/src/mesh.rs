@@ -83,6 +83,18 @@ impl TriangleMesh {
     /// Builds a welded mesh from raw positions and triangles. Non-finite positions and
     /// out-of-range indices are errors naming `name`; degenerate triangles are dropped and
     /// counted.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use penumbra_geom::TriangleMesh;
+    /// use std::path::Path;
+    ///
+    /// let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X]; // the last repeats the second
+    /// let m = TriangleMesh::from_raw(Path::new("tri"), &p, &[[0, 1, 2], [0, 3, 1]])?;
+    /// assert_eq!((m.positions.len(), m.triangles.len(), m.dropped_degenerate), (3, 1, 1));
+    /// assert!(TriangleMesh::from_raw(Path::new("bad"), &p, &[[0, 1, 9]]).is_err());
+    /// # Ok::<(), penumbra_geom::mesh::MeshError>(())
+    /// ```
     pub fn from_raw(
         name: &Path,
         positions: &[DVec3],
