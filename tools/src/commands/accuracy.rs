@@ -1,0 +1,92 @@
+//! `penumbra accuracy`: every technique against the reference, on every scene of a folder.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use penumbra::geom::image::{self};
+use penumbra::volumes::Volumes;
+use penumbra::{RenderOptions, Renderer, Technique};
+
+use crate::cli::{Backend, ParamArgs};
+use crate::{Sampling, load_scene, samples_per_axis};
+
+pub(crate) fn accuracy(
+    dir: &Path,
+    samples: usize,
+    sampling: Sampling,
+    techniques: &[Technique],
+    backend: Backend,
+    params: &ParamArgs,
+) -> Result<()> {
+    samples_per_axis(samples)?;
+    samples_per_axis(sampling.samples)?;
+    let truth_options = RenderOptions {
+        samples,
+        jitter: false,
+    };
+    // Each technique's back end, decided (and any GPU opened) before the first render.
+    let mut renderer = Renderer::new(backend.into());
+    for &t in techniques {
+        renderer.uses_gpu(t)?;
+    }
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    scenes.sort();
+    if scenes.is_empty() {
+        bail!("{}: no scene files", dir.display());
+    }
+    println!(
+        "Errors against the {samples}-sample reference (penumbra: reference 0.02 < V < 0.98); `reference` and `depth-complexity` with {} samples{}; GPU techniques on {}.\n",
+        sampling.samples,
+        if sampling.jitter {
+            ", depth-complexity's jittered"
+        } else {
+            ""
+        },
+        renderer
+            .gpu_description()
+            .unwrap_or_else(|| "the CPU".to_string())
+    );
+    println!(
+        "| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |"
+    );
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for path in scenes {
+        let mut scene = load_scene(&path)?;
+        params.apply(&mut scene)?;
+        let name = path
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let truth = renderer.render(&scene, Technique::Reference, &truth_options)?;
+        // Built before the timed renders.
+        let volumes = Volumes::build(&scene);
+        for &t in techniques {
+            let options = RenderOptions {
+                samples: sampling.samples,
+                jitter: sampling.jitter && t.takes_samples(),
+            };
+            let start = std::time::Instant::now();
+            let img = renderer
+                .render_frame(&scene, t, &options, Some(&volumes), &|_| {})?
+                .image;
+            let secs = start.elapsed().as_secs_f64();
+            let c = image::compare(&img, &truth)?;
+            println!(
+                "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {secs:.2} |",
+                t.name(),
+                c.all.mae,
+                c.all.p99,
+                100.0 * c.all.share_over,
+                c.penumbra.pixels,
+                c.penumbra.mae,
+                c.penumbra.p99
+            );
+        }
+    }
+    Ok(())
+}

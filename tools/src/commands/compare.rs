@@ -1,0 +1,42 @@
+//! `penumbra compare`: the error metrics of one image against another.
+
+use std::path::Path;
+
+use anyhow::Result;
+use penumbra::geom::image::{self, VisibilityImage};
+
+use crate::check_outputs;
+
+pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) -> Result<()> {
+    if let Some(h) = heatmap {
+        check_outputs(&[a.to_path_buf(), b.to_path_buf()], &[h])?;
+    }
+    let ia = VisibilityImage::read_exr(a)?;
+    let ib = VisibilityImage::read_exr(b)?;
+    let c = image::compare(&ia, &ib)?;
+    if let Some(h) = heatmap {
+        let rgb = image::heatmap(&ia, &ib, 0.1);
+        image::write_png_bytes(h, ia.width, ia.height, image::PngColor::Rgb, &rgb)?;
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&c)?);
+    } else {
+        println!(
+            "{:<10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10}",
+            "pixels", "count", "MAE", "RMSE", "p99", "max", ">0.05"
+        );
+        for (name, m) in [("all", c.all), ("penumbra", c.penumbra)] {
+            println!(
+                "{:<10} {:>8} {:>10.6} {:>10.6} {:>10.6} {:>10.6} {:>9.3}%",
+                name,
+                m.pixels,
+                m.mae,
+                m.rmse,
+                m.p99,
+                m.max,
+                100.0 * m.share_over
+            );
+        }
+    }
+    Ok(())
+}

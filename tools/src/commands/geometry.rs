@@ -1,0 +1,28 @@
+//! `penumbra geometry`: the volume geometry of a scene.
+
+use std::path::Path;
+
+use anyhow::Result;
+
+use crate::load_scene;
+
+/// Volume geometry counts of a scene, as `fixtures/expected/*.json` records them.
+pub(crate) fn geometry(scene_path: &Path, json: bool) -> Result<()> {
+    let scene = load_scene(scene_path)?;
+    let v = penumbra_volumes::Volumes::build(&scene);
+    let g = penumbra_volumes::render::GeometryCounts::of(&v);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&g)?);
+    } else {
+        println!(
+            "{}: {} silhouette edges (multiplicity summed: {}), {} loops, {} wedges, {} volume triangles",
+            scene_path.display(),
+            g.silhouette_edges,
+            g.silhouette_multiplicity,
+            g.loops,
+            g.wedges,
+            g.volume_triangles
+        );
+    }
+    Ok(())
+}

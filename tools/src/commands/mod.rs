@@ -1,0 +1,8 @@
+//! One module per subcommand.
+
+pub(crate) mod accuracy;
+pub(crate) mod bench;
+pub(crate) mod compare;
+pub(crate) mod geometry;
+pub(crate) mod probe;
+pub(crate) mod render;

@@ -1,0 +1,76 @@
+//! `penumbra probe`: the surface point seen through one pixel and its visibility by the exact evaluator, the reference and depth-complexity sampling.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use penumbra::geom::reference::{self, Tracer};
+use penumbra::geom::{Rng, Scene};
+use penumbra::volumes::{DepthComplexity, SamplePattern};
+
+use crate::{load_scene, samples_per_axis};
+
+pub(crate) fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
+    let (x, y) = s
+        .split_once(',')
+        .with_context(|| format!("--pixel {s:?}: expected X,Y"))?;
+    let x: u32 = x
+        .trim()
+        .parse()
+        .with_context(|| format!("--pixel {s:?}: bad X"))?;
+    let y: u32 = y
+        .trim()
+        .parse()
+        .with_context(|| format!("--pixel {s:?}: bad Y"))?;
+    let c = &scene.camera;
+    if x >= c.width || y >= c.height {
+        bail!(
+            "--pixel {x},{y} is outside the {}x{} image",
+            c.width,
+            c.height
+        );
+    }
+    Ok((x, y))
+}
+
+pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()> {
+    let per_axis = samples_per_axis(samples)?;
+    let scene = load_scene(scene_path)?;
+    let (x, y) = parse_pixel(pixel, &scene)?;
+    let tracer = Tracer::new(&scene);
+    let dir = scene.camera.ray_dir(x, y);
+    match tracer.surface_point(scene.camera.eye, dir) {
+        None => println!("pixel {x},{y}: the ray hits nothing; V = 1"),
+        Some(p) => {
+            let exact = tracer.exact_visibility(&p);
+            let mut rng = Rng::stream(
+                reference::REFERENCE_SEED,
+                y as u64 * scene.camera.width as u64 + x as u64,
+            );
+            let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);
+            let q = p.position;
+            println!("pixel {x},{y}");
+            println!(
+                "P          = [{:.9}, {:.9}, {:.9}] (triangle {})",
+                q.x, q.y, q.z, p.triangle
+            );
+            println!("V exact    = {exact:.9}");
+            println!(
+                "V ref      = {sampled:.9} ({samples} samples, 1-sigma bound {:.4})",
+                (sampled * (1.0 - sampled) / samples as f64).sqrt()
+            );
+            println!("V hard     = {}", tracer.hard_visibility(&p));
+            let dc = DepthComplexity::new(&scene);
+            let pattern = SamplePattern {
+                per_axis,
+                jitter: true,
+            };
+            let pixel = y as u64 * scene.camera.width as u64 + x as u64;
+            let v = dc.visibility(&p, pattern, pixel, &mut Default::default());
+            println!(
+                "V depth    = {:.9} (depth complexity, the reference's {samples} samples; {} edges touched it, {} triangles towards the centre)",
+                v.visibility, v.edges, v.centre_count
+            );
+        }
+    }
+    Ok(())
+}
