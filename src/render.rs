@@ -4,12 +4,8 @@
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::{Scene, Technique};
-use penumbra_gpu::{
-    GpuContext, GpuError, GpuRenderer, GpuTechnique, PassTimes, ShadowMapRenderer, ShadowTechnique,
-};
-use penumbra_volumes::{
-    CpuRenderer, DepthComplexity, SamplePattern, Technique as VolumeTechnique, Volumes,
-};
+use penumbra_gpu::{GpuContext, GpuError, GpuRenderer, PassTimes, ShadowMapRenderer};
+use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern, Volumes};
 
 /// Where the techniques that run on both the GPU and the CPU (`hard`, `wedges`,
 /// `wedges-blend`) run. The shadow-map techniques always need a GPU; the references and
@@ -274,7 +270,8 @@ impl Renderer {
                 GpuState::Ready(ctx) => GpuContext::clone(ctx),
                 _ => unreachable!("uses_gpu opened it"),
             };
-            let (image, times) = if let Some(t) = shadow_technique(technique) {
+            let (image, times) = if technique.needs_gpu() {
+                let t = technique;
                 let i = match self.shadow_maps.iter().position(|r| r.technique() == t) {
                     Some(i) => i,
                     None => {
@@ -293,7 +290,7 @@ impl Renderer {
                         &built
                     }
                 };
-                r.render_timed(scene, volumes, gpu_technique(technique))?
+                r.render_timed(scene, volumes, technique)?
             };
             return Ok(Frame {
                 image,
@@ -346,13 +343,8 @@ fn render_cpu(
         }
         _ => {
             let r = CpuRenderer::new(scene);
-            let t = match technique {
-                Technique::Hard => VolumeTechnique::Hard,
-                Technique::Wedges => VolumeTechnique::Wedges,
-                _ => VolumeTechnique::WedgesBlend,
-            };
             let detail = format!("cpu, {} wedges", r.volumes.wedges.len());
-            (r.render(scene, t, progress), detail)
+            (r.render(scene, technique, progress), detail)
         }
     };
     Frame {
@@ -360,25 +352,4 @@ fn render_cpu(
         times: None,
         detail,
     }
-}
-
-/// The GPU renderer's name for a volume technique.
-fn gpu_technique(t: Technique) -> GpuTechnique {
-    match t {
-        Technique::Hard => GpuTechnique::Hard,
-        Technique::Wedges => GpuTechnique::Wedges,
-        _ => GpuTechnique::WedgesBlend,
-    }
-}
-
-/// The shadow-map renderer's name for a shadow-map technique.
-fn shadow_technique(t: Technique) -> Option<ShadowTechnique> {
-    Some(match t {
-        Technique::Pcf => ShadowTechnique::Pcf,
-        Technique::Pcss => ShadowTechnique::Pcss,
-        Technique::FractionalDisk => ShadowTechnique::FractionalDisk,
-        Technique::Mdsm => ShadowTechnique::Mdsm,
-        Technique::Gaussian => ShadowTechnique::Gaussian,
-        _ => return None,
-    })
 }

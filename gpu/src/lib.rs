@@ -18,5 +18,5 @@ pub mod timing;
 
 pub use context::{GpuContext, GpuError};
 pub use penumbra_volumes as volumes;
-pub use renderer::{GpuRenderer, GpuTechnique, PassTimes};
-pub use shadow_maps::{ShadowMapRenderer, ShadowTechnique};
+pub use renderer::{GpuRenderer, PassTimes};
+pub use shadow_maps::ShadowMapRenderer;

@@ -8,7 +8,7 @@
 
 use glam::{DMat4, DVec2, DVec3, Vec4};
 use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::{RectLight, Scene};
+use penumbra_geom::{RectLight, Scene, Technique};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_frustum};
 use penumbra_volumes::shadow_volume::VolumeVertex;
@@ -31,17 +31,6 @@ use crate::passes::{
 };
 pub use crate::timing::PassTimes;
 use crate::timing::{Pass, Timer, read_frame};
-
-/// A technique the GPU renders.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GpuTechnique {
-    /// Hard shadow of the light's centre.
-    Hard,
-    /// Additive penumbra wedges.
-    Wedges,
-    /// Penumbra-wedges blending: per-silhouette stencil, wedge and blend passes.
-    WedgesBlend,
-}
 
 /// Pipelines of the GPU techniques, built once per device.
 pub struct GpuRenderer {
@@ -348,19 +337,27 @@ impl GpuRenderer {
         &self,
         scene: &Scene,
         volumes: &Volumes,
-        technique: GpuTechnique,
+        technique: Technique,
     ) -> Result<VisibilityImage, GpuError> {
         Ok(self.render_timed(scene, volumes, technique)?.0)
     }
 
     /// [`GpuRenderer::render`], with the GPU time of each pass when the device has timestamp
     /// queries.
+    ///
+    /// # Panics
+    ///
+    /// If `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
     pub fn render_timed(
         &self,
         scene: &Scene,
         volumes: &Volumes,
-        technique: GpuTechnique,
+        technique: Technique,
     ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+        assert!(
+            technique.is_volume(),
+            "{technique} is not a volume technique"
+        );
         let device = &self.ctx.device;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let world = scene.triangles();
@@ -391,7 +388,7 @@ impl GpuRenderer {
         let position_group = single(position_view);
 
         // Timestamp queries (for `wedges-blend` at most three passes per occluder: its group's).
-        let blending = technique == GpuTechnique::WedgesBlend;
+        let blending = technique == Technique::WedgesBlend;
         let timer = Timer::new(
             &self.ctx,
             if blending {
@@ -415,14 +412,14 @@ impl GpuRenderer {
         );
         let cube = buffer(device, "unit cube", &unit_cube(), vertex);
         let (instances, inst_ranges) = match technique {
-            GpuTechnique::Hard => (Vec::new(), Vec::new()),
+            Technique::Hard => (Vec::new(), Vec::new()),
             _ => wedge_instances(&scene.light, &world, volumes),
         };
         let inst = buffer(device, "wedges", &instances, vertex);
         let occlusion_view;
         let mut final_group = None;
         match technique {
-            GpuTechnique::Hard | GpuTechnique::Wedges => {
+            Technique::Hard | Technique::Wedges => {
                 self.stencil.record(
                     &mut enc,
                     &frame,
@@ -432,7 +429,7 @@ impl GpuRenderer {
                     depth_view,
                     stamp(Pass::Stencil),
                 );
-                occlusion_view = (technique == GpuTechnique::Wedges).then(|| {
+                occlusion_view = (technique == Technique::Wedges).then(|| {
                     let v = view(&texture(
                         device,
                         "occlusion",
@@ -456,7 +453,7 @@ impl GpuRenderer {
                     v
                 });
             }
-            GpuTechnique::WedgesBlend => {
+            Technique::WedgesBlend => {
                 occlusion_view = None;
                 // One silhouette buffer, and the final buffer (zeroed at creation: no occlusion),
                 // updated in place by each blend.
@@ -600,6 +597,7 @@ impl GpuRenderer {
                     &[final_buffer.as_entire_binding()],
                 ));
             }
+            _ => unreachable!("a volume technique, checked above"),
         }
         let occlusion_group = occlusion_view.as_ref().map(&single);
         self.resolve.record(

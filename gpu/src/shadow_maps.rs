@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::params::{GaussianVariant, MdsmExtra, TechniqueParams, equal_area_radius};
-use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene, Technique};
 use wgpu::util::DeviceExt;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
@@ -25,21 +25,6 @@ use crate::passes::{
 use crate::readback::read_r32f;
 use crate::timing::read_frame;
 use crate::timing::{Pass as Kind, PassTimes, Timer};
-
-/// A shadow-map technique.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShadowTechnique {
-    /// Reeves, Salesin & Cook 1987: a fixed PCF kernel.
-    Pcf,
-    /// Fernando 2005 as Shinde 2022 describes it.
-    Pcss,
-    /// Valient & de Boer (2004).
-    FractionalDisk,
-    /// Pagot, Comba & Oliveira (2004).
-    Mdsm,
-    /// Multi-pass Gaussian contact hardening (Cherry & Kooima 2015).
-    Gaussian,
-}
 
 /// The uniforms of every shadow-map pass (`struct Shadow` in `shadow.wgsl`).
 #[repr(C)]
@@ -274,7 +259,7 @@ pub fn multi_pass_taps(pass: u32, max_kernel: u32, taps: usize) -> Vec<[f32; 4]>
 pub fn uniforms(
     scene: &Scene,
     frustum: &LightFrustum,
-    technique: ShadowTechnique,
+    technique: Technique,
     params: &TechniqueParams,
 ) -> ShadowUniforms {
     let h = scene.light.half_size();
@@ -304,12 +289,12 @@ pub fn uniforms(
         taps: [[0.0; 4]; MAX_TAPS],
     };
     match technique {
-        ShadowTechnique::Pcf => u.iparams[0] = params.pcf.kernel,
-        ShadowTechnique::Pcss => {
+        Technique::Pcf => u.iparams[0] = params.pcf.kernel,
+        Technique::Pcss => {
             let p = &params.pcss;
             u.iparams = [p.search, p.filter_max, p.dither as u32, 0];
         }
-        ShadowTechnique::FractionalDisk => {
+        Technique::FractionalDisk => {
             let p = &params.fractional_disk;
             u.params = [
                 p.a as f32,
@@ -319,7 +304,7 @@ pub fn uniforms(
             ];
             u.iparams = [p.max_samples, p.passes, 0, 0];
         }
-        ShadowTechnique::Mdsm => {
+        Technique::Mdsm => {
             let p = &params.mdsm;
             u.iparams = [
                 p.depths,
@@ -328,7 +313,7 @@ pub fn uniforms(
                 (p.extra == MdsmExtra::Max) as u32,
             ];
         }
-        ShadowTechnique::Gaussian => {
+        Technique::Gaussian => {
             let p = &params.gaussian;
             u.params = [
                 p.distance_power() as f32,
@@ -338,6 +323,7 @@ pub fn uniforms(
             ];
             u.iparams = [p.max_kernel, p.taps, p.dilation, 0];
         }
+        _ => unreachable!("a shadow-map technique, checked in new"),
     }
     u
 }
@@ -345,7 +331,7 @@ pub fn uniforms(
 /// The pipelines of one shadow-map technique, built once per device.
 pub struct ShadowMapRenderer {
     ctx: GpuContext,
-    technique: ShadowTechnique,
+    technique: Technique,
     frame_layout: wgpu::BindGroupLayout,
     shadow_layout: wgpu::BindGroupLayout,
     depth: DepthPass,
@@ -354,19 +340,17 @@ pub struct ShadowMapRenderer {
 }
 
 /// The passes of each technique: (entry point, target format).
-fn technique_passes(
-    t: ShadowTechnique,
-) -> (&'static str, Vec<(&'static str, wgpu::TextureFormat)>) {
+fn technique_passes(t: Technique) -> (&'static str, Vec<(&'static str, wgpu::TextureFormat)>) {
     let r = VISIBILITY_FORMAT;
     let rgba = wgpu::TextureFormat::Rgba32Float;
     match t {
-        ShadowTechnique::Pcf => (include_str!("shaders/pcf.wgsl"), vec![("fs_pcf", r)]),
-        ShadowTechnique::Pcss => (include_str!("shaders/pcss.wgsl"), vec![("fs_pcss", r)]),
-        ShadowTechnique::Mdsm => (
+        Technique::Pcf => (include_str!("shaders/pcf.wgsl"), vec![("fs_pcf", r)]),
+        Technique::Pcss => (include_str!("shaders/pcss.wgsl"), vec![("fs_pcss", r)]),
+        Technique::Mdsm => (
             include_str!("shaders/mdsm.wgsl"),
             vec![("fs_build", rgba), ("fs_mdsm", r), ("fs_probe", r)],
         ),
-        ShadowTechnique::FractionalDisk => (
+        Technique::FractionalDisk => (
             include_str!("shaders/fractional_disk.wgsl"),
             vec![
                 ("fs_edges", rgba),
@@ -375,7 +359,7 @@ fn technique_passes(
                 ("fs_probe_count", r),
             ],
         ),
-        ShadowTechnique::Gaussian => (
+        Technique::Gaussian => (
             include_str!("shaders/gaussian.wgsl"),
             vec![
                 ("fs_distance", rgba),
@@ -388,6 +372,7 @@ fn technique_passes(
                 ("fs_readout", r),
             ],
         ),
+        _ => unreachable!("a shadow-map technique, checked in new"),
     }
 }
 
@@ -409,7 +394,15 @@ fn upload(
 
 impl ShadowMapRenderer {
     /// Builds the pipelines of `technique` on `ctx`'s device.
-    pub fn new(ctx: &GpuContext, technique: ShadowTechnique) -> Self {
+    ///
+    /// # Panics
+    ///
+    /// If `technique` is not a shadow-map technique ([`Technique::needs_gpu`]).
+    pub fn new(ctx: &GpuContext, technique: Technique) -> Self {
+        assert!(
+            technique.needs_gpu(),
+            "{technique} is not a shadow-map technique"
+        );
         let device = &ctx.device;
         let frame_layout = frame_layout(device);
         let shadow_layout = shadow_layout(device);
@@ -436,7 +429,7 @@ impl ShadowMapRenderer {
     }
 
     /// The technique these pipelines render.
-    pub fn technique(&self) -> ShadowTechnique {
+    pub fn technique(&self) -> Technique {
         self.technique
     }
 
@@ -552,7 +545,7 @@ impl ShadowMapRenderer {
         );
         let base_group = inputs(&base_buf, &[]);
         // The light map: every triangle, or the back faces for fractional-disk.
-        let casters = if self.technique == ShadowTechnique::FractionalDisk {
+        let casters = if self.technique == Technique::FractionalDisk {
             eye_relative(eye, &back_faces(scene.light.center, &world, closed))
         } else {
             tris.clone()
@@ -572,8 +565,8 @@ impl ShadowMapRenderer {
         let rgba = wgpu::TextureFormat::Rgba32Float;
         let mut keep: Vec<wgpu::Buffer> = Vec::new();
         match self.technique {
-            ShadowTechnique::Pcf | ShadowTechnique::Pcss => {
-                let entry = if self.technique == ShadowTechnique::Pcf {
+            Technique::Pcf | Technique::Pcss => {
+                let entry = if self.technique == Technique::Pcf {
                     "fs_pcf"
                 } else {
                     "fs_pcss"
@@ -586,7 +579,7 @@ impl ShadowMapRenderer {
                     stamp(Kind::Filter),
                 );
             }
-            ShadowTechnique::Mdsm => {
+            Technique::Mdsm => {
                 let multi = view(&texture(device, "mdsm", map_size, rgba, sampled));
                 self.pass("fs_build").record(
                     &mut enc,
@@ -603,7 +596,7 @@ impl ShadowMapRenderer {
                     stamp(Kind::Filter),
                 );
             }
-            ShadowTechnique::FractionalDisk => {
+            Technique::FractionalDisk => {
                 let ping = [
                     view(&texture(device, "fd ping", map_size, rgba, sampled)),
                     view(&texture(device, "fd pong", map_size, rgba, sampled)),
@@ -640,7 +633,7 @@ impl ShadowMapRenderer {
                     stamp(Kind::Filter),
                 );
             }
-            ShadowTechnique::Gaussian => {
+            Technique::Gaussian => {
                 let ping = [
                     view(&texture(device, "gaussian ping", screen, rgba, sampled)),
                     view(&texture(device, "gaussian pong", screen, rgba, sampled)),
@@ -716,6 +709,7 @@ impl ShadowMapRenderer {
                     stamp(Kind::Resolve),
                 );
             }
+            _ => unreachable!("a shadow-map technique, checked in new"),
         }
 
         let frame = read_frame(&self.ctx, enc, &timer, &targets.visibility);
@@ -770,7 +764,7 @@ impl ShadowMapRenderer {
             bind_group(device, "probe inputs", &self.shadow_layout, &r)
         };
         let mut enc = device.create_command_encoder(&Default::default());
-        let built = (self.technique == ShadowTechnique::Mdsm).then(|| {
+        let built = (self.technique == Technique::Mdsm).then(|| {
             let v = view(&texture(
                 device,
                 "mdsm",

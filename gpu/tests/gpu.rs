@@ -11,7 +11,7 @@ use penumbra_gpu::frame::{scene_radius, view_proj_f64};
 use penumbra_gpu::passes::fullscreen;
 use penumbra_gpu::renderer::{occluder_tiles, vertex_data, wedge_instances};
 use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
-use penumbra_gpu::{GpuContext, GpuRenderer, GpuTechnique, ShadowMapRenderer, ShadowTechnique};
+use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::{CpuRenderer, Technique};
 
@@ -103,7 +103,7 @@ fn gpu_hard_matches_the_hard_reference() {
     let r = GpuRenderer::new(&ctx);
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
-        let img = r.render(&scene, &volumes, GpuTechnique::Hard).unwrap();
+        let img = r.render(&scene, &volumes, Technique::Hard).unwrap();
         let tracer = Tracer::new(&scene);
         let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
         let differ = img
@@ -127,20 +127,20 @@ fn gpu_hard_matches_the_hard_reference() {
 
 #[test]
 fn gpu_wedges_match_the_cpu_oracle() {
-    gpu_matches_cpu(GpuTechnique::Wedges, Technique::Wedges);
+    gpu_matches_cpu(Technique::Wedges);
 }
 
 #[test]
 fn gpu_wedges_blend_matches_the_cpu_oracle() {
-    gpu_matches_cpu(GpuTechnique::WedgesBlend, Technique::WedgesBlend);
+    gpu_matches_cpu(Technique::WedgesBlend);
 }
 
-fn gpu_matches_cpu(gt: GpuTechnique, t: Technique) {
+fn gpu_matches_cpu(t: Technique) {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::new(&ctx);
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
-        let gpu = r.render(&scene, &volumes, gt).unwrap();
+        let gpu = r.render(&scene, &volumes, t).unwrap();
         let cpu = CpuRenderer::new(&scene).render(&scene, t, &|_| {});
         let c = compare(&gpu, &cpu).unwrap();
         println!(
@@ -216,12 +216,12 @@ fn blend_visibility_buffers_take_at_most_64_bytes_per_pixel() {
     assert_eq!(bytes, 40 + 24);
 }
 
-const SHADOW_MAP_TECHNIQUES: [ShadowTechnique; 5] = [
-    ShadowTechnique::Pcf,
-    ShadowTechnique::Pcss,
-    ShadowTechnique::FractionalDisk,
-    ShadowTechnique::Mdsm,
-    ShadowTechnique::Gaussian,
+const SHADOW_MAP_TECHNIQUES: [Technique; 5] = [
+    Technique::Pcf,
+    Technique::Pcss,
+    Technique::FractionalDisk,
+    Technique::Mdsm,
+    Technique::Gaussian,
 ];
 
 /// Pixels whose whole `radius`-pixel square neighbourhood has reference value `v`.
@@ -240,14 +240,14 @@ fn settled(reference: &penumbra_geom::VisibilityImage, v: f32, radius: i64) -> V
 /// How far, in pixels, a technique's screen-space filter reaches: `gaussian` blurs the hard
 /// shadow in screen space, by its passes' half kernels together; the others filter in the light
 /// map and reach no other pixel.
-fn screen_reach(t: ShadowTechnique, p: &penumbra_geom::params::TechniqueParams) -> i64 {
+fn screen_reach(t: Technique, p: &penumbra_geom::params::TechniqueParams) -> i64 {
     use penumbra_geom::params::GaussianVariant;
     let g = &p.gaussian;
     match (t, g.variant) {
-        (ShadowTechnique::Gaussian, GaussianVariant::Multi) => (0..g.passes)
+        (Technique::Gaussian, GaussianVariant::Multi) => (0..g.passes)
             .map(|k| (penumbra_gpu::shadow_maps::multi_pass_kernel(k, g.max_kernel) as i64 - 1) / 2)
             .sum(),
-        (ShadowTechnique::Gaussian, _) => (g.max_kernel as i64 - 1) / 2,
+        (Technique::Gaussian, _) => (g.max_kernel as i64 - 1) / 2,
         _ => 0,
     }
 }
@@ -347,10 +347,10 @@ fn check_settled(
 /// on three fixtures.
 #[test]
 fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
-    use ShadowTechnique::*;
+    use Technique::{FractionalDisk, Gaussian, Mdsm, Pcf, Pcss};
     use penumbra_geom::params::{GaussianVariant, TechniqueParams};
     let Some(ctx) = context() else { return };
-    type Option = (ShadowTechnique, &'static str, fn(&mut TechniqueParams));
+    type Option = (Technique, &'static str, fn(&mut TechniqueParams));
     let options: [Option; 11] = [
         (Pcf, "kernel 4", |p| p.pcf.kernel = 4),
         (Pcf, "kernel 5", |p| p.pcf.kernel = 5),
@@ -425,7 +425,7 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
 }
 
 /// Uniforms for a probe over a `size`-texel square map.
-fn probe_uniforms(t: ShadowTechnique, size: u32) -> ShadowUniforms {
+fn probe_uniforms(t: Technique, size: u32) -> ShadowUniforms {
     let (_, scene) = fixtures().swap_remove(0);
     let frustum =
         penumbra_gpu::shadow_maps::LightFrustum::fit(&scene.light, &scene.triangles()).unwrap();
@@ -440,7 +440,7 @@ fn probe_uniforms(t: ShadowTechnique, size: u32) -> ShadowUniforms {
 #[test]
 fn mdsm_pcf_reaches_n_k_plus_1_distinct_values() {
     let Some(ctx) = context() else { return };
-    let r = ShadowMapRenderer::new(&ctx, ShadowTechnique::Mdsm);
+    let r = ShadowMapRenderer::new(&ctx, Technique::Mdsm);
     const SIZE: u32 = 16;
     const LEVELS: u32 = 17;
     let map: Vec<f32> = (0..SIZE * SIZE)
@@ -457,7 +457,7 @@ fn mdsm_pcf_reaches_n_k_plus_1_distinct_values() {
     ] {
         for ks in [2u32, 3, 4] {
             let radius = 1;
-            let mut u = probe_uniforms(ShadowTechnique::Mdsm, SIZE);
+            let mut u = probe_uniforms(Technique::Mdsm, SIZE);
             u.iparams = [n, ks, radius, (extra == MdsmExtra::Max) as u32];
             u.params[1] = LEVELS as f32;
             let w = SIZE - ks - 2 * radius + 1;
@@ -491,8 +491,8 @@ fn mdsm_pcf_reaches_n_k_plus_1_distinct_values() {
 #[test]
 fn fractional_disk_sample_count_follows_eq_2() {
     let Some(ctx) = context() else { return };
-    let r = ShadowMapRenderer::new(&ctx, ShadowTechnique::FractionalDisk);
-    let mut u = probe_uniforms(ShadowTechnique::FractionalDisk, 4);
+    let r = ShadowMapRenderer::new(&ctx, Technique::FractionalDisk);
+    let mut u = probe_uniforms(Technique::FractionalDisk, 4);
     let (a, cap) = (2.0, 50);
     u.params[0] = a as f32;
     u.iparams[0] = cap;

@@ -16,4 +16,5 @@ pub mod wedge;
 
 pub use depth_complexity::{DepthComplexity, SamplePattern};
 pub use penumbra_geom as geom;
-pub use render::{CpuRenderer, Technique, Volumes};
+pub use penumbra_geom::Technique;
+pub use render::{CpuRenderer, Volumes};

@@ -28,7 +28,7 @@
 
 use glam::{DVec2, DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, SurfacePoint, Tracer};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, SurfacePoint, Technique, Tracer};
 use rayon::prelude::*;
 
 use crate::blend::{Part, VBuffer};
@@ -36,17 +36,6 @@ use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
 use crate::shadow_volume::ShadowVolume;
 use crate::silhouette::Silhouette;
 use crate::wedge::Wedge;
-
-/// A volume technique.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Technique {
-    /// Hard shadow of the light's centre from the volumes.
-    Hard,
-    /// Additive penumbra wedges.
-    Wedges,
-    /// Forest et al.'s penumbra-wedges blending.
-    WedgesBlend,
-}
 
 /// One scene mesh with its half-edges, silhouette and shadow volume.
 pub struct Occluder {
@@ -562,7 +551,15 @@ impl CpuRenderer {
     }
 
     /// Visibility of the surface point `p` by `technique`.
+    ///
+    /// # Panics
+    ///
+    /// If `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
     pub fn visibility(&self, p: &SurfacePoint, technique: Technique) -> f64 {
+        assert!(
+            technique.is_volume(),
+            "{technique} is not a volume technique"
+        );
         let light = &self.volumes.light;
         if !light.is_lit_side(p.position) {
             return 0.0;
@@ -604,7 +601,6 @@ impl CpuRenderer {
             }
         }
         let occlusion = match technique {
-            Technique::Hard => unreachable!("handled above"),
             Technique::Wedges => {
                 // The stencil count: one full light per caster between P and the centre.
                 let base = 4.0 * PART_AREA * hard.iter().map(|h| h.1 as f64).sum::<f64>();
@@ -619,11 +615,16 @@ impl CpuRenderer {
                 }
                 fin.occlusion()
             }
+            _ => unreachable!("hard is handled above, the rest refused"),
         };
         1.0 - occlusion
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows.
+    ///
+    /// # Panics
+    ///
+    /// If `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
     pub fn render(
         &self,
         scene: &Scene,
