@@ -13,6 +13,7 @@ pub mod samples;
 pub mod shadow_volume;
 pub mod silhouette;
 pub mod wedge;
+pub mod wedge_grid;
 
 pub use depth_complexity::{DepthComplexity, SamplePattern};
 pub use penumbra_geom as geom;
