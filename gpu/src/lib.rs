@@ -13,6 +13,7 @@ pub mod frame;
 pub mod passes;
 pub mod readback;
 pub mod renderer;
+pub mod scene_data;
 pub mod shadow_maps;
 pub mod timing;
 
