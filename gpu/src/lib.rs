@@ -14,6 +14,7 @@ pub mod passes;
 pub mod readback;
 pub mod renderer;
 pub mod scene_data;
+pub mod shadow_inputs;
 pub mod shadow_maps;
 pub mod timing;
 
