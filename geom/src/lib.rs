@@ -16,6 +16,7 @@ pub mod reference;
 pub mod rng;
 pub mod scene;
 pub mod technique;
+pub mod union;
 
 pub use camera::Camera;
 pub use halfedge::HalfEdgeMesh;
