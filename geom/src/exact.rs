@@ -70,6 +70,9 @@ use crate::union::union_area_of_clean;
 pub use crate::union::{LIGHT_SQUARE_AREA, polygon_area};
 
 #[cfg(test)]
+#[path = "exact_scene_tests.rs"]
+mod exact_scene_tests;
+#[cfg(test)]
 #[path = "exact_tests.rs"]
 mod exact_tests;
 #[cfg(test)]
