@@ -5,8 +5,25 @@
 //! penumbra wedges on the CPU) and [`gpu`] (the wgpu passes).
 //!
 //! The front door is [`Renderer`]: give it a [`Scene`] (loaded from a scene file, see
-//! `docs/scene-format.md`) and a [`Technique`], get a [`VisibilityImage`] (the share of the
-//! light each pixel's surface point sees; `write_exr`, `write_png`).
+//! `docs/scene-format.md`, or made in code with [`Scene::new`]) and a [`Technique`], get a
+//! [`VisibilityImage`]: the share of the light's area each pixel's surface point sees.
+//!
+//! ```
+//! use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+//!
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/scenes/nonmanifold.toml");
+//! let scene = Scene::load(std::path::Path::new(path))?;
+//! // The GPU where there is one for the techniques that can use it, the CPU otherwise.
+//! let mut renderer = Renderer::new(Backend::Auto);
+//! let exact = renderer.render(&scene, Technique::DepthComplexity, &RenderOptions::default())?;
+//! let wedges = renderer.render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
+//! let c = penumbra::geom::image::compare(&wedges, &exact)?;
+//! assert!(c.penumbra.pixels > 1000 && c.all.mae < 0.05);
+//! let out = std::env::temp_dir().join(format!("nonmanifold-{}.exr", std::process::id()));
+//! exact.write_exr(&out)?;
+//! # std::fs::remove_file(out)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 mod render;
