@@ -103,6 +103,21 @@ pub(crate) struct Region {
 }
 
 impl Region {
+    /// The samples where all four `lines` are positive, changed by `delta`; `None` when the
+    /// light clipped by the first three (which bound the region; the fourth only tells apart
+    /// parts the first three already separate) is empty.
+    fn new(delta: i32, lines: [Line; 4]) -> Option<Region> {
+        let mut poly = Polygon::LIGHT;
+        if !(poly.clip(lines[0]) && poly.clip(lines[1]) && poly.clip(lines[2])) {
+            return None;
+        }
+        Some(Region {
+            delta,
+            lines,
+            bounds: poly.bounds(),
+        })
+    }
+
     /// Adds the change to the counts of the samples inside, looking only at the cells the box
     /// reaches (sample `j * n + i` lies in cell `(i, j)`, at `(xs, ys)`). Returns whether any
     /// was inside.
@@ -161,15 +176,7 @@ pub(crate) fn crossing_region(x: &LightCrossing, pl: DVec3, receiver: u32) -> Op
     } else {
         (ga.neg(), gb.neg())
     };
-    let mut poly = Polygon::LIGHT;
-    if !(poly.clip(beyond) && poly.clip(g0) && poly.clip(g1)) {
-        return None;
-    }
-    Some(Region {
-        delta,
-        lines: [beyond, g0, g1, beyond],
-        bounds: poly.bounds(),
-    })
+    Region::new(delta, [beyond, g0, g1, beyond])
 }
 
 /// The parameters `(t0, t1)` of the part of the segment from depth `za` to depth `zb` that lies
@@ -269,13 +276,6 @@ pub(crate) fn edge_region(
     } else {
         (f0.neg(), f1)
     };
-    let mut poly = Polygon::LIGHT;
-    if !(poly.clip(o3) && poly.clip(g0) && poly.clip(g1)) {
-        return None;
-    }
-    Some(Region {
-        delta,
-        lines: [o2, o3, g0, g1],
-        bounds: poly.bounds(),
-    })
+    // `o2` only tells the two cones apart, already chosen: the light is clipped by the others.
+    Region::new(delta, [o3, g0, g1, o2])
 }
