@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use anyhow::{Result, bail};
 use clap::Parser;
+use penumbra::RenderOptions;
 use penumbra::geom::Scene;
 
 use cli::{Cli, Command};
@@ -119,13 +120,19 @@ fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// `n` where `samples = n * n`, or an error.
+/// `n` where `samples = n * n` (the library's check, [`RenderOptions::pattern`]), or an error
+/// naming the flag.
 fn samples_per_axis(samples: usize) -> Result<usize> {
-    let n = (samples as f64).sqrt().round() as usize;
-    if samples == 0 || n * n != samples {
-        bail!("--samples {samples} must be a positive perfect square (64, 256, 1024, ...)");
+    let options = RenderOptions {
+        samples,
+        jitter: false,
+    };
+    match options.pattern() {
+        Ok(p) => Ok(p.per_axis),
+        Err(_) => {
+            bail!("--samples {samples} must be a positive perfect square (64, 256, 1024, ...)")
+        }
     }
-    Ok(n)
 }
 
 /// The same file, whether or not it exists yet: compares canonical parent folders and names.

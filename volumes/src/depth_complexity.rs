@@ -50,7 +50,7 @@ use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
-use crate::potential::{PotentialEdges, pyramid_planes};
+use crate::potential::{EdgeFace, PotentialEdges, pyramid_planes};
 use crate::region::{Region, crossing_region, edge_region};
 pub use crate::samples::SamplePattern;
 
@@ -99,6 +99,13 @@ struct Candidates {
     keep: Vec<bool>,
 }
 
+/// What the pre-test reads for an edge without exactly two faces: a zero normal, never dropped.
+const NO_FACE: EdgeFace = EdgeFace {
+    normal: DVec3::ZERO,
+    normal_length2: 0.0,
+    triangle: u32::MAX,
+};
+
 /// The pre-test's margin, relative to `|n_k| sqrt(|P - a|^2 + R^2)` with `R` the largest
 /// light-space coordinate: a hundred times the rounding of the `f32` products.
 const MARGIN: f32 = 1e-5;
@@ -117,16 +124,16 @@ impl Candidates {
         let e = &edges.edges[ei as usize];
         let faces = edges.faces_of(e);
         let (n0, n1) = match faces {
-            [f0, f1] => (f0.normal, f1.normal),
-            _ => (DVec3::ZERO, DVec3::ZERO),
+            [f0, f1] => (f0, f1),
+            _ => (&NO_FACE, &NO_FACE),
         };
         self.ids.push(ei);
         for k in 0..3 {
             self.a[k].push(e.a[k] as f32);
-            self.n0[k].push(n0[k] as f32);
-            self.n1[k].push(n1[k] as f32);
+            self.n0[k].push(n0.normal[k] as f32);
+            self.n1[k].push(n1.normal[k] as f32);
         }
-        let t = |n: DVec3| (MARGIN * n.length() as f32).powi(2);
+        let t = |f: &EdgeFace| (MARGIN * f.normal_length2.sqrt() as f32).powi(2);
         self.t0.push(t(n0));
         self.t1.push(t(n1));
     }
@@ -222,9 +229,9 @@ impl DepthComplexity {
         pixel: u64,
         scratch: &mut Scratch,
     ) -> PointVisibility {
-        let light = &self.tracer.light;
-        let pl = light.to_light_space(p.position);
-        if !light.is_lit_side(p.position) || !(pl.z > 0.0) {
+        // Light space's `z` is the signed distance that `RectLight::is_lit_side` tests.
+        let pl = self.tracer.light.to_light_space(p.position);
+        if !(pl.z > 0.0) {
             return PointVisibility {
                 visibility: 0.0,
                 centre_count: 0,
@@ -333,7 +340,7 @@ impl DepthComplexity {
                                 continue;
                             };
                             let pl = light.to_light_space(p.position);
-                            if light.is_lit_side(p.position) && pl.z > 0.0 {
+                            if pl.z > 0.0 {
                                 lit.push((dy * w + i, p, pl));
                             } else {
                                 block[dy * w + i] = 0.0;

@@ -23,6 +23,8 @@ use glam::DVec3;
 use penumbra_geom::boxtree::{BoxTree, Plane};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene};
 
+use crate::silhouette::orient3d;
+
 /// One face on a potential silhouette edge `a b`, as the plane through the edge and the face's
 /// third vertex `w`: `F(x) = n . (x - a)` with `n = (b - a) x (w - a)`, whose sign at a point
 /// tells the side of the plane through that point and the edge the face lies on.
@@ -30,6 +32,8 @@ use penumbra_geom::{HalfEdgeMesh, RectLight, Scene};
 pub struct EdgeFace {
     /// `(b - a) x (w - a)`, light space.
     pub normal: DVec3,
+    /// `|normal|^2`, which both silhouette tests scale their margins by.
+    pub normal_length2: f64,
     /// Index of the face in [`Scene::triangles`].
     pub triangle: u32,
 }
@@ -121,16 +125,10 @@ fn light_crossing(t: [DVec3; 3], triangle: u32) -> Option<LightCrossing> {
     })
 }
 
-/// `(b - a) x (c - a) . (d - a)`: the side of `d` relative to the plane through `a`, `b`, `c`.
-#[inline]
-fn orient(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    (b - a).cross(c - a).dot(d - a)
-}
-
 /// Whether some point of the light sees the two faces with apices `w0`, `w1` on the same side
 /// of the edge `a b` (conservatively: only a light wholly on opposite sides says no).
 fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
-    let side = |w: DVec3| LIGHT_CORNERS.map(|l| orient(a, b, l, w));
+    let side = |w: DVec3| LIGHT_CORNERS.map(|l| orient3d(a, b, l, w));
     let (s0, s1) = (side(w0), side(w1));
     let opposite =
         |p: [f64; 4], q: [f64; 4]| p.iter().all(|&x| x > 0.0) && q.iter().all(|&x| x < 0.0);
@@ -176,9 +174,13 @@ impl PotentialEdges {
                     first_face: faces.len() as u32,
                     face_count: apices.len() as u32,
                 });
-                faces.extend(e.half_edges.iter().zip(&apices).map(|(&h, &w)| EdgeFace {
-                    normal: (b - a).cross(w - a),
-                    triangle: first_triangle + HalfEdgeMesh::face(h),
+                faces.extend(e.half_edges.iter().zip(&apices).map(|(&h, &w)| {
+                    let normal = (b - a).cross(w - a);
+                    EdgeFace {
+                        normal,
+                        normal_length2: normal.length_squared(),
+                        triangle: first_triangle + HalfEdgeMesh::face(h),
+                    }
                 }));
             }
             for (f, tri) in mesh.faces.iter().enumerate() {

@@ -230,7 +230,7 @@ pub(crate) fn edge_region(
         // P within rounding of a face's plane (a neighbour coplanar with the receiver, say)
         // sees it edge-on: it covers no sample.
         let s = f.normal.dot(d);
-        if s * s <= EDGE_ON * EDGE_ON * f.normal.length_squared() * d2 {
+        if s * s <= EDGE_ON * EDGE_ON * f.normal_length2 * d2 {
             continue;
         }
         if s * side_c < 0.0 {
