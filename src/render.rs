@@ -271,11 +271,15 @@ impl Renderer {
                 _ => unreachable!("uses_gpu opened it"),
             };
             let (image, times) = if technique.needs_gpu() {
-                let t = technique;
-                let i = match self.shadow_maps.iter().position(|r| r.technique() == t) {
+                let i = match self
+                    .shadow_maps
+                    .iter()
+                    .position(|r| r.technique() == technique)
+                {
                     Some(i) => i,
                     None => {
-                        self.shadow_maps.push(ShadowMapRenderer::new(&ctx, t));
+                        self.shadow_maps
+                            .push(ShadowMapRenderer::new(&ctx, technique));
                         self.shadow_maps.len() - 1
                     }
                 };
