@@ -285,7 +285,9 @@ impl Renderer {
                 };
                 self.shadow_maps[i].render_timed(scene)?
             } else {
-                let r = self.volumes.get_or_insert_with(|| GpuRenderer::new(&ctx));
+                let r = self
+                    .volumes
+                    .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
                 let built;
                 let volumes = match volumes {
                     Some(v) => v,

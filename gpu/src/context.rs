@@ -33,6 +33,9 @@ pub enum GpuError {
     /// The adapter refused the device.
     #[error("the adapter refused a device: {0}")]
     RequestDevice(#[from] wgpu::RequestDeviceError),
+    /// A frame's inputs that do not fit together or that the passes cannot take.
+    #[error("{0}")]
+    Frame(String),
     /// A readback failed.
     #[error("reading back from the GPU failed: {0}")]
     Readback(String),
@@ -57,6 +60,30 @@ pub struct GpuContext {
     pub unclipped_depth: bool,
     /// Whether timestamp queries are available.
     pub timestamps: bool,
+}
+
+/// Features a device must have for the passes.
+pub const REQUIRED_FEATURES: [(wgpu::Features, &str); 2] = [
+    (
+        wgpu::Features::DEPTH32FLOAT_STENCIL8,
+        "DEPTH32FLOAT_STENCIL8",
+    ),
+    (wgpu::Features::FLOAT32_BLENDABLE, "FLOAT32_BLENDABLE"),
+];
+
+/// Features the passes use when the device has them: unclipped depth (the shadow volumes' far
+/// caps at infinity are otherwise clipped on devices that clip them) and timestamp queries (the
+/// pass times).
+pub const OPTIONAL_FEATURES: wgpu::Features =
+    wgpu::Features::DEPTH_CLIP_CONTROL.union(wgpu::Features::TIMESTAMP_QUERY);
+
+/// Limits beyond wgpu's defaults that the passes need: the silhouette buffer's six colour
+/// targets take 56 bytes per sample, and wgpu's default allows 32.
+pub fn required_limits() -> wgpu::Limits {
+    wgpu::Limits {
+        max_color_attachment_bytes_per_sample: 64,
+        ..Default::default()
+    }
 }
 
 /// Preference order of adapter kinds: real GPUs first.
@@ -101,13 +128,7 @@ impl GpuContext {
             | wgpu::Features::DEPTH32FLOAT_STENCIL8
             | wgpu::Features::FLOAT32_BLENDABLE;
         let features = offered & wanted;
-        for (f, name) in [
-            (
-                wgpu::Features::DEPTH32FLOAT_STENCIL8,
-                "DEPTH32FLOAT_STENCIL8",
-            ),
-            (wgpu::Features::FLOAT32_BLENDABLE, "FLOAT32_BLENDABLE"),
-        ] {
+        for (f, name) in REQUIRED_FEATURES {
             if !features.contains(f) {
                 return Err(GpuError::MissingFeature {
                     adapter: info.name.clone(),
@@ -126,9 +147,35 @@ impl GpuContext {
                 ..Default::default()
             })
             .await?;
+        Self::from_device(&device, &queue)
+    }
+
+    /// The context of an application's own `device` and `queue`, which must have been created
+    /// with [`REQUIRED_FEATURES`] and [`required_limits`]; [`OPTIONAL_FEATURES`] are used when
+    /// present.
+    pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
+        let info = device.adapter_info();
+        let features = device.features();
+        for (f, name) in REQUIRED_FEATURES {
+            if !features.contains(f) {
+                return Err(GpuError::MissingFeature {
+                    adapter: info.name.clone(),
+                    feature: name,
+                });
+            }
+        }
+        let needed = required_limits();
+        if device.limits().max_color_attachment_bytes_per_sample
+            < needed.max_color_attachment_bytes_per_sample
+        {
+            return Err(GpuError::MissingFeature {
+                adapter: info.name.clone(),
+                feature: "max_color_attachment_bytes_per_sample >= 64",
+            });
+        }
         Ok(GpuContext {
-            device,
-            queue,
+            device: device.clone(),
+            queue: queue.clone(),
             info,
             unclipped_depth: features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),

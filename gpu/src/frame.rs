@@ -3,8 +3,8 @@
 //! that precision does not depend on where the scene sits in the world.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
-use penumbra_geom::Scene;
+use glam::{DMat4, DVec3, DVec4, Vec3};
+use penumbra_geom::{Camera, RectLight};
 
 /// Near plane of the camera's projection, relative to the scene's size.
 pub const NEAR_FRACTION: f64 = 1e-3;
@@ -30,39 +30,136 @@ pub struct FrameUniforms {
 
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
 
-/// The camera's eye-relative view-projection: right-handed look-at, vertical field of view,
-/// reversed depth (1 at the near plane, 0 at infinity) so that `Depth32Float` keeps its
-/// precision far away and points at infinity (`w = 0`) land exactly on depth 0.
-///
-/// With `f = 1 / tan(fov_y / 2)`, `a = width / height` and the view frame's rows `right`,
-/// `true_up` and `-forward`, a point `v` (eye-relative, homogeneous) goes to
-/// `(f/a · right·v, f · true_up·v, near · v.w, forward·v)`: depth `near / (forward·v)` is 1 on the
-/// near plane and falls to 0 at infinity, where `v.w = 0` gives exactly 0.
-pub fn view_proj(scene: &Scene, scene_radius: f64) -> Mat4 {
-    view_proj_f64(scene, scene_radius).as_mat4()
+/// A mesh's model matrix as the shaders read it (`models` in `frame.wgsl`): its stored vertices
+/// to eye-relative world, column-major.
+pub type ModelMatrix = [[f32; 4]; 4];
+
+/// The matrix that places a mesh's vertices, stored relative to `origin` in its own space,
+/// moved into the world by `transform`, relative to `eye`: `T(-eye) · transform · T(origin)`,
+/// composed in `f64` so that only the result is rounded.
+pub fn model_matrix(eye: DVec3, transform: &DMat4, origin: DVec3) -> ModelMatrix {
+    (DMat4::from_translation(-eye) * *transform * DMat4::from_translation(origin))
+        .as_mat4()
+        .to_cols_array_2d()
 }
 
-/// [`view_proj`] in `f64`, for the CPU's own projections of the frame.
-pub fn view_proj_f64(scene: &Scene, scene_radius: f64) -> DMat4 {
-    let c = &scene.camera;
-    let aspect = c.width as f64 / c.height as f64;
-    let near = (scene_radius * NEAR_FRACTION).max(1e-6);
-    let f = 1.0 / (c.fov_y_deg.to_radians() * 0.5).tan();
-    let rows = [
-        (c.right * (f / aspect)).extend(0.0),
-        (c.true_up * f).extend(0.0),
-        DVec4::new(0.0, 0.0, 0.0, near),
-        c.forward.extend(0.0),
-    ];
-    DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose()
+/// Why the camera of a frame was refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CameraError {
+    /// A view matrix that is not an invertible affine map.
+    #[error("the view matrix is not an invertible affine map: {0:?}")]
+    View(Box<DMat4>),
+    /// A projection other than reversed depth with an infinite far plane.
+    #[error(
+        "the projection must have reversed depth and an infinite far plane (third row (0, 0, 0, near > 0), fourth row ending in 0), as glam's dcamera::rh::proj::directx::perspective_infinite_reverse makes: {0:?}"
+    )]
+    Projection(Box<DMat4>),
+    /// An empty image.
+    #[error("the image is {0} x {1} pixels: both must be at least 1")]
+    Size(u32, u32),
+}
+
+/// The camera of one frame as the passes take it: the eye and the eye-relative view-projection,
+/// with reversed depth (1 at the near plane, 0 at infinity) so that `Depth32Float` keeps its
+/// precision far away and points at infinity (`w = 0`, the shadow volumes' far ends) land
+/// exactly on depth 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameCamera {
+    /// The eye, world space.
+    pub eye: DVec3,
+    /// Eye-relative world (`world - eye`) to clip space.
+    pub view_proj: DMat4,
+    /// Image width and height in pixels.
+    pub size: (u32, u32),
+}
+
+impl FrameCamera {
+    /// The camera of an application's `view` matrix (world to camera space, affine) and
+    /// `projection` (reversed depth, infinite far plane: glam's
+    /// `dcamera::rh::proj::directx::perspective_infinite_reverse` or the same matrix made
+    /// otherwise), for an image of `size` pixels.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use glam::dcamera::rh::{proj::directx, view};
+    /// use penumbra_gpu::frame::FrameCamera;
+    ///
+    /// let view = view::look_at_mat4(DVec3::new(0.0, 2.0, 5.0), DVec3::ZERO, DVec3::Y);
+    /// let projection = directx::perspective_infinite_reverse(0.8, 4.0 / 3.0, 0.01);
+    /// let camera = FrameCamera::from_matrices(&view, &projection, (320, 240))?;
+    /// assert!((camera.eye - DVec3::new(0.0, 2.0, 5.0)).length() < 1e-12);
+    /// // A standard projection (finite far plane, depth 0 at the near plane) is refused.
+    /// let standard = directx::perspective(0.8, 4.0 / 3.0, 0.01, 100.0);
+    /// assert!(FrameCamera::from_matrices(&view, &standard, (320, 240)).is_err());
+    /// # Ok::<(), penumbra_gpu::frame::CameraError>(())
+    /// ```
+    pub fn from_matrices(
+        view: &DMat4,
+        projection: &DMat4,
+        size: (u32, u32),
+    ) -> Result<Self, CameraError> {
+        if size.0 == 0 || size.1 == 0 {
+            return Err(CameraError::Size(size.0, size.1));
+        }
+        let affine = view.row(3) == DVec4::W && view.is_finite();
+        let det = view.determinant();
+        if !(affine && det.is_normal()) {
+            return Err(CameraError::View(Box::new(*view)));
+        }
+        let z = projection.row(2);
+        if !(projection.is_finite()
+            && z.truncate() == DVec3::ZERO
+            && z.w > 0.0
+            && projection.row(3).w == 0.0)
+        {
+            return Err(CameraError::Projection(Box::new(*projection)));
+        }
+        let eye = view.inverse().transform_point3(DVec3::ZERO);
+        // view(x) = A x + t = A (x - eye): the eye-relative view is A alone.
+        let mut linear = *view;
+        linear.w_axis = DVec4::W;
+        Ok(FrameCamera {
+            eye,
+            view_proj: *projection * linear,
+            size,
+        })
+    }
+
+    /// The camera of a scene: right-handed look-at, the camera's vertical field of view, near
+    /// plane at `near`.
+    ///
+    /// With `f = 1 / tan(fov_y / 2)`, `a = width / height` and the view frame's rows `right`,
+    /// `true_up` and `-forward`, a point `v` (eye-relative, homogeneous) goes to
+    /// `(f/a · right·v, f · true_up·v, near · v.w, forward·v)`: depth `near / (forward·v)` is 1
+    /// on the near plane and falls to 0 at infinity, where `v.w = 0` gives exactly 0.
+    pub fn from_camera(c: &Camera, near: f64) -> Self {
+        let aspect = c.width as f64 / c.height as f64;
+        let f = 1.0 / (c.fov_y_deg.to_radians() * 0.5).tan();
+        let rows = [
+            (c.right * (f / aspect)).extend(0.0),
+            (c.true_up * f).extend(0.0),
+            DVec4::new(0.0, 0.0, 0.0, near),
+            c.forward.extend(0.0),
+        ];
+        FrameCamera {
+            eye: c.eye,
+            view_proj: DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose(),
+            size: (c.width, c.height),
+        }
+    }
+
+    /// [`FrameCamera::from_camera`] with the near plane the one-shot renderers use: a
+    /// thousandth of `scene_radius` (the distance from the eye that holds the scene).
+    pub fn for_scene(c: &Camera, scene_radius: f64) -> Self {
+        Self::from_camera(c, (scene_radius * NEAR_FRACTION).max(1e-6))
+    }
 }
 
 impl FrameUniforms {
-    /// Uniforms for `scene`, whose geometry lies within `scene_radius` of the eye.
-    pub fn new(scene: &Scene, scene_radius: f64) -> Self {
-        let m = view_proj(scene, scene_radius);
-        let l = &scene.light;
-        let lc = (l.center - scene.camera.eye).as_vec3();
+    /// Uniforms for `camera` and `light`.
+    pub fn new(camera: &FrameCamera, light: &RectLight) -> Self {
+        let l = light;
+        let lc = (l.center - camera.eye).as_vec3();
         let n = l.normal.as_vec3();
         let (t, b, h) = (
             l.tangent.as_vec3(),
@@ -72,15 +169,10 @@ impl FrameUniforms {
         FrameUniforms {
             light_tangent: [t.x, t.y, t.z, h.x],
             light_bitangent: [b.x, b.y, b.z, h.y],
-            view_proj: m.to_cols_array_2d(),
+            view_proj: camera.view_proj.as_mat4().to_cols_array_2d(),
             light_center: [lc.x, lc.y, lc.z, 0.0],
             light_normal: [n.x, n.y, n.z, 0.0],
-            size: [
-                scene.camera.width as f32,
-                scene.camera.height as f32,
-                0.0,
-                0.0,
-            ],
+            size: [camera.size.0 as f32, camera.size.1 as f32, 0.0, 0.0],
         }
     }
 }
@@ -103,17 +195,40 @@ pub fn scene_radius(vertices: &[[f32; 3]]) -> f64 {
         .fold(1e-3, f64::max)
 }
 
-/// The bind group of `uniforms` in `layout` (`passes::frame_layout`); it keeps its buffer alive.
+/// The bind group of `uniforms` and of the meshes' matrices `models` (a storage buffer of
+/// [`ModelMatrix`]) in `layout` (`passes::frame_layout`); it keeps its buffers alive.
 pub fn frame_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    uniforms: &wgpu::Buffer,
+    models: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    crate::passes::bind_group(
+        device,
+        "frame",
+        layout,
+        &[uniforms.as_entire_binding(), models.as_entire_binding()],
+    )
+}
+
+/// [`frame_group`] of fresh buffers holding `uniforms` and the identity as the one model
+/// matrix: for passes whose vertices are already eye-relative.
+pub fn single_frame_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     uniforms: &FrameUniforms,
 ) -> wgpu::BindGroup {
-    let buffer = crate::passes::buffer(
+    let uniforms = crate::passes::buffer(
         device,
         "frame",
         std::slice::from_ref(uniforms),
         wgpu::BufferUsages::UNIFORM,
     );
-    crate::passes::bind_group(device, "frame", layout, &[buffer.as_entire_binding()])
+    let models = crate::passes::buffer(
+        device,
+        "models",
+        &[glam::Mat4::IDENTITY.to_cols_array_2d()],
+        wgpu::BufferUsages::STORAGE,
+    );
+    frame_group(device, layout, &uniforms, &models)
 }

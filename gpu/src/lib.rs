@@ -10,8 +10,11 @@
 pub mod constants;
 pub mod context;
 pub mod frame;
+pub mod gpu_scene;
 pub mod passes;
 pub mod readback;
+mod record;
+mod render_once;
 pub mod renderer;
 pub mod scene_data;
 pub mod shadow_inputs;
@@ -19,6 +22,9 @@ pub mod shadow_maps;
 pub mod timing;
 
 pub use context::{GpuContext, GpuError};
+pub use frame::{CameraError, FrameCamera};
+pub use gpu_scene::{FrameInputs, GpuScene, Uploads};
+pub use passes::depth::GBuffer;
 pub use penumbra_volumes as volumes;
 pub use renderer::{GpuRenderer, PassTimes};
 pub use shadow_maps::ShadowMapRenderer;

@@ -2,13 +2,13 @@
 //! the solids that bound them, the receivers' clusters and screen tiles that group the
 //! occluders, and the vertex data of the triangles and the shadow volumes.
 
-use glam::{DMat4, DVec2, DVec3, Vec4};
-use penumbra_geom::{RectLight, Scene};
+use glam::{DVec2, DVec3, Vec4};
+use penumbra_geom::RectLight;
 use penumbra_volumes::Volumes;
 use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_frustum};
 use penumbra_volumes::shadow_volume::VolumeVertex;
 
-use crate::frame::eye_relative;
+use crate::frame::FrameCamera;
 use crate::passes::blend::TileMask;
 use crate::passes::wedge::WedgeInstance;
 
@@ -117,23 +117,22 @@ impl ReceiverClusters {
     }
 }
 
-/// The screen tiles of `scene`'s camera that hold every pixel whose receiver lies in the
-/// light-space solid `solid`: those of the projections of the receiver `clusters`
+/// The screen tiles of `camera` that hold every pixel whose receiver lies in the light-space
+/// solid `solid` of `light`: those of the projections of the receiver `clusters`
 /// ([`ReceiverClusters`]; a receiver point in the solid lies in one of them) cut to the solid
 /// (to its bounding box, then each to the solid's rectangles at the cluster's depths), none when
-/// none meets it, and every tile when a corner to project is not in front of the camera.
-/// `view_proj` is the frame's eye-relative view-projection ([`crate::frame::view_proj_f64`]). Only receivers
-/// deeper than `deeper_than` (light space) count: clusters no deeper are skipped.
+/// none meets it, and every tile when a corner to project is not in front of the camera. Only
+/// receivers deeper than `deeper_than` (light space) count: clusters no deeper are skipped.
 pub fn screen_tiles(
-    scene: &Scene,
-    view_proj: &DMat4,
+    camera: &FrameCamera,
+    light: &RectLight,
     clusters: &ReceiverClusters,
     solid: &WedgeFrustum,
     deeper_than: f64,
 ) -> TileMask {
     let (lo, hi) = solid.bounds();
-    let c = &scene.camera;
-    let (w, h) = (c.width, c.height);
+    let (w, h) = camera.size;
+    let view_proj = &camera.view_proj;
     let mut mask = TileMask::new(w, h);
     for (lo, hi) in clusters.within(lo, hi) {
         if hi.z <= deeper_than {
@@ -156,7 +155,7 @@ pub fn screen_tiles(
                 if i & 2 == 0 { lo.y } else { hi.y },
                 if i & 4 == 0 { lo.z } else { hi.z },
             );
-            let v = scene.light.from_light_space(l) - c.eye;
+            let v = light.from_light_space(l) - camera.eye;
             let clip = *view_proj * v.extend(1.0);
             if !(clip.w > 1e-9 * v.length()) {
                 mask.fill();
@@ -217,7 +216,7 @@ pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
 
 /// Each occluder's screen tiles ([`screen_tiles`]): where the receivers in the merged solid of
 /// its wedges `instances[ranges[o]]` ([`wedge_instances`], [`merged_solid`]) project, counting
-/// only receivers deeper than its nearest silhouette edge in `volumes`.
+/// only receivers deeper than its nearest silhouette edge (`nearest[o]`, [`nearest_edges`]).
 ///
 /// Its hard shadow lies in that solid too: the solid is convex and holds the shadow volume's
 /// sides (each in its edge's wedge), hence every cross-section of the volume between them. A
@@ -225,62 +224,69 @@ pub fn merged_solid(instances: &[WedgeInstance]) -> Option<WedgeFrustum> {
 /// shadow only if a light-facing part of it lies between the receiver and the light's centre,
 /// beyond that part's bounding silhouette. Receivers at the nearest edge's depth are thus left
 /// out, which drops an occluder that can shadow nothing: a ground plane facing the light, whose
-/// only silhouette is its own border at its own depth. `world`: the scene's triangles;
-/// `view_proj`: as for [`screen_tiles`].
+/// only silhouette is its own border at its own depth.
 pub fn occluder_tiles(
-    scene: &Scene,
-    view_proj: &DMat4,
-    world: &[[DVec3; 3]],
-    volumes: &Volumes,
+    camera: &FrameCamera,
+    light: &RectLight,
+    clusters: &ReceiverClusters,
+    nearest: &[f64],
     instances: &[WedgeInstance],
     ranges: &[std::ops::Range<u32>],
 ) -> Vec<TileMask> {
-    let clusters = ReceiverClusters::new(&scene.light, world);
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let mut nearest = vec![f64::INFINITY; ranges.len()];
-    for wedge in &volumes.wedges {
-        let z = &mut nearest[wedge.occluder as usize];
-        *z = z.min(wedge.from.z).min(wedge.to.z);
-    }
+    let (w, h) = camera.size;
     ranges
         .iter()
-        .zip(&nearest)
+        .zip(nearest)
         .map(
             |(r, &z)| match merged_solid(&instances[r.start as usize..r.end as usize]) {
-                Some(solid) => screen_tiles(scene, view_proj, &clusters, &solid, z),
+                Some(solid) => screen_tiles(camera, light, clusters, &solid, z),
                 None => TileMask::new(w, h),
             },
         )
         .collect()
 }
 
-/// Scene triangles (eye-relative), volume triangles (homogeneous) and each occluder's range of
-/// the latter.
-pub type VertexData = (Vec<[f32; 3]>, Vec<[f32; 4]>, Vec<std::ops::Range<u32>>);
+/// Each occluder's nearest silhouette edge's light-space depth in `volumes` (infinite for an
+/// occluder without one), for [`occluder_tiles`].
+pub fn nearest_edges(volumes: &Volumes) -> Vec<f64> {
+    let mut nearest = vec![f64::INFINITY; volumes.occluders.len()];
+    for wedge in &volumes.wedges {
+        let z = &mut nearest[wedge.occluder as usize];
+        *z = z.min(wedge.from.z).min(wedge.to.z);
+    }
+    nearest
+}
 
-/// Eye-relative vertices of every scene triangle, and of every shadow-volume triangle in
-/// homogeneous coordinates (`w = 0` at infinity), with each occluder's range of the latter.
-pub fn vertex_data(scene: &Scene, triangles: &[[DVec3; 3]], volumes: &Volumes) -> VertexData {
-    let eye = scene.camera.eye;
-    let c = scene.light.center;
-    let tris = eye_relative(eye, triangles);
+/// Every shadow-volume triangle's vertices in homogeneous coordinates, with each occluder's
+/// range of them: a mesh vertex as `stored[o][i]` (mesh `o`'s vertex `i` as its vertex buffer
+/// holds it, placed by the mesh's model matrix) with `w = 1`, a vertex at infinity as its
+/// direction from the light's centre with `w = 0`.
+pub fn volume_vertices(
+    volumes: &Volumes,
+    stored: &[&[[f32; 3]]],
+) -> (Vec<[f32; 4]>, Vec<std::ops::Range<u32>>) {
+    let c = volumes.light.center;
     let mut vol = Vec::new();
     let mut ranges = Vec::with_capacity(volumes.occluders.len());
-    for o in &volumes.occluders {
+    for (o, stored) in volumes.occluders.iter().zip(stored) {
         let start = vol.len() as u32;
         let p = &o.volume.positions;
         for (t, _) in &o.volume.triangles {
             for v in t {
-                let h = match *v {
-                    VolumeVertex::Finite(i) => (p[i as usize] - eye).as_vec3().extend(1.0),
-                    VolumeVertex::Infinite(i) => (p[i as usize] - c).as_vec3().extend(0.0),
-                };
-                vol.push(Vec4::to_array(&h));
+                vol.push(match *v {
+                    VolumeVertex::Finite(i) => {
+                        let [x, y, z] = stored[i as usize];
+                        [x, y, z, 1.0]
+                    }
+                    VolumeVertex::Infinite(i) => {
+                        Vec4::to_array(&(p[i as usize] - c).as_vec3().extend(0.0))
+                    }
+                });
             }
         }
         ranges.push(start..vol.len() as u32);
     }
-    (tris, vol, ranges)
+    (vol, ranges)
 }
 
 #[cfg(test)]

@@ -13,14 +13,14 @@ use wgpu::util::DeviceExt;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 use crate::context::{GpuContext, GpuError};
-use crate::frame::{FrameUniforms, eye_relative, frame_group, scene_radius};
+use crate::frame::{FrameCamera, FrameUniforms, eye_relative, scene_radius, single_frame_group};
 use crate::passes::fullscreen::{
     FullscreenPass, INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT, LightMapPass,
     shadow_layout, shadow_shader,
 };
 use crate::passes::{
     VISIBILITY_FORMAT, bind_group, buffer,
-    depth::{DepthPass, ScreenTargets},
+    depth::{DepthPass, GBuffer, MeshDraws, visibility_target},
     frame_layout, texture, texture_descriptor, view,
 };
 use crate::readback::read_r32f;
@@ -164,12 +164,12 @@ impl ShadowMapRenderer {
         let eye = scene.camera.eye;
         let tris = eye_relative(eye, &world);
         let radius = scene_radius(&tris);
-        let frame = frame_group(
+        let frame = single_frame_group(
             device,
             &self.frame_layout,
             &FrameUniforms {
                 size: [w as f32, h as f32, 3.0 * closed as f32, 0.0],
-                ..FrameUniforms::new(scene, radius)
+                ..FrameUniforms::new(&FrameCamera::for_scene(&scene.camera, radius), &scene.light)
             },
         );
         // Nothing in front of the light: a frustum that no receiver falls in (every receiver is
@@ -199,8 +199,9 @@ impl ShadowMapRenderer {
         let screen = (w, h);
         let res = params.shadow_map.resolution;
         let map_size = (res, res);
-        let targets = ScreenTargets::new(device, w, h);
-        let (position_view, normal_view) = (&targets.position, &targets.normal);
+        let targets = GBuffer::new(device, screen);
+        let visibility = visibility_target(device, screen);
+        let (position_view, normal_view) = (&targets.position_view, &targets.normal_view);
         let dummy_view = view(&texture(
             device,
             "unused",
@@ -239,11 +240,11 @@ impl ShadowMapRenderer {
         self.depth.record(
             &mut enc,
             &frame,
-            &tri_buf,
-            tris.len() as u32,
-            position_view,
-            normal_view,
-            &targets.depth_view,
+            MeshDraws {
+                vertices: &tri_buf,
+                ranges: std::slice::from_ref(&(0..tris.len() as u32)),
+            },
+            &targets,
             stamp(Kind::Depth),
         );
         let base_group = inputs(&base_buf, &[]);
@@ -256,15 +257,12 @@ impl ShadowMapRenderer {
         let caster_buf = vbuf("light map triangles", &casters);
         self.light.record(
             &mut enc,
-            &frame,
-            &base_group,
-            &caster_buf,
-            casters.len() as u32,
-            &map_view,
-            &light_depth_view,
+            (&frame, &base_group),
+            (&caster_buf, casters.len() as u32),
+            (&map_view, &light_depth_view),
             stamp(Kind::LightMap),
         );
-        let vis_view = &targets.visibility_view;
+        let vis_view = &view(&visibility);
         let rgba = wgpu::TextureFormat::Rgba32Float;
         let mut keep: Vec<wgpu::Buffer> = Vec::new();
         match self.technique {
@@ -415,7 +413,7 @@ impl ShadowMapRenderer {
             _ => unreachable!("a shadow-map technique, checked in new"),
         }
 
-        let frame = read_frame(&self.ctx, enc, &timer, &targets.visibility);
+        let frame = read_frame(&self.ctx, enc, &timer, &visibility);
         drop(keep);
         frame
     }
@@ -456,7 +454,7 @@ impl ShadowMapRenderer {
             wgpu::BufferUsages::UNIFORM,
         );
         // The frame is unused by the probes but part of the layout.
-        let frame = frame_group(device, &self.frame_layout, &FrameUniforms::zeroed());
+        let frame = single_frame_group(device, &self.frame_layout, &FrameUniforms::zeroed());
         let group = |images: [&wgpu::TextureView; 3]| {
             let mut r = vec![
                 buf.as_entire_binding(),

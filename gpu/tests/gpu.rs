@@ -7,9 +7,9 @@ use penumbra_geom::Scene;
 use penumbra_geom::image::compare;
 use penumbra_geom::params::{MdsmExtra, fractional_disk_samples};
 use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_gpu::frame::{scene_radius, view_proj_f64};
+use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
 use penumbra_gpu::passes::fullscreen;
-use penumbra_gpu::renderer::{occluder_tiles, vertex_data, wedge_instances};
+use penumbra_gpu::renderer::{ReceiverClusters, nearest_edges, occluder_tiles, wedge_instances};
 use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
 use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
@@ -100,7 +100,7 @@ fn every_wgsl_file_validates_with_naga() {
 #[test]
 fn gpu_hard_matches_the_hard_reference() {
     let Some(ctx) = context() else { return };
-    let r = GpuRenderer::new(&ctx);
+    let r = GpuRenderer::with_context(&ctx);
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
         let img = r.render(&scene, &volumes, Technique::Hard).unwrap();
@@ -137,7 +137,7 @@ fn gpu_wedges_blend_matches_the_cpu_oracle() {
 
 fn gpu_matches_cpu(t: Technique) {
     let Some(ctx) = context() else { return };
-    let r = GpuRenderer::new(&ctx);
+    let r = GpuRenderer::with_context(&ctx);
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
         let gpu = r.render(&scene, &volumes, t).unwrap();
@@ -164,14 +164,14 @@ fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
     for (name, scene) in fixtures() {
         let cpu = CpuRenderer::new(&scene);
         let world = scene.triangles();
-        let (tris, _, _) = vertex_data(&scene, &world, &cpu.volumes);
-        let view_proj = view_proj_f64(&scene, scene_radius(&tris));
+        let radius = scene_radius(&eye_relative(scene.camera.eye, &world));
+        let camera = FrameCamera::for_scene(&scene.camera, radius);
         let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
         let masks = occluder_tiles(
-            &scene,
-            &view_proj,
-            &world,
-            &cpu.volumes,
+            &camera,
+            &scene.light,
+            &ReceiverClusters::new(&scene.light, &world),
+            &nearest_edges(&cpu.volumes),
             &instances,
             &ranges,
         );

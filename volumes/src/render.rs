@@ -28,7 +28,9 @@
 
 use glam::{DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, SurfacePoint, Technique, Tracer};
+use penumbra_geom::{
+    HalfEdgeMesh, RectLight, Scene, SurfacePoint, Technique, Tracer, TriangleMesh,
+};
 use rayon::prelude::*;
 
 use crate::blend::{Part, VBuffer};
@@ -65,23 +67,31 @@ pub struct Volumes {
 impl Volumes {
     /// Builds every silhouette, volume and wedge of `scene`.
     pub fn build(scene: &Scene) -> Self {
-        let c = scene.light.center;
+        Self::build_meshes(scene.meshes.iter().map(|m| &m.mesh), &scene.light)
+    }
+
+    /// Builds every silhouette, volume and wedge of the world-space `meshes` lit by `light`.
+    pub fn build_meshes<'a>(
+        meshes: impl IntoIterator<Item = &'a TriangleMesh>,
+        light: &RectLight,
+    ) -> Self {
+        let scene_light = light;
+        let c = light.center;
         let mut first = 0u32;
         let mut wedges = Vec::new();
-        let occluders: Vec<Occluder> = scene
-            .meshes
-            .iter()
+        let occluders: Vec<Occluder> = meshes
+            .into_iter()
             .enumerate()
             .map(|(oi, m)| {
-                let mesh = HalfEdgeMesh::build(&m.mesh);
+                let mesh = HalfEdgeMesh::build(m);
                 let silhouette = Silhouette::build(&mesh, c);
                 let volume = ShadowVolume::build(&mesh, &silhouette, c);
                 for (li, lp) in silhouette.loops.iter().enumerate() {
                     for &ei in lp {
                         let e = silhouette.edges[ei as usize];
                         wedges.push(Wedge {
-                            from: scene.light.to_light_space(mesh.positions[e.from as usize]),
-                            to: scene.light.to_light_space(mesh.positions[e.to as usize]),
+                            from: scene_light.to_light_space(mesh.positions[e.from as usize]),
+                            to: scene_light.to_light_space(mesh.positions[e.to as usize]),
                             multiplicity: e.multiplicity,
                             occluder: oi as u32,
                             silhouette_loop: li as u32,
@@ -94,12 +104,12 @@ impl Volumes {
                     volume,
                     first_triangle: first,
                 };
-                first += m.mesh.triangles.len() as u32;
+                first += m.triangles.len() as u32;
                 o
             })
             .collect();
         Volumes {
-            light: scene.light,
+            light: *light,
             occluders,
             wedges,
         }

@@ -253,15 +253,12 @@ impl BlendPass {
     /// Blends the silhouette buffer into the final one over `count` tiles of the list in
     /// `tiles`, from the [`TileRange`] at `offset` in it (`inputs`: the silhouette buffer, its
     /// stencil counts, the final buffer). The tiles must be distinct.
-    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
         inputs: &wgpu::BindGroup,
-        tiles: &wgpu::BindGroup,
-        offset: u32,
-        count: u32,
+        (tiles, offset, count): (&wgpu::BindGroup, u32, u32),
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

@@ -29,27 +29,23 @@ impl DepthPass {
     }
 
     /// Clears depth to 0 (infinitely far), the stencil to 0 and positions and normals to "no
-    /// hit", then draws `vertex_count` vertices of `vertices` (eye-relative triangles).
-    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    /// hit", then draws `meshes` into `targets`.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::BindGroup,
-        vertices: &wgpu::Buffer,
-        vertex_count: u32,
-        position: &wgpu::TextureView,
-        normal: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
+        meshes: MeshDraws<'_>,
+        targets: &GBuffer,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("depth"),
             color_attachments: &[
-                super::cleared(position, wgpu::Color::TRANSPARENT),
-                super::cleared(normal, wgpu::Color::TRANSPARENT),
+                super::cleared(&targets.position_view, wgpu::Color::TRANSPARENT),
+                super::cleared(&targets.normal_view, wgpu::Color::TRANSPARENT),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
+                view: &targets.depth_view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(0.0),
                     store: wgpu::StoreOp::Store,
@@ -65,50 +61,95 @@ impl DepthPass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
-        pass.set_vertex_buffer(0, vertices.slice(..));
-        pass.draw(0..vertex_count, 0..1);
+        pass.set_vertex_buffer(0, meshes.vertices.slice(..));
+        for (mesh, range) in meshes.ranges.iter().enumerate() {
+            if !range.is_empty() {
+                pass.draw(range.clone(), mesh as u32..mesh as u32 + 1);
+            }
+        }
     }
 }
 
-/// The camera-resolution targets every technique shares: the depth pre-pass's depth-stencil,
-/// positions and normals (all sampled by later passes) and the `R32Float` visibility that is read
-/// back.
-pub struct ScreenTargets {
-    /// Depth and stencil (`DEPTH_FORMAT`).
+/// The meshes the depth pre-pass draws: stored vertices (`Float32x3`, three per triangle, placed
+/// by the frame's model matrices) and each mesh's range of them; mesh `i` is drawn as instance
+/// `i`, so that its vertices take matrix `i`. The first `FrameUniforms::size[2]` vertices are
+/// flagged as closed meshes' (the shadow-map techniques' receiver normals).
+#[derive(Clone, Copy)]
+pub struct MeshDraws<'a> {
+    /// The vertices.
+    pub vertices: &'a wgpu::Buffer,
+    /// Each mesh's range of `vertices`.
+    pub ranges: &'a [std::ops::Range<u32>],
+}
+
+/// What the passes read of the camera's view of the scene, one texel per pixel, as the depth
+/// pre-pass writes it ([`DepthPass::record`]). An application that renders these itself must
+/// match the formats, usages and conventions below.
+///
+/// - `depth`: [`DEPTH_FORMAT`] (`Depth32FloatStencil8`), usage `RENDER_ATTACHMENT |
+///   TEXTURE_BINDING`; reversed depth from the frame's eye-relative view-projection (1 at the
+///   near plane, 0 at infinity and where nothing was hit). The passes use its stencil as
+///   scratch.
+/// - `position`: [`POSITION_FORMAT`] (`Rgba32Float`), usage `RENDER_ATTACHMENT |
+///   TEXTURE_BINDING`; the surface point minus the eye (world axes), `w = 1` where a surface
+///   was hit and 0 elsewhere.
+/// - `normal`: [`NORMAL_FORMAT`] (`Rgba16Float`), same usage; the surface's normal facing the
+///   eye, read by the shadow-map techniques only.
+pub struct GBuffer {
+    /// Depth and stencil.
     pub depth: wgpu::Texture,
     /// View of all of `depth`.
     pub depth_view: wgpu::TextureView,
-    /// Eye-relative positions (`POSITION_FORMAT`).
-    pub position: wgpu::TextureView,
-    /// Normals (`NORMAL_FORMAT`).
-    pub normal: wgpu::TextureView,
-    /// V (`VISIBILITY_FORMAT`), copyable.
-    pub visibility: wgpu::Texture,
-    /// View of `visibility`.
-    pub visibility_view: wgpu::TextureView,
+    /// View of the stencil of `depth` (read by the blend).
+    pub stencil_view: wgpu::TextureView,
+    /// Eye-relative positions.
+    pub position: wgpu::Texture,
+    /// View of `position`.
+    pub position_view: wgpu::TextureView,
+    /// Normals.
+    pub normal: wgpu::Texture,
+    /// View of `normal`.
+    pub normal_view: wgpu::TextureView,
 }
 
-impl ScreenTargets {
+impl GBuffer {
     /// Targets of `width x height` pixels.
-    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
-        let att = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let sampled = att | wgpu::TextureUsages::TEXTURE_BINDING;
-        let make =
-            |label, format, usage| super::texture(device, label, (width, height), format, usage);
-        let view = super::view;
-        let depth = make("depth", DEPTH_FORMAT, sampled);
-        let visibility = make(
-            "visibility",
-            VISIBILITY_FORMAT,
-            att | wgpu::TextureUsages::COPY_SRC,
-        );
-        ScreenTargets {
-            depth_view: view(&depth),
-            position: view(&make("position", POSITION_FORMAT, sampled)),
-            normal: view(&make("normal", NORMAL_FORMAT, sampled)),
-            visibility_view: view(&visibility),
+    pub fn new(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
+        let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let make = |label, format| super::texture(device, label, (width, height), format, sampled);
+        let depth = make("depth", DEPTH_FORMAT);
+        let position = make("position", POSITION_FORMAT);
+        let normal = make("normal", NORMAL_FORMAT);
+        GBuffer {
+            depth_view: super::view(&depth),
+            stencil_view: depth.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("stencil counts"),
+                format: Some(wgpu::TextureFormat::Stencil8),
+                aspect: wgpu::TextureAspect::StencilOnly,
+                ..Default::default()
+            }),
+            position_view: super::view(&position),
+            normal_view: super::view(&normal),
             depth,
-            visibility,
+            position,
+            normal,
         }
     }
+
+    /// Width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.depth.width(), self.depth.height())
+    }
+}
+
+/// An `R32Float` visibility target of `size` pixels that the passes can write and that can be
+/// read back (`RENDER_ATTACHMENT | COPY_SRC`).
+pub fn visibility_target(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Texture {
+    super::texture(
+        device,
+        "visibility",
+        size,
+        VISIBILITY_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+    )
 }

@@ -140,18 +140,14 @@ impl LightMapPass {
         LightMapPass { pipeline }
     }
 
-    /// Clears the map to BIG (no surface) and the depth to 0, then draws `vertex_count` vertices
-    /// of `vertices` (eye-relative triangles).
-    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    /// Clears the `map` to BIG (no surface) and its `depth` to 0, then draws the first
+    /// `vertex_count` vertices of `vertices` (eye-relative triangles).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &wgpu::BindGroup,
-        inputs: &wgpu::BindGroup,
-        vertices: &wgpu::Buffer,
-        vertex_count: u32,
-        map: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
+        (frame, inputs): (&wgpu::BindGroup, &wgpu::BindGroup),
+        (vertices, vertex_count): (&wgpu::Buffer, u32),
+        (map, depth): (&wgpu::TextureView, &wgpu::TextureView),
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let big = wgpu::Color {

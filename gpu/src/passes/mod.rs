@@ -39,21 +39,47 @@ pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Format of the visibility target.
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-/// Bind group layout of the frame uniforms (binding 0), visible to every stage.
+/// Bind group layout of the frame: the uniforms (binding 0, every stage) and the meshes'
+/// model matrices (binding 1, vertex stage; `frame::ModelMatrix`, one per mesh, indexed by
+/// the instance index of the depth and stencil passes' draws).
 pub fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("frame"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::all(),
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::all(),
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
             },
-            count: None,
-        }],
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+        ],
     })
+}
+
+/// What the passes after the depth pre-pass bind of one frame.
+#[derive(Clone, Copy)]
+pub struct FrameBindings<'a> {
+    /// The frame's group 0 ([`frame_layout`]).
+    pub frame: &'a wgpu::BindGroup,
+    /// The depth pre-pass's depth-stencil target ([`DEPTH_FORMAT`]), attached.
+    pub depth: &'a wgpu::TextureView,
+    /// Its positions ([`POSITION_FORMAT`]) as a group of one texture
+    /// (`resolve::ResolvePass::texture_layout`).
+    pub position: &'a wgpu::BindGroup,
 }
 
 /// Depth-stencil state of a full-screen pass that only tests the stencil against its reference

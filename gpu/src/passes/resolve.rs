@@ -1,6 +1,6 @@
 //! Resolve of the hard shadow into V: drives `shaders/resolve.wgsl`.
 
-use super::VISIBILITY_FORMAT;
+use super::{FrameBindings, VISIBILITY_FORMAT};
 
 /// Stencil counts resolved one by one by the additive-wedges resolve; larger counts share the
 /// last draw (4 n already exceeds any wedge area that could be subtracted in practice).
@@ -119,27 +119,20 @@ impl ResolvePass {
         }
     }
 
-    /// Writes V into `visibility`: the hard shadow when `occlusion` is `None`, else
-    /// `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count (additive wedges: a group
-    /// of [`ResolvePass::texture_layout`]) or `n = 0` when `blended` (the final buffer of the
-    /// blending, hard shadows included: a group of [`ResolvePass::final_layout`]).
-    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    /// Writes V into `visibility` from `input`.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &wgpu::BindGroup,
-        position: &wgpu::BindGroup,
-        occlusion: Option<&wgpu::BindGroup>,
-        blended: bool,
+        frame: FrameBindings<'_>,
+        input: ResolveInput<'_>,
         visibility: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("resolve"),
             color_attachments: &[super::cleared(visibility, wgpu::Color::WHITE)],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
+                view: frame.depth,
                 depth_ops: None,
                 stencil_ops: None,
             }),
@@ -147,22 +140,22 @@ impl ResolvePass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, position, &[]);
-        match occlusion {
-            None => {
+        pass.set_bind_group(0, frame.frame, &[]);
+        pass.set_bind_group(1, frame.position, &[]);
+        match input {
+            ResolveInput::Hard => {
                 for p in [&self.unshadowed, &self.shadowed] {
                     pass.set_pipeline(p);
                     pass.set_stencil_reference(0);
                     pass.draw(0..3, 0..1);
                 }
             }
-            Some(o) if blended => {
+            ResolveInput::Blended(o) => {
                 pass.set_bind_group(2, o, &[]);
                 pass.set_pipeline(&self.blended);
                 pass.draw(0..3, 0..1);
             }
-            Some(o) => {
+            ResolveInput::Additive(o) => {
                 pass.set_bind_group(2, o, &[]);
                 for n in 0..=MAX_COUNT {
                     pass.set_pipeline(if n < MAX_COUNT {
@@ -177,4 +170,17 @@ impl ResolvePass {
             }
         }
     }
+}
+
+/// What the resolve turns into V.
+#[derive(Clone, Copy)]
+pub enum ResolveInput<'a> {
+    /// The hard shadow: lit where the stencil count is 0.
+    Hard,
+    /// Additive wedges: `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count and the
+    /// parts' occlusion from a group of [`ResolvePass::texture_layout`].
+    Additive(&'a wgpu::BindGroup),
+    /// The final buffer of the blending, hard shadows included (`n = 0`): a group of
+    /// [`ResolvePass::final_layout`].
+    Blended(&'a wgpu::BindGroup),
 }

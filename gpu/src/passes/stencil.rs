@@ -9,7 +9,7 @@
 //! cap facing the camera is behind the receiver (fails a strict `Greater`) and a cap facing away
 //! is in front of it (passes `GreaterEqual`).
 
-use super::DEPTH_FORMAT;
+use super::{DEPTH_FORMAT, FrameBindings};
 
 /// The stencil pass pipelines.
 pub struct StencilPass {
@@ -103,35 +103,30 @@ impl StencilPass {
         }
     }
 
-    /// Counts the volume triangles `ranges` of `vertices` (homogeneous, eye-relative) into the
-    /// stencil of `depth`, keeping the depth from the pre-pass; `clear` zeroes the stencil first
-    /// (per-silhouette counts).
-    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    /// Counts the volume triangles `ranges` of `vertices` into the stencil of `frame.depth`,
+    /// keeping the depth from the pre-pass, after zeroing the stencil. Vertices are homogeneous:
+    /// `w = 1`, a mesh's stored vertex, placed by the model matrix of the mesh whose index is
+    /// its range's (`ranges[i]` is mesh `i`'s volume); `w = 0`, a direction from the light's
+    /// centre.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &wgpu::BindGroup,
+        frame: FrameBindings<'_>,
         vertices: &wgpu::Buffer,
-        ranges: &[std::ops::Range<u32>],
-        clear: bool,
-        depth: &wgpu::TextureView,
+        ranges: &[(u32, std::ops::Range<u32>)],
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("stencil"),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
+                view: frame.depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: Some(wgpu::Operations {
-                    load: if clear {
-                        wgpu::LoadOp::Clear(0)
-                    } else {
-                        wgpu::LoadOp::Load
-                    },
+                    load: wgpu::LoadOp::Clear(0),
                     store: wgpu::StoreOp::Store,
                 }),
             }),
@@ -139,12 +134,12 @@ impl StencilPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_bind_group(0, frame, &[]);
+        pass.set_bind_group(0, frame.frame, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         for p in [&self.back, &self.front] {
             pass.set_pipeline(p);
-            for range in ranges.iter().filter(|r| !r.is_empty()) {
-                pass.draw(range.clone(), 0..1);
+            for (mesh, range) in ranges.iter().filter(|(_, r)| !r.is_empty()) {
+                pass.draw(range.clone(), *mesh..*mesh + 1);
             }
         }
     }

@@ -3,6 +3,7 @@
 use bytemuck::{Pod, Zeroable};
 use penumbra_volumes::render::WedgeFrustum;
 
+use super::FrameBindings;
 use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 
 /// Format of the per-radial-part occlusion target (one channel per part).
@@ -70,13 +71,33 @@ pub struct WedgePass {
     pub stencil_layout: wgpu::BindGroupLayout,
 }
 
-/// Which wedge pass output to write.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WedgeOutput {
-    /// Signed area per part, added (`wedges`): one target, no depth-stencil attachment.
-    Additive,
-    /// A silhouette buffer ([`SILHOUETTE_FORMATS`]), reading the silhouette's stencil counts (group 2).
-    Silhouette,
+/// Which wedge pass output to write, and where.
+#[derive(Clone, Copy)]
+pub enum WedgeOutput<'a> {
+    /// Signed area per part, added (`wedges`) into one [`OCCLUSION_FORMAT`] target, cleared
+    /// first.
+    Additive(&'a wgpu::TextureView),
+    /// A silhouette buffer ([`SILHOUETTE_FORMATS`]), each target cleared to its colour first,
+    /// reading the silhouette's stencil counts from `stencil` (group 2, a bind group of
+    /// [`WedgePass::stencil_layout`]).
+    Silhouette {
+        /// The targets and their clear colours.
+        targets: &'a [(&'a wgpu::TextureView, wgpu::Color)],
+        /// The stencil counts.
+        stencil: &'a wgpu::BindGroup,
+    },
+}
+
+/// The wedges a wedge pass draws: the unit cube ([`unit_cube`]) instanced over ranges of a
+/// buffer of [`WedgeInstance`]s.
+#[derive(Clone, Copy)]
+pub struct WedgeDraws<'a> {
+    /// The unit cube's vertices.
+    pub cube: &'a wgpu::Buffer,
+    /// The instances.
+    pub wedges: &'a wgpu::Buffer,
+    /// The ranges of `wedges` to draw.
+    pub ranges: &'a [std::ops::Range<u32>],
 }
 
 impl WedgePass {
@@ -200,37 +221,30 @@ impl WedgePass {
         }
     }
 
-    /// Clears `targets` to `clear` and accumulates the wedges `instances` (ranges of the
-    /// instance buffer `wedges`) into them, writing `output`; `stencil` (a bind group of
-    /// [`WedgePass::stencil_layout`]) is needed for [`WedgeOutput::Silhouette`]. `depth` (the
-    /// depth pre-pass's target, attached read only) rejects fragments whose receiver lies beyond
-    /// the wedge's solid.
-    #[allow(clippy::too_many_arguments)] // One argument per resource the pass touches.
+    /// Accumulates the wedges `draws` into `output`. The depth-stencil target of `frame`
+    /// (attached read only) rejects fragments whose receiver lies beyond the wedge's solid.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &wgpu::BindGroup,
-        position: &wgpu::BindGroup,
-        cube: &wgpu::Buffer,
-        wedges: &wgpu::Buffer,
-        instances: &[std::ops::Range<u32>],
-        output: WedgeOutput,
-        targets: &[(&wgpu::TextureView, wgpu::Color)],
-        stencil: Option<&wgpu::BindGroup>,
-        depth: &wgpu::TextureView,
+        frame: FrameBindings<'_>,
+        draws: WedgeDraws<'_>,
+        output: WedgeOutput<'_>,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
-            .iter()
-            .map(|(view, clear)| super::cleared(view, *clear))
-            .collect();
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = match output {
+            WedgeOutput::Additive(view) => vec![super::cleared(view, wgpu::Color::TRANSPARENT)],
+            WedgeOutput::Silhouette { targets, .. } => targets
+                .iter()
+                .map(|(view, clear)| super::cleared(view, *clear))
+                .collect(),
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("wedge"),
             color_attachments: &attachments,
             // Read only: the receivers' depths for the depth test, and the stencil counts the
             // silhouette pipeline also reads as a texture.
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
+                view: frame.depth,
                 depth_ops: None,
                 stencil_ops: None,
             }),
@@ -238,18 +252,18 @@ impl WedgePass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, position, &[]);
-        pass.set_vertex_buffer(0, cube.slice(..));
-        pass.set_vertex_buffer(1, wedges.slice(..));
-        match (output, stencil) {
-            (WedgeOutput::Silhouette, Some(s)) => {
+        pass.set_bind_group(0, frame.frame, &[]);
+        pass.set_bind_group(1, frame.position, &[]);
+        pass.set_vertex_buffer(0, draws.cube.slice(..));
+        pass.set_vertex_buffer(1, draws.wedges.slice(..));
+        match output {
+            WedgeOutput::Silhouette { stencil, .. } => {
                 pass.set_pipeline(&self.silhouette);
-                pass.set_bind_group(2, s, &[]);
+                pass.set_bind_group(2, stencil, &[]);
             }
-            _ => pass.set_pipeline(&self.pipeline),
+            WedgeOutput::Additive(_) => pass.set_pipeline(&self.pipeline),
         }
-        for r in instances.iter().filter(|r| !r.is_empty()) {
+        for r in draws.ranges.iter().filter(|r| !r.is_empty()) {
             pass.draw(0..36, r.clone());
         }
     }

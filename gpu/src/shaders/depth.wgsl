@@ -15,11 +15,17 @@ struct VertexOut {
     @location(1) @interpolate(flat) closed: u32,
 }
 
+// `p`: a vertex of mesh `mesh` as stored (`eye_relative` places it).
 @vertex
-fn vs(@location(0) rel: vec3<f32>, @builtin(vertex_index) i: u32) -> VertexOut {
+fn vs(
+    @location(0) p: vec3<f32>,
+    @builtin(vertex_index) i: u32,
+    @builtin(instance_index) mesh: u32,
+) -> VertexOut {
     var out: VertexOut;
-    out.clip = frame.view_proj * vec4<f32>(rel, 1.0);
-    out.rel = rel;
+    let rel = eye_relative(mesh, p);
+    out.clip = frame.view_proj * rel;
+    out.rel = rel.xyz;
     out.closed = select(0u, 1u, f32(i) < frame.size.z);
     return out;
 }

@@ -21,6 +21,15 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
+// One matrix per mesh: its stored vertices to eye-relative world (`frame::ModelMatrix`). The
+// depth and stencil passes draw each mesh as instance `mesh` and place its vertices with
+// `eye_relative`, so that both land on exactly the same positions.
+@group(0) @binding(1) var<storage, read> models: array<mat4x4<f32>>;
+
+fn eye_relative(mesh: u32, p: vec3<f32>) -> vec4<f32> {
+    return vec4<f32>((models[mesh] * vec4<f32>(p, 1.0)).xyz, 1.0);
+}
+
 // World (eye-relative) to light space, where the light is [-1, 1]^2 at z = 0.
 fn to_light(rel: vec3<f32>) -> vec3<f32> {
     let d = rel - frame.light_center.xyz;
