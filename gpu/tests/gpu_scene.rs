@@ -1,0 +1,263 @@
+//! `GpuScene`: a scene uploaded once, recorded per frame from a camera given as matrices, with
+//! meshes and light that move. Checked against the CPU oracle of the same scene built with
+//! `Scene::with_mesh`, and by the bytes each frame writes. They need an adapter (lavapipe in
+//! CI), as `gpu.rs` does.
+
+use std::path::Path;
+
+use glam::dcamera::rh::{proj::directx, view};
+use glam::{DMat4, DQuat, DVec2, DVec3};
+use penumbra_geom::image::{VisibilityImage, compare};
+use penumbra_geom::{Camera, RectLight, Scene, Technique, TriangleMesh};
+use penumbra_gpu::passes::depth::visibility_target;
+use penumbra_gpu::passes::view as texture_view;
+use penumbra_gpu::readback::read_r32f;
+use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
+use penumbra_volumes::CpuRenderer;
+
+const SIZE: (u32, u32) = (96, 72);
+const EYE: DVec3 = DVec3::new(0.5, 5.0, 6.5);
+const TARGET: DVec3 = DVec3::new(0.0, 0.5, 0.0);
+const FOV_DEG: f64 = 45.0;
+
+fn context() -> Option<GpuContext> {
+    match GpuContext::new() {
+        Ok(c) => Some(c),
+        Err(e) if std::env::var_os("CI").is_some() => panic!("CI needs a GPU adapter: {e}"),
+        Err(e) => {
+            println!("SKIPPED (no adapter): {e}");
+            None
+        }
+    }
+}
+
+/// A ground, a sphere and a box, each in its own space, with their transforms.
+fn meshes() -> Vec<(TriangleMesh, DMat4)> {
+    let p = DVec3::new;
+    let quad = |s: f64| {
+        TriangleMesh::from_raw(
+            Path::new("ground"),
+            &[p(-s, 0.0, -s), p(-s, 0.0, s), p(s, 0.0, s), p(s, 0.0, -s)],
+            &[[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap()
+    };
+    let c = [
+        p(-0.5, -0.5, -0.5),
+        p(0.5, -0.5, -0.5),
+        p(0.5, 0.5, -0.5),
+        p(-0.5, 0.5, -0.5),
+        p(-0.5, -0.5, 0.5),
+        p(0.5, -0.5, 0.5),
+        p(0.5, 0.5, 0.5),
+        p(-0.5, 0.5, 0.5),
+    ];
+    let faces = [
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 3, 7],
+        [2, 7, 6],
+        [1, 2, 6],
+        [1, 6, 5],
+        [0, 4, 7],
+        [0, 7, 3],
+    ];
+    let cube = TriangleMesh::from_raw(Path::new("cube"), &c, &faces).unwrap();
+    vec![
+        (quad(6.0), DMat4::IDENTITY),
+        (
+            TriangleMesh::uv_sphere(12, 16),
+            DMat4::from_scale_rotation_translation(
+                DVec3::splat(0.7),
+                DQuat::IDENTITY,
+                p(-0.8, 1.2, 0.0),
+            ),
+        ),
+        (cube, box_transform(0.3)),
+    ]
+}
+
+fn box_transform(angle: f64) -> DMat4 {
+    DMat4::from_rotation_translation(DQuat::from_rotation_y(angle), DVec3::new(1.1, 0.9, 0.4))
+}
+
+fn light(x: f64) -> RectLight {
+    RectLight::new(
+        DVec3::new(x, 6.0, 0.5),
+        DVec3::NEG_Y,
+        DVec3::X,
+        DVec2::splat(2.5),
+    )
+}
+
+/// The same scene for the CPU oracle, with `transforms` and `light`.
+fn cpu_scene(meshes: &[(TriangleMesh, DMat4)], transforms: &[DMat4], light: RectLight) -> Scene {
+    let camera = Camera::look_at(EYE, TARGET, DVec3::Y, FOV_DEG, SIZE.0, SIZE.1).unwrap();
+    meshes
+        .iter()
+        .zip(transforms)
+        .enumerate()
+        .fold(Scene::new(camera, light), |s, (i, ((m, _), t))| {
+            s.with_mesh(&format!("mesh{i}"), m, *t)
+        })
+}
+
+fn camera() -> FrameCamera {
+    let view = view::look_at_mat4(EYE, TARGET, DVec3::Y);
+    let aspect = SIZE.0 as f64 / SIZE.1 as f64;
+    let projection = directx::perspective_infinite_reverse(FOV_DEG.to_radians(), aspect, 0.01);
+    FrameCamera::from_matrices(&view, &projection, SIZE).unwrap()
+}
+
+/// Records one frame of `scene` by `technique` and reads V back.
+fn frame(
+    ctx: &GpuContext,
+    scene: &mut GpuScene,
+    camera: &FrameCamera,
+    technique: Technique,
+) -> VisibilityImage {
+    let gbuffer = GBuffer::new(&ctx.device, camera.size);
+    let target = visibility_target(&ctx.device, camera.size);
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    scene.record_depth(&mut enc, camera, &gbuffer).unwrap();
+    let inputs = FrameInputs {
+        camera: *camera,
+        technique,
+    };
+    scene
+        .record(&mut enc, &inputs, &gbuffer, &texture_view(&target))
+        .unwrap();
+    let (w, h) = camera.size;
+    let data = read_r32f(ctx, &mut enc, &target, w, h).unwrap();
+    VisibilityImage {
+        width: w,
+        height: h,
+        data,
+    }
+}
+
+fn assert_matches_cpu(image: &VisibilityImage, scene: &Scene, technique: Technique, what: &str) {
+    let cpu = CpuRenderer::new(scene).render(scene, technique, &|_| {});
+    let c = compare(image, &cpu).unwrap();
+    println!(
+        "{what}, {technique}: MAE {:.2e}, p99 {:.2e}",
+        c.all.mae, c.all.p99
+    );
+    let shadowed = cpu.data.iter().filter(|&&v| v < 0.5).count();
+    assert!(shadowed > 100, "{what}: no shadow in view");
+    assert!(c.all.mae <= 1e-3, "{what}, {technique}: MAE {}", c.all.mae);
+    assert!(c.all.p99 <= 0.02, "{what}, {technique}: p99 {}", c.all.p99);
+}
+
+#[test]
+fn recorded_frames_match_the_cpu_oracle_as_meshes_and_light_move() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::new(&ctx.device, &ctx.queue).unwrap();
+    let meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let mut scene = GpuScene::new(&renderer, &refs, light(-1.0));
+    let camera = camera();
+    let mut transforms: Vec<DMat4> = meshes.iter().map(|m| m.1).collect();
+    for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
+        let image = frame(&ctx, &mut scene, &camera, t);
+        assert_matches_cpu(
+            &image,
+            &cpu_scene(&meshes, &transforms, light(-1.0)),
+            t,
+            "start",
+        );
+    }
+    // The box turns and the light moves: the same images as a scene built that way.
+    transforms[2] = box_transform(1.1);
+    scene.set_transform(2, transforms[2]);
+    scene.set_light(light(0.8));
+    let moved = cpu_scene(&meshes, &transforms, light(0.8));
+    for t in [Technique::Hard, Technique::WedgesBlend] {
+        let image = frame(&ctx, &mut scene, &camera, t);
+        assert_matches_cpu(&image, &moved, t, "moved");
+    }
+}
+
+#[test]
+fn only_what_changed_is_uploaded() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::with_context(&ctx);
+    let meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let mut scene = GpuScene::new(&renderer, &refs, light(-1.0));
+    let mut camera = camera();
+    let t = Technique::WedgesBlend;
+    let triangles: usize = meshes.iter().map(|m| m.0.triangles.len()).sum();
+    frame(&ctx, &mut scene, &camera, t);
+    let first = scene.take_uploads();
+    assert_eq!(first.geometry, (triangles * 3 * 12) as u64, "{first:?}");
+    assert!(first.shadows > 0 && first.frame > 0, "{first:?}");
+
+    // The same frame again: nothing but the blend's tile lists.
+    frame(&ctx, &mut scene, &camera, t);
+    let again = scene.take_uploads();
+    assert_eq!((again.geometry, again.shadows), (0, 0), "{again:?}");
+    // The camera moves: uniforms and model matrices (144 + 3 x 64 bytes), and the tiles.
+    let view = view::look_at_mat4(EYE + DVec3::X, TARGET, DVec3::Y);
+    let projection = directx::perspective_infinite_reverse(0.8, 96.0 / 72.0, 0.01);
+    camera = FrameCamera::from_matrices(&view, &projection, SIZE).unwrap();
+    frame(&ctx, &mut scene, &camera, Technique::Hard);
+    let moved = scene.take_uploads();
+    assert_eq!(moved.geometry, 0);
+    assert_eq!(moved.shadows, 0);
+    assert_eq!(moved.frame, 144 + 3 * 64, "{moved:?}");
+    // A mesh turns: its shadows again, never its vertices.
+    scene.set_transform(1, box_transform(0.5));
+    frame(&ctx, &mut scene, &camera, Technique::Hard);
+    let turned = scene.take_uploads();
+    assert_eq!(turned.geometry, 0);
+    assert!(turned.shadows > 0, "{turned:?}");
+    assert_eq!(turned.frame, 3 * 64, "{turned:?}");
+}
+
+#[test]
+fn frames_that_do_not_fit_are_refused() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::with_context(&ctx);
+    let meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let mut scene = GpuScene::new(&renderer, &refs, light(0.0));
+    let camera = camera();
+    let gbuffer = GBuffer::new(&ctx.device, SIZE);
+    let small = GBuffer::new(&ctx.device, (SIZE.0, SIZE.1 - 1));
+    let target = visibility_target(&ctx.device, SIZE);
+    let rgba = ctx
+        .device
+        .create_texture(&penumbra_gpu::passes::texture_descriptor(
+            "rgba",
+            SIZE,
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        ));
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    let err = scene.record_depth(&mut enc, &camera, &small).unwrap_err();
+    assert!(err.to_string().contains("96 x 71"), "{err}");
+    let inputs = |technique| FrameInputs { camera, technique };
+    let err = scene
+        .record(
+            &mut enc,
+            &inputs(Technique::Pcss),
+            &gbuffer,
+            &texture_view(&target),
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("pcss"), "{err}");
+    let err = scene
+        .record(
+            &mut enc,
+            &inputs(Technique::Hard),
+            &gbuffer,
+            &texture_view(&rgba),
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("R32Float"), "{err}");
+}
