@@ -71,6 +71,13 @@ pub const REQUIRED_FEATURES: [(wgpu::Features, &str); 2] = [
     (wgpu::Features::FLOAT32_BLENDABLE, "FLOAT32_BLENDABLE"),
 ];
 
+/// [`REQUIRED_FEATURES`] as one set, for `wgpu::DeviceDescriptor::required_features`.
+pub fn required_features() -> wgpu::Features {
+    REQUIRED_FEATURES
+        .iter()
+        .fold(wgpu::Features::empty(), |all, (f, _)| all | *f)
+}
+
 /// Features the passes use when the device has them: unclipped depth (the shadow volumes' far
 /// caps at infinity are otherwise clipped on devices that clip them) and timestamp queries (the
 /// pass times).

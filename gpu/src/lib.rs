@@ -28,3 +28,5 @@ pub use passes::depth::GBuffer;
 pub use penumbra_volumes as volumes;
 pub use renderer::{GpuRenderer, PassTimes};
 pub use shadow_maps::ShadowMapRenderer;
+/// The wgpu this crate is built with: an application's device must come from the same version.
+pub use wgpu;
