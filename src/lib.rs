@@ -33,5 +33,6 @@ pub use penumbra_geom as geom;
 pub use penumbra_geom::{Scene, Technique, VisibilityImage};
 pub use penumbra_gpu as gpu;
 pub use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Uploads};
+pub use penumbra_params as params;
 pub use penumbra_volumes as volumes;
 pub use render::{Backend, Frame, RenderError, RenderOptions, Renderer};

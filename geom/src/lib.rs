@@ -10,7 +10,6 @@ pub mod halfedge;
 pub mod image;
 pub mod light;
 pub mod mesh;
-pub mod params;
 pub mod raycast;
 pub mod reference;
 pub mod rng;

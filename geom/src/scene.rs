@@ -34,10 +34,7 @@ use toml::Spanned;
 use crate::camera::{Camera, CameraError};
 use crate::light::RectLight;
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::params::{
-    FractionalDiskParams, GaussianParams, MdsmParams, PcfParams, PcssParams, ShadowMapParams,
-    TechniqueParams,
-};
+use penumbra_params::TechniqueParams;
 
 /// Tolerance on the unit length and orthogonality of the light's normal and tangent.
 pub const UNIT_TOLERANCE: f64 = 1e-4;
@@ -94,12 +91,14 @@ struct SceneFile {
     light: Spanned<LightDesc>,
     #[serde(default)]
     mesh: Vec<Spanned<MeshDesc>>,
-    shadow_map: Option<Spanned<ShadowMapParams>>,
-    pcf: Option<Spanned<PcfParams>>,
-    pcss: Option<Spanned<PcssParams>>,
-    fractional_disk: Option<Spanned<FractionalDiskParams>>,
-    mdsm: Option<Spanned<MdsmParams>>,
-    gaussian: Option<Spanned<GaussianParams>>,
+    // The shadow-map techniques' tables (`penumbra_params::TABLES`; a test checks that these
+    // are the same), read key by key by `penumbra_params`.
+    shadow_map: Option<Spanned<toml::Table>>,
+    pcf: Option<Spanned<toml::Table>>,
+    pcss: Option<Spanned<toml::Table>>,
+    fractional_disk: Option<Spanned<toml::Table>>,
+    mdsm: Option<Spanned<toml::Table>>,
+    gaussian: Option<Spanned<toml::Table>>,
 }
 
 #[derive(Deserialize)]
@@ -289,28 +288,47 @@ impl Scene {
             });
         }
         let mut params = TechniqueParams::default();
-        let mut spans: Vec<(&str, std::ops::Range<usize>)> = Vec::new();
-        macro_rules! table {
-            ($field:ident) => {
-                if let Some(t) = &file.$field {
-                    params.$field = *t.get_ref();
-                    spans.push((stringify!($field), t.span()));
-                }
+        let tables = [
+            ("shadow_map", &file.shadow_map),
+            ("pcf", &file.pcf),
+            ("pcss", &file.pcss),
+            ("fractional_disk", &file.fractional_disk),
+            ("mdsm", &file.mdsm),
+            ("gaussian", &file.gaussian),
+        ];
+        // The line of `key` in table `table`, else of the table.
+        let line_span = |table: &str, key: &str| {
+            let Some((_, Some(t))) = tables.iter().find(|(n, _)| *n == table) else {
+                return 0..0;
             };
+            // The table's span may be its header alone: its keys run to the next header.
+            let span = t.span();
+            let rest = &text[span.start..];
+            let end = rest
+                .match_indices("\n[")
+                .next()
+                .map_or(rest.len(), |(i, _)| i);
+            let body = &rest[..end];
+            let at = body
+                .match_indices(key)
+                .find(|&(i, _)| {
+                    let before = body[..i].chars().next_back();
+                    let after = body[i + key.len()..].trim_start();
+                    matches!(before, None | Some('\n' | ' ' | '\t')) && after.starts_with('=')
+                })
+                .map_or(0, |(i, _)| i);
+            span.start + at..span.start + end
+        };
+        for (name, table) in &tables {
+            if let Some(t) = table {
+                params
+                    .read_table(name, t.get_ref())
+                    .map_err(|e| invalid(line_span(&e.table, &e.key), e.to_string()))?;
+            }
         }
-        table!(shadow_map);
-        table!(pcf);
-        table!(pcss);
-        table!(fractional_disk);
-        table!(mdsm);
-        table!(gaussian);
-        params.validate().map_err(|e| {
-            let span = spans
-                .iter()
-                .find(|(t, _)| *t == e.table)
-                .map_or(0..0, |(_, s)| s.clone());
-            invalid(span, e.to_string())
-        })?;
+        params
+            .validate()
+            .map_err(|e| invalid(line_span(&e.table, &e.key), e.to_string()))?;
         Ok(Scene {
             path: path.to_path_buf(),
             camera,
@@ -471,4 +489,31 @@ fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
     Ok(DMat4::from_scale_rotation_translation(
         scale, rotation, translate,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CAMERA_AND_LIGHT: &str = "[camera]\neye = [0.0, 3.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\n\
+        up = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\nwidth = 8\nheight = 6\n\n[light]\n\
+        center = [0.0, 4.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\ntangent = [1.0, 0.0, 0.0]\n\
+        size = [1.0, 1.0]\n\n";
+
+    #[test]
+    fn every_shadow_map_table_is_read_and_errors_name_the_key_line() {
+        // The documented block: every table of `penumbra_params::TABLES`, every key.
+        let text = format!("{CAMERA_AND_LIGHT}{}", penumbra_params::toml_reference());
+        let scene = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+        assert_eq!(scene.params, TechniqueParams::default());
+        let text = format!("{CAMERA_AND_LIGHT}[mdsm]\ndepths = 2\nextra = \"min\"\nkernel = 9\n");
+        let scene = Scene::from_toml(&text, Path::new("s.toml"));
+        let Err(SceneError::Invalid { line, message, .. }) = scene else {
+            panic!("{scene:?}")
+        };
+        assert_eq!(line, text.lines().count(), "{message}");
+        assert_eq!(message, "mdsm.kernel: 9 is not in 2..=5");
+        let text = format!("{CAMERA_AND_LIGHT}[pcss]\nsearch = 4\n\n[pfc]\nkernel = 3\n");
+        assert!(Scene::from_toml(&text, Path::new("s.toml")).is_err());
+    }
 }

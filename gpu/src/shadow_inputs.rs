@@ -4,8 +4,8 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
-use penumbra_geom::params::{MdsmExtra, TechniqueParams, equal_area_radius};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene, Technique};
+use penumbra_params::{MdsmExtra, TechniqueParams, equal_area_radius};
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 

@@ -7,8 +7,8 @@
 use bytemuck::Zeroable;
 use glam::DVec2;
 use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::params::GaussianVariant;
 use penumbra_geom::{Scene, Technique};
+use penumbra_params::GaussianVariant;
 use wgpu::util::DeviceExt;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};

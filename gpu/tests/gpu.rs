@@ -5,13 +5,13 @@ use std::path::PathBuf;
 
 use penumbra_geom::Scene;
 use penumbra_geom::image::compare;
-use penumbra_geom::params::{MdsmExtra, fractional_disk_samples};
 use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
 use penumbra_gpu::passes::fullscreen;
 use penumbra_gpu::renderer::{ReceiverClusters, nearest_edges, occluder_tiles, wedge_instances};
 use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
 use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
+use penumbra_params::{MdsmExtra, fractional_disk_samples};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::{CpuRenderer, Technique};
 
@@ -240,8 +240,8 @@ fn settled(reference: &penumbra_geom::VisibilityImage, v: f32, radius: i64) -> V
 /// How far, in pixels, a technique's screen-space filter reaches: `gaussian` blurs the hard
 /// shadow in screen space, by its passes' half kernels together; the others filter in the light
 /// map and reach no other pixel.
-fn screen_reach(t: Technique, p: &penumbra_geom::params::TechniqueParams) -> i64 {
-    use penumbra_geom::params::GaussianVariant;
+fn screen_reach(t: Technique, p: &penumbra_params::TechniqueParams) -> i64 {
+    use penumbra_params::GaussianVariant;
     let g = &p.gaussian;
     match (t, g.variant) {
         (Technique::Gaussian, GaussianVariant::Multi) => (0..g.passes)
@@ -348,7 +348,7 @@ fn check_settled(
 #[test]
 fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
     use Technique::{FractionalDisk, Gaussian, Mdsm, Pcf, Pcss};
-    use penumbra_geom::params::{GaussianVariant, TechniqueParams};
+    use penumbra_params::{GaussianVariant, TechniqueParams};
     let Some(ctx) = context() else { return };
     type Option = (Technique, &'static str, fn(&mut TechniqueParams));
     let options: [Option; 11] = [

@@ -7,7 +7,7 @@ use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand, ValueEnum};
 use penumbra::Technique;
 use penumbra::geom::Scene;
-use penumbra::geom::params::{GaussianVariant, MdsmExtra};
+use penumbra::params::{Kind, PARAMS, Param, Value};
 
 #[derive(Parser)]
 #[command(
@@ -31,162 +31,83 @@ pub(crate) fn technique_parser() -> impl clap::builder::TypedValueParser<Value =
     })
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub(crate) enum MdsmExtraArg {
-    /// The neighbourhood's maximum.
-    Max,
-    /// The neighbourhood's minimum.
-    Min,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub(crate) enum GaussianVariantArg {
-    /// PCF of the hard-shadow bit, size from D.
-    Pcf,
-    /// One separable Gaussian, size from D.
-    Single,
-    /// Several Poisson-tap Gaussian passes.
-    Multi,
-}
-
-/// Parameters of the shadow-map techniques: each overrides the key of the same name in the
+/// Parameters of the shadow-map techniques, one flag per key of `penumbra::params::PARAMS`
+/// (`--pcf-kernel 5`, `--gaussian-dm 150`, ...): each overrides the key of the same name in the
 /// scene's optional table (`[shadow_map]`, `[pcf]`, `[pcss]`, `[fractional_disk]`, `[mdsm]`,
-/// `[gaussian]`; see docs/scene-format.md for the defaults).
-#[derive(clap::Args, Clone, Debug, Default)]
+/// `[gaussian]`; see docs/scene-format.md).
+#[derive(Clone, Debug, Default)]
 pub(crate) struct ParamArgs {
-    /// Shadow map texels per side [shadow_map.resolution, 2048].
-    #[arg(long, help_heading = "Shadow maps")]
-    shadow_map_resolution: Option<u32>,
-    /// Constant depth bias, fraction of the receiver's light depth [shadow_map.depth_bias, 0.001].
-    #[arg(long, help_heading = "Shadow maps")]
-    depth_bias: Option<f64>,
-    /// Slope bias in texels of the receiver's plane [shadow_map.slope_bias, 1].
-    #[arg(long, help_heading = "Shadow maps")]
-    slope_bias: Option<f64>,
-    /// pcf: kernel side, 3, 4 or 5 [pcf.kernel, 3].
-    #[arg(long, help_heading = "Shadow maps")]
-    pcf_kernel: Option<u32>,
-    /// pcss: blocker-search taps per side [pcss.search, 8].
-    #[arg(long, help_heading = "Shadow maps")]
-    pcss_search: Option<u32>,
-    /// pcss: most filter taps per side [pcss.filter_max, 16].
-    #[arg(long, help_heading = "Shadow maps")]
-    pcss_filter_max: Option<u32>,
-    /// pcss: dithered 4-of-16 sampling, Shinde 2022, section 4.4 [pcss.dither, false].
-    #[arg(long, help_heading = "Shadow maps")]
-    pcss_dither: Option<bool>,
-    /// fractional-disk: Eq. 2's a [fractional_disk.a, 2].
-    #[arg(long, help_heading = "Shadow maps")]
-    fd_a: Option<f64>,
-    /// fractional-disk: most samples per pixel [fractional_disk.max_samples, 50].
-    #[arg(long, help_heading = "Shadow maps")]
-    fd_max_samples: Option<u32>,
-    /// fractional-disk: largest disk radius, texels [fractional_disk.max_radius, 16].
-    #[arg(long, help_heading = "Shadow maps")]
-    fd_max_radius: Option<f64>,
-    /// fractional-disk: propagation passes [fractional_disk.passes, 16].
-    #[arg(long, help_heading = "Shadow maps")]
-    fd_passes: Option<u32>,
-    /// fractional-disk: edge detection's relative depth jump [fractional_disk.edge_threshold, 0.05].
-    #[arg(long, help_heading = "Shadow maps")]
-    fd_edge_threshold: Option<f64>,
-    /// fractional-disk: the disk re-test against false self-occlusion [fractional_disk.retest, true].
-    #[arg(long, help_heading = "Shadow maps")]
-    fd_retest: Option<bool>,
-    /// mdsm: depths per texel n, 1 to 3 [mdsm.depths, 3].
-    #[arg(long, help_heading = "Shadow maps")]
-    mdsm_depths: Option<u32>,
-    /// mdsm: PCF side, k = side² [mdsm.kernel, 3].
-    #[arg(long, help_heading = "Shadow maps")]
-    mdsm_kernel: Option<u32>,
-    /// mdsm: neighbourhood radius, texels [mdsm.radius, 1].
-    #[arg(long, help_heading = "Shadow maps")]
-    mdsm_radius: Option<u32>,
-    /// mdsm: extra depth of a 2-depth map [mdsm.extra, max].
-    #[arg(long, value_enum, help_heading = "Shadow maps")]
-    mdsm_extra: Option<MdsmExtraArg>,
-    /// gaussian: filter [gaussian.variant, multi].
-    #[arg(
-        long,
-        visible_alias = "variant",
-        value_enum,
-        help_heading = "Shadow maps"
-    )]
-    gaussian_variant: Option<GaussianVariantArg>,
-    /// gaussian: distance power Dp [gaussian.dp; 3 for pcf and multi, 1.9 for single].
-    #[arg(long, help_heading = "Shadow maps")]
-    gaussian_dp: Option<f64>,
-    /// gaussian: distance multiplier Dm [gaussian.dm, 200].
-    #[arg(long, help_heading = "Shadow maps")]
-    gaussian_dm: Option<f64>,
-    /// gaussian: largest kernel, odd [gaussian.max_kernel, 19].
-    #[arg(long, help_heading = "Shadow maps")]
-    gaussian_max_kernel: Option<u32>,
-    /// gaussian: passes of the multi variant [gaussian.passes, 10].
-    #[arg(long, help_heading = "Shadow maps")]
-    gaussian_passes: Option<u32>,
-    /// gaussian: Poisson taps per multi pass [gaussian.taps, 20].
-    #[arg(long, help_heading = "Shadow maps")]
-    gaussian_taps: Option<u32>,
-    /// gaussian: dilation kernel, odd, 0 = off [gaussian.dilation, 0].
-    #[arg(long, help_heading = "Shadow maps")]
-    gaussian_dilation: Option<u32>,
+    /// The flags given, in `PARAMS` order.
+    values: Vec<(&'static Param, Value)>,
+}
+
+impl clap::FromArgMatches for ParamArgs {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut args = ParamArgs::default();
+        args.update_from_arg_matches(matches)?;
+        Ok(args)
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        for p in &PARAMS {
+            let value = match p.kind {
+                Kind::Int { .. } => matches.get_one::<u32>(p.flag).map(|&v| Value::Int(v)),
+                Kind::Real { .. } => matches.get_one::<f64>(p.flag).map(|&v| Value::Real(v)),
+                Kind::Bool => matches.get_one::<bool>(p.flag).map(|&v| Value::Bool(v)),
+                Kind::Choice(names) => matches
+                    .get_one::<String>(p.flag)
+                    .and_then(|v| names.iter().find(|n| *n == v))
+                    .map(|n| Value::Choice(n)),
+            };
+            if let Some(v) = value {
+                self.values.retain(|(q, _)| q.flag != p.flag);
+                self.values.push((p, v));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl clap::Args for ParamArgs {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        cmd.args(PARAMS.iter().map(|p| {
+            let arg = clap::Arg::new(p.flag)
+                .long(p.flag)
+                .help(p.help())
+                .help_heading("Shadow maps")
+                .allow_negative_numbers(true);
+            match p.kind {
+                Kind::Int { .. } => arg.value_parser(clap::value_parser!(u32)).value_name("N"),
+                Kind::Real { .. } => arg.value_parser(clap::value_parser!(f64)).value_name("X"),
+                Kind::Bool => arg
+                    .value_parser(clap::value_parser!(bool))
+                    .value_name("BOOL"),
+                Kind::Choice(names) => arg.value_parser(clap::builder::PossibleValuesParser::new(
+                    names.iter().copied(),
+                )),
+            }
+        }))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 impl ParamArgs {
     /// `scene`'s parameters with these flags applied, checked.
     pub(crate) fn apply(&self, scene: &mut Scene) -> Result<()> {
-        let p = &mut scene.params;
-        macro_rules! set {
-            ($flag:ident => $($dst:tt)+) => {
-                if let Some(v) = self.$flag {
-                    p.$($dst)+ = v;
-                }
-            };
+        for (param, value) in &self.values {
+            scene.params.set(param, *value);
         }
-        set!(shadow_map_resolution => shadow_map.resolution);
-        set!(depth_bias => shadow_map.depth_bias);
-        set!(slope_bias => shadow_map.slope_bias);
-        set!(pcf_kernel => pcf.kernel);
-        set!(pcss_search => pcss.search);
-        set!(pcss_filter_max => pcss.filter_max);
-        set!(pcss_dither => pcss.dither);
-        set!(fd_a => fractional_disk.a);
-        set!(fd_max_samples => fractional_disk.max_samples);
-        set!(fd_max_radius => fractional_disk.max_radius);
-        set!(fd_passes => fractional_disk.passes);
-        set!(fd_edge_threshold => fractional_disk.edge_threshold);
-        set!(fd_retest => fractional_disk.retest);
-        set!(mdsm_depths => mdsm.depths);
-        set!(mdsm_kernel => mdsm.kernel);
-        set!(mdsm_radius => mdsm.radius);
-        set!(gaussian_dm => gaussian.dm);
-        set!(gaussian_max_kernel => gaussian.max_kernel);
-        set!(gaussian_passes => gaussian.passes);
-        set!(gaussian_taps => gaussian.taps);
-        set!(gaussian_dilation => gaussian.dilation);
-        if let Some(v) = self.gaussian_dp {
-            p.gaussian.dp = Some(v);
-        }
-        if let Some(e) = self.mdsm_extra {
-            p.mdsm.extra = match e {
-                MdsmExtraArg::Max => MdsmExtra::Max,
-                MdsmExtraArg::Min => MdsmExtra::Min,
-            };
-        }
-        if let Some(v) = self.gaussian_variant {
-            p.gaussian.variant = match v {
-                GaussianVariantArg::Pcf => GaussianVariant::Pcf,
-                GaussianVariantArg::Single => GaussianVariant::Single,
-                GaussianVariantArg::Multi => GaussianVariant::Multi,
-            };
-        }
-        p.validate().map_err(|e| {
+        scene.params.validate().map_err(|e| {
+            let flag = PARAMS
+                .iter()
+                .find(|p| p.table == e.table && p.key == e.key)
+                .map_or(String::new(), |p| format!(", e.g. --{}", p.flag));
             anyhow::anyhow!(
-                "{}: {e} (after the command line's flags, e.g. --{}-{})",
+                "{}: {e} (after the command line's flags{flag})",
                 scene.path.display(),
-                e.table.replace('_', "-").replace("fractional-disk", "fd"),
-                e.key.replace('_', "-")
             )
         })
     }

@@ -352,7 +352,7 @@ fn every_shadow_map_technique_renders_from_the_command_line() {
 #[test]
 fn shadow_map_parameters_out_of_range_name_table_key_and_line() {
     let s = format!("{GOOD_SCENE}\n[pcf]\nkernel = 7\n");
-    let line = format!("s.toml:{}", s.lines().count() - 1);
+    let line = format!("s.toml:{}", s.lines().count());
     assert_refused("pcf-table", &s, GOOD_OBJ, &[&line, "pcf.kernel", "7"]);
     let s = format!("{GOOD_SCENE}\n[pcss]\nsearch = 4\nsamples = 3\n");
     assert_refused("pcss-key", &s, GOOD_OBJ, &["s.toml", "samples"]);

@@ -4,10 +4,10 @@
 
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra_geom::camera::Camera;
-use penumbra_geom::params::TechniqueParams;
 use penumbra_geom::reference::{self, Reference, Tracer};
 use penumbra_geom::scene::SceneMesh;
 use penumbra_geom::{RectLight, Scene, TriangleMesh};
+use penumbra_params::TechniqueParams;
 
 use super::*;
 
