@@ -1,8 +1,9 @@
 //! penumbra: physically based soft shadows built from geometry.
 //!
 //! This facade re-exports the workspace's crates, in the order data flows through them:
-//! [`geom`] (meshes, scenes, rays, the references), [`volumes`] (silhouettes, shadow volumes,
-//! penumbra wedges on the CPU) and [`gpu`] (the wgpu passes).
+//! [`params`] (the shadow-map techniques' parameters), [`geom`] (meshes, scenes, rays, the
+//! references), [`volumes`] (silhouettes, shadow volumes, penumbra wedges on the CPU) and
+//! [`gpu`] (the wgpu passes).
 //!
 //! The front door is [`Renderer`]: give it a [`Scene`] (loaded from a scene file, see
 //! `docs/scene-format.md`, or made in code with [`Scene::new`]) and a [`Technique`], get a
@@ -24,6 +25,13 @@
 //! # std::fs::remove_file(out)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! **In a wgpu application's own frame**, [`GpuScene`] takes the place of the renderer: the
+//! meshes are uploaded once, each frame's camera ([`FrameCamera`], from the application's view
+//! and projection matrices), meshes' transforms and light may change, and
+//! [`GpuScene::record`] writes V into a texture the application owns, in its own command
+//! encoder ([`GBuffer`] documents the depth and position inputs; `examples/animated.rs` is a
+//! whole program, and `docs/gpu.md` the reference).
 #![warn(missing_docs)]
 
 mod render;

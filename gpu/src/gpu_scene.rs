@@ -12,8 +12,9 @@ use penumbra_volumes::Volumes;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
-use crate::passes::buffer;
-use crate::passes::wedge::{WedgeInstance, unit_cube};
+use crate::passes::blend::{FINAL_WORDS, SILHOUETTE_FORMATS};
+use crate::passes::wedge::{OCCLUSION_FORMAT, WedgeInstance, unit_cube};
+use crate::passes::{buffer, texture, view};
 use crate::renderer::{GpuRenderer, Pipelines};
 use crate::scene_data::{ReceiverClusters, nearest_edges, volume_vertices, wedge_instances};
 
@@ -93,7 +94,62 @@ pub struct GpuScene {
     /// What `uniforms` and `models` hold.
     written: Option<(FrameUniforms, Vec<ModelMatrix>)>,
     pub(crate) cube: wgpu::Buffer,
+    pub(crate) scratch: Scratch,
     pub(crate) uploads: Uploads,
+}
+
+/// The techniques' own targets at one image size, made the first time a frame needs them and
+/// kept while the size stays.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    size: (u32, u32),
+    /// `wedges`: the per-part occlusion.
+    pub(crate) occlusion: Option<wgpu::TextureView>,
+    /// `wedges-blend`: the silhouette buffer's targets and the final buffer.
+    pub(crate) silhouettes: Option<(Vec<wgpu::TextureView>, wgpu::Buffer)>,
+}
+
+impl Scratch {
+    /// Makes what `technique` needs at `size`.
+    pub(crate) fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        technique: Technique,
+        size: (u32, u32),
+    ) {
+        if self.size != size {
+            *self = Scratch {
+                size,
+                ..Default::default()
+            };
+        }
+        let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        match technique {
+            Technique::Wedges if self.occlusion.is_none() => {
+                self.occlusion = Some(view(&texture(
+                    device,
+                    "occlusion",
+                    size,
+                    OCCLUSION_FORMAT,
+                    sampled,
+                )));
+            }
+            Technique::WedgesBlend if self.silhouettes.is_none() => {
+                let targets = SILHOUETTE_FORMATS
+                    .iter()
+                    .map(|&f| view(&texture(device, "silhouette", size, f, sampled)))
+                    .collect();
+                let final_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("final buffer"),
+                    size: 4 * FINAL_WORDS * (size.0 as u64) * (size.1 as u64),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                self.silhouettes = Some((targets, final_buffer));
+            }
+            _ => {}
+        }
+    }
 }
 
 /// Centre of the bounding box of `positions` (the origin when there are none).
@@ -223,6 +279,7 @@ impl GpuScene {
             frame,
             written: None,
             cube,
+            scratch: Scratch::default(),
             uploads,
         }
     }

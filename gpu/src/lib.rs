@@ -5,6 +5,10 @@
 //! resolve: `hard`, additive `wedges` and Forest et al.'s `wedges-blend`, each checked against the
 //! CPU oracle of `penumbra-volumes`. And the shadow-map techniques of the other papers
 //! ([`shadow_maps`]): `pcf`, `pcss`, `fractional-disk`, `mdsm` and `gaussian`.
+//!
+//! Two ways in: [`GpuRenderer::render`] renders a scene once and reads V back; [`GpuScene`]
+//! holds a scene on an application's own device and records each frame's passes into its
+//! command encoder and its own target ([`GBuffer`] and [`FrameCamera`] say what it needs).
 #![warn(missing_docs)]
 
 pub mod constants;

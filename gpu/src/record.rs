@@ -4,13 +4,11 @@
 use crate::context::GpuError;
 use crate::frame::FrameCamera;
 use crate::gpu_scene::{FrameInputs, GpuScene, check_technique};
-use crate::passes::blend::{
-    FINAL_WORDS, SILHOUETTE_ADDED, SILHOUETTE_FORMATS, TileRange, disjoint_groups,
-};
+use crate::passes::blend::{SILHOUETTE_ADDED, TileRange, disjoint_groups};
 use crate::passes::depth::{GBuffer, MeshDraws};
 use crate::passes::resolve::ResolveInput;
-use crate::passes::wedge::{OCCLUSION_FORMAT, WedgeDraws, WedgeOutput};
-use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group, buffer, texture, view};
+use crate::passes::wedge::{WedgeDraws, WedgeOutput};
+use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group, buffer};
 use crate::scene_data::occluder_tiles;
 use crate::timing::{Pass, Timer};
 use penumbra_geom::Technique;
@@ -102,6 +100,8 @@ impl GpuScene {
         }
         self.write_frame(camera);
         self.shadows();
+        self.scratch
+            .prepare(&self.ctx.device, technique, camera.size);
         let shadows = self.shadows.as_ref().expect("built above");
         let p = &self.pipelines;
         let device = &self.ctx.device;
@@ -118,8 +118,8 @@ impl GpuScene {
             position: &position,
         };
         let (cube, wedge_buffer) = (&self.cube, &shadows.instance_buffer);
-        let (w, h) = camera.size;
-        let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let _sampled =
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let all_instances = 0..shadows.instances.len() as u32;
         let all_instances = std::slice::from_ref(&all_instances);
         match technique {
@@ -147,13 +147,7 @@ impl GpuScene {
                     &shadows.volume_ranges,
                     stamp(Pass::Stencil),
                 );
-                let occlusion = view(&texture(
-                    device,
-                    "occlusion",
-                    (w, h),
-                    OCCLUSION_FORMAT,
-                    sampled,
-                ));
+                let occlusion = self.scratch.occlusion.as_ref().expect("prepared above");
                 p.wedge.record(
                     encoder,
                     bindings,
@@ -162,14 +156,14 @@ impl GpuScene {
                         wedges: wedge_buffer,
                         ranges: all_instances,
                     },
-                    WedgeOutput::Additive(&occlusion),
+                    WedgeOutput::Additive(occlusion),
                     stamp(Pass::Wedge),
                 );
                 let group = bind_group(
                     device,
                     "occlusion",
                     &p.resolve.texture_layout,
-                    &[wgpu::BindingResource::TextureView(&occlusion)],
+                    &[wgpu::BindingResource::TextureView(occlusion)],
                 );
                 p.resolve.record(
                     encoder,
@@ -180,18 +174,11 @@ impl GpuScene {
                 );
             }
             Technique::WedgesBlend => {
-                // One silhouette buffer, and the final buffer (zeroed: no occlusion), updated in
-                // place by each blend.
-                let sil: Vec<wgpu::TextureView> = SILHOUETTE_FORMATS
-                    .iter()
-                    .map(|&f| view(&texture(device, "silhouette", (w, h), f, sampled)))
-                    .collect();
-                let final_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("final buffer"),
-                    size: 4 * FINAL_WORDS * (w as u64) * (h as u64),
-                    usage: wgpu::BufferUsages::STORAGE,
-                    mapped_at_creation: false,
-                });
+                // One silhouette buffer, and the final buffer, zeroed (no occlusion) and
+                // updated in place by each blend.
+                let (sil, final_buffer) =
+                    self.scratch.silhouettes.as_ref().expect("prepared above");
+                encoder.clear_buffer(final_buffer, 0, None);
                 let stencil_group = bind_group(
                     device,
                     "stencil counts",
