@@ -274,6 +274,12 @@ pub struct Comparison {
     pub all: Metrics,
     /// Over the penumbra pixels of `b`, `0.02 < V_b < 0.98`.
     pub penumbra: Metrics,
+    /// Mean of `V_a - V_b` over the penumbra pixels of `b`: negative where `a` is too dark.
+    pub penumbra_signed: f64,
+    /// The umbra pixels of `b`, `V_b <= 0.02`.
+    pub umbra_pixels: usize,
+    /// The share of them that `a` shows lit, `V_a > 0.5`: shadows lost.
+    pub umbra_lit: f64,
 }
 
 /// Compares `a` against the reference `b`: all pixels, and penumbra pixels of `b` alone.
@@ -300,16 +306,24 @@ pub fn compare(a: &VisibilityImage, b: &VisibilityImage) -> Result<Comparison, I
     b.check_finite()?;
     let mut all = Vec::with_capacity(a.data.len());
     let mut pen = Vec::new();
+    let (mut signed, mut umbra, mut lit) = (0.0, 0usize, 0usize);
     for (&x, &y) in a.data.iter().zip(&b.data) {
         let e = (x as f64 - y as f64).abs();
         all.push(e);
         if y > PENUMBRA.0 && y < PENUMBRA.1 {
             pen.push(e);
+            signed += x as f64 - y as f64;
+        } else if y <= PENUMBRA.0 {
+            umbra += 1;
+            lit += usize::from(x > 0.5);
         }
     }
     Ok(Comparison {
         all: Metrics::of(all),
+        penumbra_signed: signed / pen.len().max(1) as f64,
         penumbra: Metrics::of(pen),
+        umbra_pixels: umbra,
+        umbra_lit: lit as f64 / umbra.max(1) as f64,
     })
 }
 

@@ -85,12 +85,12 @@ fn fs_fractional_disk(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<
     if (hard == 1.0) {
         if (c.g >= BIG) {
             // No occluder within reach: fully lit.
-            return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+            return shaded(r, 1.0);
         }
         zo = c.g;
     }
     if (zp - zo <= 0.0) {
-        return vec4<f32>(hard, 0.0, 0.0, 0.0);
+        return shaded(r, hard);
     }
     // Eq. 1: q = r d2 / d1 on the receiver's plane, in uv and in texels, clamped.
     let light_r = shadow.light.z;
@@ -104,7 +104,7 @@ fn fs_fractional_disk(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<
     let edge = select(BIG, passes + 1.0 - c.b, c.b > 0.0);
     if (edge > q) {
         // No hard-shadow edge within the disk: not in a penumbra.
-        return vec4<f32>(hard, 0.0, 0.0, 0.0);
+        return shaded(r, hard);
     }
     let n = sample_count(q);
     let start = vec2<u32>(floor(noise(vec2<u32>(pixel.xy)).ba * f32(NOISE_SIZE)));
@@ -124,7 +124,7 @@ fn fs_fractional_disk(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<
         }
         lit += select(0.0, 1.0, sample_lit);
     }
-    return vec4<f32>(lit / f32(n + 1u), 0.0, 0.0, 0.0);
+    return shaded(r, lit / f32(n + 1u));
 }
 
 // Probe of Eq. 2 for the tests: pixel i gets f(i / 4).

@@ -71,7 +71,7 @@ fn fs_mdsm(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     let n = i32(shadow.iparams.x);
-    return vec4<f32>(1.0 - f32(s) / f32(n * ks * ks), 0.0, 0.0, 0.0);
+    return shaded(r, 1.0 - f32(s) / f32(n * ks * ks));
 }
 
 // Probe of PCF(k, n) for the distinct-values property: pixel (i, j) takes footprint origin

@@ -21,5 +21,5 @@ fn fs_pcf(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
             lit += select(0, 1, depth_at(t) >= occlusion_threshold(r, texel_center(t)));
         }
     }
-    return vec4<f32>(f32(lit) / f32(k * k), 0.0, 0.0, 0.0);
+    return shaded(r, f32(lit) / f32(k * k));
 }

@@ -1,11 +1,10 @@
 // `pcss`: percentage-closer soft shadows, Fernando 2005, as Shinde 2022 analyses it:
 // blocker search, penumbra estimate, variable PCF (its section 2.1.4: "Blocker search, Penumbra
 // estimation and filtering").
-// 1. Blocker search (4.2.1): an iparams.x^2 grid over the region where a blocker can hide part of
-//    the light from P, the light rectangle shrunk by (d_R - z)/d_R about P's projection, z the
-//    nearest blocker depth (found by a first round); d_B = mean depth of the taps nearer than P's
-//    plane whose depth puts them inside that pyramid.
-//    No blocker: lit.
+// 1. Blocker search (4.2.1): iparams.x^2 grids over the region where a blocker can hide part of
+//    the light from P, the light rectangle shrunk by (d_R - z)/d_R about P's projection, at
+//    nested depths z (below); d_B = mean depth of the taps nearer than P's plane whose depth puts
+//    them inside that pyramid. No blocker: lit.
 // 2. Penumbra width (Eq. 2): w = (d_R - d_B) * w_light / d_B, per axis of the rectangle light.
 // 3. PCF over a box of half-width w / 2 on the receiver (the light's own shape, so exact for
 //    parallel planes): an F x F grid, F = clamp(ceil(2 * kernel in texels), 1, iparams.y).
@@ -36,48 +35,49 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let zr = r.l.z;
     let h = shadow.light.xy;
-    // 1. Blocker search, in two rounds. The first, over a 2ns x 2ns grid, covers the pyramid
-    // from P to the light cut at the scene's nearest depth (depth.y; clamped to a quarter of the
-    // map) and finds the nearest depth in front of P's plane there; the second, ns x ns, cuts
-    // the pyramid at
-    // that depth and averages the taps nearer than P's plane that also lie inside the pyramid
-    // at their own depth. (A receiver sloping towards the light, as in `tilted-light`, brings
-    // the scene's nearest depth close to the light, and a single round over that region is too
-    // sparse to find the blockers that matter.)
+    // 1. Blocker search over nested regions. A blocker at depth z hides part of the light from
+    // P only inside the section of the pyramid from P to the light at z, which shrinks to P as z
+    // nears P's depth. One ns x ns grid over the section at the scene's nearest depth (depth.y)
+    // is too sparse for blockers close to P (feet on the ground, an arm over the body): they fill
+    // a small middle part of it. So the search runs over sections at depths z_i, each halfway
+    // from the previous one to P, an ns x ns grid each, down to a section of about a texel; a
+    // round keeps its taps outside the next round's section, so every tap stands for an equal
+    // share of its round's area, and each blocker inside the pyramid at its own depth counts
+    // with that share. d_B is the weighted mean of their depths.
     let ns = shadow.iparams.x;
-    var nearest = BIG;
-    let first = search_region(h, zr, min(shadow.depth.y, zr));
-    let n1 = 2u * ns;
-    for (var j = 0u; j < n1; j++) {
-        for (var i = 0u; i < n1; i++) {
-            let uv = r.uv + vec2<f32>(cell(i, n1), cell(j, n1)) * first;
-            let z = depth_uv(uv);
-            if (z < occlusion_threshold(r, uv)) {
-                nearest = min(nearest, z);
-            }
-        }
-    }
-    if (nearest >= BIG) {
-        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
-    }
-    let search = search_region(h, zr, nearest);
     var sum = 0.0;
-    var blockers = 0u;
-    for (var j = 0u; j < ns; j++) {
-        for (var i = 0u; i < ns; i++) {
-            let o = vec2<f32>(cell(i, ns), cell(j, ns)) * search;
-            let uv = r.uv + o;
-            let z = depth_uv(uv);
-            if (z < occlusion_threshold(r, uv) && all(abs(o) <= search_region(h, zr, z))) {
-                sum += z;
-                blockers += 1u;
+    var weight = 0.0;
+    var z = min(shadow.depth.y, zr);
+    let texel = 1.0 / map_size();
+    for (var round = 0u; round < 12u; round++) {
+        let region = search_region(h, zr, z);
+        let z_next = 0.5 * (z + zr);
+        let inner = search_region(h, zr, z_next);
+        let last = round == 11u || all(inner < texel);
+        let share = region.x * region.y;
+        for (var j = 0u; j < ns; j++) {
+            for (var i = 0u; i < ns; i++) {
+                let o = vec2<f32>(cell(i, ns), cell(j, ns)) * region;
+                if (!last && all(abs(o) <= inner)) {
+                    continue;
+                }
+                let uv = r.uv + o;
+                let d = depth_uv(uv);
+                if (d < occlusion_threshold(r, uv) && all(abs(o) <= search_region(h, zr, d))) {
+                    sum += share * d;
+                    weight += share;
+                }
             }
         }
+        if (last) {
+            break;
+        }
+        z = z_next;
     }
-    if (blockers == 0u) {
-        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    if (weight == 0.0) {
+        return shaded(r, 1.0);
     }
-    let zb = sum / f32(blockers);
+    let zb = sum / weight;
     // 2. Penumbra width on the receiver, per axis (Eq. 2 with w_light = 2h).
     let w = (zr - zb) * 2.0 * h / zb;
     // 3. PCF over the box of half-width w / 2, in uv.
@@ -108,5 +108,5 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
             }
         }
     }
-    return vec4<f32>(lit / f32(taps), 0.0, 0.0, 0.0);
+    return shaded(r, lit / f32(taps));
 }

@@ -118,6 +118,8 @@ struct Receiver {
     n: vec3<f32>,
     // Map uv of P.
     uv: vec2<f32>,
+    // On a closed mesh (`n` outward).
+    closed: bool,
 }
 
 fn receiver(pixel: vec2<i32>) -> Receiver {
@@ -139,7 +141,8 @@ fn receiver(pixel: vec2<i32>) -> Receiver {
     // sees none of it: its rays to the light enter the solid. (An open surface does not shadow
     // itself: V is what the point sees, whichever way it faces, as the reference defines it.)
     let nw = textureLoad(normal_map, pixel, 0).w;
-    if (nw > 1.5) {
+    r.closed = nw > 1.5;
+    if (r.closed) {
         var front = false;
         for (var i = 0u; i < 4u; i++) {
             let c = vec3<f32>(
@@ -154,6 +157,67 @@ fn receiver(pixel: vec2<i32>) -> Receiver {
         }
     }
     return r;
+}
+
+// The share of the light's area on the outer side of the receiver's tangent plane, for a point
+// of a closed mesh: rays to the rest of the light leave it into the solid, so the point sees at
+// most this share (exactly, a polygon clip of the light rectangle by the plane). 1 elsewhere.
+// The techniques take the smaller of their estimate and this share, so that the self-shadow at
+// the terminator, which the maps' depth bias lets through, is not lost.
+fn front_share(r: Receiver) -> f32 {
+    if (!r.closed) {
+        return 1.0;
+    }
+    // Light points X = (x, y, 0) with n . (X - P) > 0.
+    let c = -dot(r.n, r.l);
+    let h = shadow.light.xy;
+    let corners = array<vec2<f32>, 4>(
+        vec2<f32>(-h.x, -h.y),
+        vec2<f32>(h.x, -h.y),
+        vec2<f32>(h.x, h.y),
+        vec2<f32>(-h.x, h.y),
+    );
+    // Sutherland-Hodgman against the one plane, the area summed as the vertices come.
+    var area = 0.0;
+    var first = vec2<f32>(0.0);
+    var prev = vec2<f32>(0.0);
+    var count = 0u;
+    for (var i = 0u; i < 4u; i++) {
+        let p = corners[i];
+        let q = corners[(i + 1u) % 4u];
+        let fp = dot(r.n.xy, p) + c;
+        let fq = dot(r.n.xy, q) + c;
+        var out = array<vec2<f32>, 2>(p, p);
+        var n_out = 0u;
+        if (fp > 0.0) {
+            out[n_out] = p;
+            n_out++;
+        }
+        if ((fp > 0.0) != (fq > 0.0)) {
+            out[n_out] = p + (q - p) * (fp / (fp - fq));
+            n_out++;
+        }
+        for (var k = 0u; k < n_out; k++) {
+            let v = out[k];
+            if (count == 0u) {
+                first = v;
+            } else {
+                area += prev.x * v.y - prev.y * v.x;
+            }
+            prev = v;
+            count++;
+        }
+    }
+    if (count < 3u) {
+        return 0.0;
+    }
+    area += prev.x * first.y - prev.y * first.x;
+    return clamp(0.5 * area / (4.0 * h.x * h.y), 0.0, 1.0);
+}
+
+// A technique's V at receiver `r`, capped by `front_share`, as the pass's output.
+fn shaded(r: Receiver, v: f32) -> vec4<f32> {
+    return vec4<f32>(min(v, front_share(r)), 0.0, 0.0, 0.0);
 }
 
 // The depth of the receiver's tangent plane along the direction of map uv ("receiver-plane

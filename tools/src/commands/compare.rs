@@ -37,6 +37,12 @@ pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) ->
                 100.0 * m.share_over
             );
         }
+        println!(
+            "penumbra mean signed error {:+.6}; umbra {} pixels, {:.3}% of them lit (V > 0.5)",
+            c.penumbra_signed,
+            c.umbra_pixels,
+            100.0 * c.umbra_lit
+        );
     }
     Ok(())
 }

@@ -1,0 +1,105 @@
+//! The shadow-map techniques on every fixture, real meshes included, at their default
+//! parameters, against the exact depth-complexity image at 256 light samples (the reference's
+//! accuracy, several times faster): how much of the umbra (V <= 0.02) each leaves lit (V > 0.5),
+//! and `pcss`'s penumbra error. They need an adapter (lavapipe in CI), as `gpu.rs` does.
+
+use std::path::PathBuf;
+
+use penumbra_geom::image::compare;
+use penumbra_geom::{Scene, Technique};
+use penumbra_gpu::{GpuContext, ShadowMapRenderer};
+use penumbra_volumes::{DepthComplexity, SamplePattern};
+
+/// Most of the umbra a technique may leave lit.
+const UMBRA_LIT: f64 = 0.02;
+
+/// `pcss`'s largest penumbra mean absolute error.
+const PCSS_PENUMBRA_MAE: f64 = 0.13;
+
+/// The (technique, fixture) pairs above `UMBRA_LIT`, with the share they are held to: thin
+/// creases of beetle's open body, where the maps' depth bias lets light through a sheet that
+/// folds in front of the receiver, for every technique; the contact shadows of the closed meshes
+/// for `fractional-disk`, whose edge search misses them; a crease of spot for `mdsm`. These are
+/// the open part of the work: the bounds keep them from getting worse.
+const KNOWN: [(Technique, &str, f64); 8] = [
+    (Technique::Pcf, "beetle", 0.07),
+    (Technique::Pcss, "beetle", 0.065),
+    (Technique::Mdsm, "beetle", 0.13),
+    (Technique::Mdsm, "spot", 0.03),
+    (Technique::FractionalDisk, "beetle", 0.095),
+    (Technique::FractionalDisk, "cheburashka", 0.125),
+    (Technique::FractionalDisk, "fandisk", 0.045),
+    (Technique::FractionalDisk, "spot", 0.065),
+];
+
+fn fixtures() -> Vec<(String, Scene)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
+    let mut v: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| {
+            let name = p.file_stem().unwrap().to_string_lossy().into_owned();
+            (name, Scene::load(&p).unwrap())
+        })
+        .collect();
+    v.sort_by(|a, b| a.0.cmp(&b.0));
+    assert!(v.len() >= 13, "fixtures missing");
+    v
+}
+
+#[test]
+fn shadow_maps_keep_their_umbrae_and_pcss_its_penumbrae_on_every_fixture() {
+    let ctx = match GpuContext::new() {
+        Ok(c) => c,
+        Err(e) if std::env::var_os("CI").is_some() => panic!("CI needs a GPU adapter: {e}"),
+        Err(e) => {
+            println!("SKIPPED (no adapter): {e}");
+            return;
+        }
+    };
+    let techniques = [
+        Technique::Pcf,
+        Technique::Pcss,
+        Technique::Mdsm,
+        Technique::FractionalDisk,
+    ];
+    let renderers: Vec<_> = techniques
+        .iter()
+        .map(|&t| ShadowMapRenderer::new(&ctx, t))
+        .collect();
+    let pattern = SamplePattern {
+        per_axis: 16,
+        jitter: false,
+    };
+    let mut failures = Vec::new();
+    for (name, scene) in fixtures() {
+        let truth = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        for r in &renderers {
+            let t = r.technique();
+            let img = r.render(&scene).unwrap();
+            let c = compare(&img, &truth).unwrap();
+            let bound = KNOWN
+                .iter()
+                .find(|k| k.0 == t && k.1 == name)
+                .map_or(UMBRA_LIT, |k| k.2);
+            println!(
+                "{name:>18} {t:<16} umbra {:>5} px, {:.2}% lit (bound {:.1}%); penumbra MAE {:.4}",
+                c.umbra_pixels,
+                100.0 * c.umbra_lit,
+                100.0 * bound,
+                c.penumbra.mae
+            );
+            if c.umbra_lit > bound {
+                failures.push(format!(
+                    "{name} {t}: {:.2}% of the umbra lit",
+                    100.0 * c.umbra_lit
+                ));
+            }
+            if t == Technique::Pcss && c.penumbra.mae > PCSS_PENUMBRA_MAE {
+                failures.push(format!("{name} pcss: penumbra MAE {:.4}", c.penumbra.mae));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
