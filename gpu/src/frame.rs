@@ -31,16 +31,20 @@ pub struct FrameUniforms {
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
 
 /// A mesh's model matrix as the shaders read it (`models` in `frame.wgsl`): its stored vertices
-/// to eye-relative world, column-major.
+/// to eye-relative world, column-major. The shaders use its rows x, y and z; column 0's w (row
+/// w, unused by an affine map) carries the mesh's outward sign for the depth pre-pass's normals.
 pub type ModelMatrix = [[f32; 4]; 4];
 
 /// The matrix that places a mesh's vertices, stored relative to `origin` in its own space,
 /// moved into the world by `transform`, relative to `eye`: `T(-eye) · transform · T(origin)`,
-/// composed in `f64` so that only the result is rounded.
-pub fn model_matrix(eye: DVec3, transform: &DMat4, origin: DVec3) -> ModelMatrix {
-    (DMat4::from_translation(-eye) * *transform * DMat4::from_translation(origin))
+/// composed in `f64` so that only the result is rounded; with `outward` (+1 or -1 for a closed
+/// mesh wound outwards or inwards in the world, 0 for an open one) in column 0's w.
+pub fn model_matrix(eye: DVec3, transform: &DMat4, origin: DVec3, outward: f64) -> ModelMatrix {
+    let mut m = (DMat4::from_translation(-eye) * *transform * DMat4::from_translation(origin))
         .as_mat4()
-        .to_cols_array_2d()
+        .to_cols_array_2d();
+    m[0][3] = outward as f32;
+    m
 }
 
 /// Why the camera of a frame was refused.

@@ -7,8 +7,9 @@
 use std::ops::Range;
 
 use glam::{DMat4, DVec3};
-use penumbra_geom::{RectLight, Scene, Technique, TriangleMesh};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
+use penumbra_volumes::terminator::outward_sign;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
@@ -50,6 +51,8 @@ pub struct FrameInputs {
 /// it is.
 pub(crate) struct StoredMesh {
     pub(crate) mesh: TriangleMesh,
+    /// `penumbra_volumes::terminator::outward_sign` of the mesh in its own space.
+    pub(crate) outward: f64,
     pub(crate) origin: DVec3,
     pub(crate) transform: DMat4,
     pub(crate) stored: Vec<[f32; 3]>,
@@ -207,17 +210,21 @@ impl GpuScene {
         meshes: &[(&TriangleMesh, DMat4)],
         light: RectLight,
     ) -> Self {
-        let meshes: Vec<(&TriangleMesh, DMat4, DVec3)> = meshes
+        let meshes: Vec<(&TriangleMesh, DMat4, DVec3, f64)> = meshes
             .iter()
-            .map(|&(m, t)| (m, t, centre(&m.positions)))
+            .map(|&(m, t)| {
+                let outward = outward_sign(m, &HalfEdgeMesh::build(m));
+                (m, t, centre(&m.positions), outward)
+            })
             .collect();
         Self::with_origins(renderer, &meshes, light)
     }
 
-    /// [`GpuScene::new`] with each mesh's vertices stored relative to the given origin.
+    /// [`GpuScene::new`] with each mesh's vertices stored relative to the given origin, and its
+    /// outward sign given.
     pub(crate) fn with_origins(
         renderer: &GpuRenderer,
-        meshes: &[(&TriangleMesh, DMat4, DVec3)],
+        meshes: &[(&TriangleMesh, DMat4, DVec3, f64)],
         light: RectLight,
     ) -> Self {
         let device = &renderer.ctx.device;
@@ -226,7 +233,7 @@ impl GpuScene {
         let mut vertex_ranges = Vec::with_capacity(meshes.len());
         let stored: Vec<StoredMesh> = meshes
             .iter()
-            .map(|&(mesh, transform, origin)| {
+            .map(|&(mesh, transform, origin, outward)| {
                 let stored: Vec<[f32; 3]> = mesh
                     .positions
                     .iter()
@@ -236,6 +243,7 @@ impl GpuScene {
                 corners.extend(mesh.triangles.iter().flatten().map(|&i| stored[i as usize]));
                 vertex_ranges.push(start..corners.len() as u32);
                 StoredMesh {
+                    outward,
                     mesh: mesh.clone(),
                     origin,
                     transform,
@@ -288,10 +296,11 @@ impl GpuScene {
     /// exact layout) with the silhouettes' products of `volumes`, built for `scene`.
     pub(crate) fn for_scene(renderer: &GpuRenderer, scene: &Scene, volumes: &Volumes) -> Self {
         let eye = scene.camera.eye;
-        let meshes: Vec<(&TriangleMesh, DMat4, DVec3)> = scene
+        let meshes: Vec<(&TriangleMesh, DMat4, DVec3, f64)> = scene
             .meshes
             .iter()
-            .map(|m| (&m.mesh, DMat4::IDENTITY, eye))
+            .zip(&volumes.occluders)
+            .map(|(m, o)| (&m.mesh, DMat4::IDENTITY, eye, o.outward))
             .collect();
         let mut s = Self::with_origins(renderer, &meshes, scene.light);
         let world = scene.triangles();
@@ -405,7 +414,11 @@ impl GpuScene {
         let models: Vec<ModelMatrix> = self
             .meshes
             .iter()
-            .map(|m| model_matrix(camera.eye, &m.transform, m.origin))
+            .map(|m| {
+                // A mirroring transform turns an outward winding inwards.
+                let sign = m.outward * m.transform.determinant().signum();
+                model_matrix(camera.eye, &m.transform, m.origin, sign)
+            })
             .collect();
         let bytes = |u: &FrameUniforms| bytemuck::bytes_of(u).to_vec();
         let (same_u, same_m) = match &self.written {

@@ -108,9 +108,12 @@ impl GpuScene {
         let stamp = |kind| timer.render(kind);
         let position = bind_group(
             device,
-            "position",
-            &p.resolve.texture_layout,
-            &[wgpu::BindingResource::TextureView(&gbuffer.position_view)],
+            "receivers",
+            &p.resolve.receiver_layout,
+            &[
+                wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+            ],
         );
         let bindings = FrameBindings {
             frame: &self.frame,

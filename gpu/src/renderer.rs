@@ -63,7 +63,7 @@ impl GpuRenderer {
         let device = &ctx.device;
         let frame_layout = frame_layout(device);
         let resolve = ResolvePass::new(device, &frame_layout);
-        let wedge = WedgePass::new(device, &frame_layout, &resolve.texture_layout);
+        let wedge = WedgePass::new(device, &frame_layout, &resolve.receiver_layout);
         let pipelines = Pipelines {
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),

@@ -12,6 +12,7 @@ pub mod render;
 pub mod samples;
 pub mod shadow_volume;
 pub mod silhouette;
+pub mod terminator;
 pub mod wedge;
 pub mod wedge_grid;
 

@@ -52,6 +52,9 @@ pub struct Occluder {
     pub volume: ShadowVolume,
     /// Index of its first triangle in [`Scene::triangles`].
     pub first_triangle: u32,
+    /// [`crate::terminator::outward_sign`]: +1 or -1 for a closed mesh wound outwards or
+    /// inwards, 0 for an open one.
+    pub outward: f64,
 }
 
 /// Silhouettes, volumes and wedges of a whole scene.
@@ -99,6 +102,7 @@ impl Volumes {
                     }
                 }
                 let o = Occluder {
+                    outward: crate::terminator::outward_sign(m, &mesh),
                     mesh,
                     silhouette,
                     volume,
@@ -370,7 +374,23 @@ impl CpuRenderer {
             }
             _ => unreachable!("hard is handled above, the rest refused"),
         };
-        1.0 - occlusion
+        (1.0 - occlusion).min(self.front_share(p))
+    }
+
+    /// The share of the light in front of `p`'s tangent plane when `p` lies on a closed mesh
+    /// ([`crate::terminator::front_share`]), else 1 (on an open mesh, or on no triangle).
+    pub fn front_share(&self, p: &SurfacePoint) -> f64 {
+        let Some(&o) = self.triangle_occluder.get(p.triangle as usize) else {
+            return 1.0;
+        };
+        let o = o & !CASTER_BIT;
+        let sign = self.volumes.occluders[o as usize].outward;
+        if sign == 0.0 {
+            return 1.0;
+        }
+        let [a, b, c] = self.tracer.triangles[p.triangle as usize];
+        let n = (b - a).cross(c - a) * sign;
+        crate::terminator::front_share(&self.volumes.light, p.position, n)
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows.

@@ -77,8 +77,8 @@ pub struct FrameBindings<'a> {
     pub frame: &'a wgpu::BindGroup,
     /// The depth pre-pass's depth-stencil target ([`DEPTH_FORMAT`]), attached.
     pub depth: &'a wgpu::TextureView,
-    /// Its positions ([`POSITION_FORMAT`]) as a group of one texture
-    /// (`resolve::ResolvePass::texture_layout`).
+    /// Its positions ([`POSITION_FORMAT`]) and normals ([`NORMAL_FORMAT`]) as a group of
+    /// `resolve::ResolvePass::receiver_layout`.
     pub position: &'a wgpu::BindGroup,
 }
 

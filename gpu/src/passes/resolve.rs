@@ -13,9 +13,11 @@ pub struct ResolvePass {
     wedges_equal: wgpu::RenderPipeline,
     wedges_at_least: wgpu::RenderPipeline,
     blended: wgpu::RenderPipeline,
-    /// Layout of a single non-filterable float texture (the receivers, group 1; the occlusion,
-    /// group 2).
+    /// Layout of a single non-filterable float texture (the occlusion, group 2).
     pub texture_layout: wgpu::BindGroupLayout,
+    /// Layout of the receivers (group 1 of the resolve and the wedge pass): the positions and
+    /// the normals of the depth pre-pass.
+    pub receiver_layout: wgpu::BindGroupLayout,
     /// Layout of the final buffer of `wedges-blend` (group 2 of its resolve), a read-only storage
     /// buffer.
     pub final_layout: wgpu::BindGroupLayout,
@@ -26,16 +28,17 @@ impl ResolvePass {
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
         let module = super::shader(device, "resolve", include_str!("../shaders/resolve.wgsl"));
         let texture_layout = super::textures_layout(device, "one texture", 1);
+        let receiver_layout = super::textures_layout(device, "receivers", 2);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("resolve"),
-            bind_group_layouts: &[Some(frame_layout), Some(&texture_layout)],
+            bind_group_layouts: &[Some(frame_layout), Some(&receiver_layout)],
             immediate_size: 0,
         });
         let wedge_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("resolve wedges"),
             bind_group_layouts: &[
                 Some(frame_layout),
-                Some(&texture_layout),
+                Some(&receiver_layout),
                 Some(&texture_layout),
             ],
             immediate_size: 0,
@@ -54,7 +57,7 @@ impl ResolvePass {
             label: Some("resolve blended"),
             bind_group_layouts: &[
                 Some(frame_layout),
-                Some(&texture_layout),
+                Some(&receiver_layout),
                 Some(&final_layout),
             ],
             immediate_size: 0,
@@ -115,6 +118,7 @@ impl ResolvePass {
                 &blended_layout,
             ),
             texture_layout,
+            receiver_layout,
             final_layout,
         }
     }

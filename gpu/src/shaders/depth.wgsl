@@ -11,8 +11,11 @@ struct VertexOut {
     // exactly the same depths.
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) rel: vec3<f32>,
-    // 1 for triangles of closed meshes, wound outwards: the first `frame.size.z` vertices.
-    @location(1) @interpolate(flat) closed: u32,
+    // For triangles of closed meshes, +1 where they are wound outwards and -1 where inwards;
+    // 0 for open meshes. The first `frame.size.z` vertices are closed meshes' wound outwards (the
+    // shadow-map techniques order them so); otherwise the mesh's model matrix carries its sign
+    // in column 0's w (`frame::model_matrix`).
+    @location(1) @interpolate(flat) outward: f32,
 }
 
 // `p`: a vertex of mesh `mesh` as stored (`eye_relative` places it).
@@ -26,7 +29,7 @@ fn vs(
     let rel = eye_relative(mesh, p);
     out.clip = frame.view_proj * rel;
     out.rel = rel.xyz;
-    out.closed = select(0u, 1u, f32(i) < frame.size.z);
+    out.outward = select(models[mesh][0].w, 1.0, f32(i) < frame.size.z);
     return out;
 }
 
@@ -50,8 +53,8 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> DepthOut {
     var out: DepthOut;
     out.position = vec4<f32>(in.rel, 1.0);
     out.normal = vec4<f32>(n, 1.0);
-    if (in.closed == 1u) {
-        out.normal = vec4<f32>(select(-n, n, front), 2.0);
+    if (in.outward != 0.0) {
+        out.normal = vec4<f32>(select(-n, n, front == (in.outward > 0.0)), 2.0);
     }
     return out;
 }

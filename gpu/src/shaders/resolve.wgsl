@@ -4,6 +4,8 @@
 
 // `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 @group(1) @binding(0) var position: texture_2d<f32>;
+// The depth pre-pass's normals: w = 2 where the receiver lies on a closed mesh, xyz outward.
+@group(1) @binding(1) var normal_map: texture_2d<f32>;
 
 @vertex
 fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -29,6 +31,65 @@ fn fs_unshadowed(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> 
 fn fs_shadowed(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let l = lit(pixel);
     return vec4<f32>(select(0.0, 1.0, l.x == 0.0), 0.0, 0.0, 0.0);
+}
+
+// The share of the light's area in front of the receiver's tangent plane where it lies on a
+// closed mesh, else 1 (`penumbra_volumes::terminator::front_share`, the CPU oracle's): rays to
+// the rest of the light enter the solid at once. The wedge techniques cap V by it, which gives
+// the terminator of curved meshes its soft self-shadow.
+fn front_share(pixel: vec4<f32>) -> f32 {
+    let nm = textureLoad(normal_map, vec2<i32>(pixel.xy), 0);
+    if (nm.w < 1.5) {
+        return 1.0;
+    }
+    let p = textureLoad(position, vec2<i32>(pixel.xy), 0).xyz;
+    let n = nm.xyz;
+    // Over the light's square [-1, 1]^2 in half sides: f(u, v) = c + a u + b v.
+    let c = dot(n, frame.light_center.xyz - p);
+    let a = dot(n, frame.light_tangent.xyz) * frame.light_tangent.w;
+    let b = dot(n, frame.light_bitangent.xyz) * frame.light_bitangent.w;
+    let corners = array<vec2<f32>, 4>(
+        vec2<f32>(-1.0, -1.0),
+        vec2<f32>(1.0, -1.0),
+        vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, 1.0),
+    );
+    // Sutherland-Hodgman against the one plane, the area summed as the vertices come.
+    var twice = 0.0;
+    var first = vec2<f32>(0.0);
+    var prev = vec2<f32>(0.0);
+    var count = 0u;
+    for (var i = 0u; i < 4u; i++) {
+        let p0 = corners[i];
+        let p1 = corners[(i + 1u) % 4u];
+        let f0 = c + a * p0.x + b * p0.y;
+        let f1 = c + a * p1.x + b * p1.y;
+        var out = array<vec2<f32>, 2>(p0, p0);
+        var n_out = 0u;
+        if (f0 > 0.0) {
+            out[n_out] = p0;
+            n_out++;
+        }
+        if ((f0 > 0.0) != (f1 > 0.0)) {
+            out[n_out] = p0 + (p1 - p0) * (f0 / (f0 - f1));
+            n_out++;
+        }
+        for (var k = 0u; k < n_out; k++) {
+            let v = out[k];
+            if (count == 0u) {
+                first = v;
+            } else {
+                twice += prev.x * v.y - prev.y * v.x;
+            }
+            prev = v;
+            count++;
+        }
+    }
+    if (count < 3u) {
+        return 0.0;
+    }
+    twice += prev.x * first.y - prev.y * first.x;
+    return clamp(0.5 * twice / 4.0, 0.0, 1.0);
 }
 
 struct ResolveOut {
@@ -60,7 +121,8 @@ fn fs_wedges(in: ResolveOut) -> @location(0) vec4<f32> {
     }
     let o = textureLoad(occlusion, vec2<i32>(in.pixel.xy), 0);
     let total = 4.0 * f32(in.count) + o.x + o.y + o.z + o.w;
-    return vec4<f32>(1.0 - clamp(total, 0.0, 4.0) / 4.0, 0.0, 0.0, 0.0);
+    let v = 1.0 - clamp(total, 0.0, 4.0) / 4.0;
+    return vec4<f32>(min(v, front_share(in.pixel)), 0.0, 0.0, 0.0);
 }
 
 // The final buffer of `wedges-blend` (`FINAL_WORDS` words per pixel), hard shadows included.
@@ -79,5 +141,6 @@ fn fs_blended(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let i = final_index(vec2<u32>(pixel.xy));
     let o = unpack_final_area(final_buffer[i], final_buffer[i + 1u]);
     let total = o.x + o.y + o.z + o.w;
-    return vec4<f32>(1.0 - clamp(total, 0.0, 4.0) / 4.0, 0.0, 0.0, 0.0);
+    let v = 1.0 - clamp(total, 0.0, 4.0) / 4.0;
+    return vec4<f32>(min(v, front_share(pixel)), 0.0, 0.0, 0.0);
 }

@@ -24,10 +24,16 @@ pub(crate) fn accuracy(
         samples,
         jitter: false,
     };
-    // Each technique's back end, decided (and any GPU opened) before the first render.
+    // Each technique's back end, decided (and any GPU opened) before the first render: the
+    // back end asked for where a technique can take it, the CPU for the CPU-only techniques and
+    // the truth.
     let mut renderer = Renderer::new(backend.into());
+    let mut cpu = Renderer::new(penumbra::Backend::Cpu);
+    let cpu_only = |t: Technique| !t.needs_gpu() && !t.is_volume();
     for &t in techniques {
-        renderer.uses_gpu(t)?;
+        if !cpu_only(t) {
+            renderer.uses_gpu(t)?;
+        }
     }
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
         .with_context(|| format!("reading {}", dir.display()))?
@@ -51,9 +57,9 @@ pub(crate) fn accuracy(
             .unwrap_or_else(|| "the CPU".to_string())
     );
     println!(
-        "| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | time (s) |"
+        "| scene | technique | MAE | p99 | > 0.05 | penumbra px | penumbra MAE | penumbra p99 | penumbra signed | umbra lit | time (s) |"
     );
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for path in scenes {
         let mut scene = load_scene(&path)?;
         params.apply(&mut scene)?;
@@ -62,7 +68,7 @@ pub(crate) fn accuracy(
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        let truth = renderer.render(&scene, Technique::Reference, &truth_options)?;
+        let truth = cpu.render(&scene, Technique::Reference, &truth_options)?;
         // Built before the timed renders.
         let volumes = Volumes::build(&scene);
         for &t in techniques {
@@ -71,20 +77,23 @@ pub(crate) fn accuracy(
                 jitter: sampling.jitter && t.takes_samples(),
             };
             let start = std::time::Instant::now();
-            let img = renderer
+            let r = if cpu_only(t) { &mut cpu } else { &mut renderer };
+            let img = r
                 .render_frame(&scene, t, &options, Some(&volumes), &|_| {})?
                 .image;
             let secs = start.elapsed().as_secs_f64();
             let c = image::compare(&img, &truth)?;
             println!(
-                "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {secs:.2} |",
+                "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {:+.5} | {:.2}% | {secs:.2} |",
                 t.name(),
                 c.all.mae,
                 c.all.p99,
                 100.0 * c.all.share_over,
                 c.penumbra.pixels,
                 c.penumbra.mae,
-                c.penumbra.p99
+                c.penumbra.p99,
+                c.penumbra_signed,
+                100.0 * c.umbra_lit
             );
         }
     }
