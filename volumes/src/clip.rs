@@ -9,10 +9,46 @@ pub fn cross(a: DVec2, b: DVec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
 
+/// A convex polygon of at most [`Poly::CAPACITY`] vertices, kept inline: the clips of a radial
+/// part (a triangle) by a few half-planes, made for every wedge at every pixel, never touch the
+/// heap. It reads as a slice of its vertices.
+#[derive(Clone, Copy, Debug)]
+pub struct Poly {
+    points: [DVec2; Poly::CAPACITY],
+    len: usize,
+}
+
+impl Poly {
+    /// Most vertices. A convex polygon gains at most one vertex per clip, so a triangle clipped
+    /// by three half-planes, as the wedge integrals clip their radial parts, has at most 6; the
+    /// slack is for polygons that rounding left a hair short of convex.
+    pub const CAPACITY: usize = 8;
+
+    /// Appends `p`; beyond the capacity (only a polygon that rounding made non-convex, of an area
+    /// at the rounding's scale, can get there) the vertex is dropped rather than panicking.
+    fn push(&mut self, p: DVec2) {
+        if self.len < Self::CAPACITY {
+            self.points[self.len] = p;
+            self.len += 1;
+        }
+    }
+}
+
+impl std::ops::Deref for Poly {
+    type Target = [DVec2];
+
+    fn deref(&self) -> &[DVec2] {
+        &self.points[..self.len]
+    }
+}
+
 /// Keeps the part of the convex polygon `poly` where `f(x) >= 0`, `f` affine (Sutherland &
-/// Hodgman 1974, one plane at a time).
-pub fn clip_halfplane(poly: &[DVec2], f: impl Fn(DVec2) -> f64) -> Vec<DVec2> {
-    let mut out = Vec::with_capacity(poly.len() + 1);
+/// Hodgman 1974, one plane at a time), in at most [`Poly::CAPACITY`] vertices.
+pub fn clip_halfplane(poly: &[DVec2], f: impl Fn(DVec2) -> f64) -> Poly {
+    let mut out = Poly {
+        points: [DVec2::ZERO; Poly::CAPACITY],
+        len: 0,
+    };
     for i in 0..poly.len() {
         let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
         let (fa, fb) = (f(a), f(b));

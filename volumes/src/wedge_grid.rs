@@ -31,41 +31,43 @@ impl WedgeGrid {
             ext.y / dims[1] as f64,
             ext.z / dims[2] as f64,
         );
-        let boxes: Vec<Option<([usize; 3], [usize; 3])>> = wedges
-            .iter()
-            .map(|w| {
-                let (blo, bhi) = wedge_box(w, lo, hi)?;
-                let idx =
-                    |p: DVec3, a: usize| (((p[a] - lo[a]) / cell[a]) as usize).min(dims[a] - 1);
-                Some((
-                    [0, 1, 2].map(|a| idx(blo, a)),
-                    [0, 1, 2].map(|a| idx(bhi, a)),
-                ))
-            })
-            .collect();
+        // Each wedge goes into the cells its frustum meets: per slab of cells in depth, those
+        // under the hull of its sections at the slab's two depths (sections are linear in
+        // depth), which for a slanted wedge is far fewer than its bounding box's.
+        let frusta: Vec<Option<WedgeFrustum>> =
+            wedges.iter().map(|w| wedge_frustum(w, lo, hi)).collect();
+        let idx = |v: f64, a: usize| (((v - lo[a]) / cell[a]).max(0.0) as usize).min(dims[a] - 1);
         let n = dims[0] * dims[1] * dims[2];
-        let mut count = vec![0u32; n + 1];
         let flat = |x: usize, y: usize, z: usize| (z * dims[1] + y) * dims[0] + x;
-        let each = |b: &([usize; 3], [usize; 3]), f: &mut dyn FnMut(usize)| {
-            for z in b.0[2]..=b.1[2] {
-                for y in b.0[1]..=b.1[1] {
-                    for x in b.0[0]..=b.1[0] {
-                        f(flat(x, y, z));
+        let each = |f: &WedgeFrustum, out: &mut dyn FnMut(usize)| {
+            let (z0, z1) = (idx(f.z.0, 2), idx(f.z.1, 2));
+            for z in z0..=z1 {
+                let za = (lo.z + z as f64 * cell.z).max(f.z.0);
+                let zb = (lo.z + (z + 1) as f64 * cell.z).min(f.z.1);
+                let (a, b) = (f.section(za), f.section(zb.max(za)));
+                let (rlo, rhi) = (a.0.min(b.0), a.1.max(b.1));
+                if !(rlo.x <= rhi.x && rlo.y <= rhi.y) {
+                    continue;
+                }
+                for y in idx(rlo.y, 1)..=idx(rhi.y, 1) {
+                    for x in idx(rlo.x, 0)..=idx(rhi.x, 0) {
+                        out(flat(x, y, z));
                     }
                 }
             }
         };
-        for b in boxes.iter().flatten() {
-            each(b, &mut |c| count[c + 1] += 1);
+        let mut count = vec![0u32; n + 1];
+        for f in frusta.iter().flatten() {
+            each(f, &mut |c| count[c + 1] += 1);
         }
         for i in 0..n {
             count[i + 1] += count[i];
         }
         let mut fill = count.clone();
         let mut items = vec![0u32; count[n] as usize];
-        for (wi, b) in boxes.iter().enumerate() {
-            if let Some(b) = b {
-                each(b, &mut |c| {
+        for (wi, f) in frusta.iter().enumerate() {
+            if let Some(f) = f {
+                each(f, &mut |c| {
                     items[fill[c] as usize] = wi as u32;
                     fill[c] += 1;
                 });
