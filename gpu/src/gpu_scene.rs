@@ -60,14 +60,14 @@ pub(crate) struct StoredMesh {
 
 /// The silhouettes' products for the current light and transforms.
 pub(crate) struct Shadows {
-    /// Shadow-volume vertices ([`volume_vertices`]) and each mesh's range of them.
+    /// Shadow-volume vertices ([`volume_vertices`]) and each blending unit's mesh and range.
     pub(crate) volume: wgpu::Buffer,
     pub(crate) volume_ranges: Vec<(u32, Range<u32>)>,
-    /// Wedge instances, on both sides, and each occluder's range of them.
+    /// Wedge instances, on both sides, and each blending unit's range of them.
     pub(crate) instances: Vec<WedgeInstance>,
     pub(crate) instance_buffer: wgpu::Buffer,
     pub(crate) instance_ranges: Vec<Range<u32>>,
-    /// Each occluder's nearest silhouette edge (light space), and the receivers' clusters.
+    /// Each unit's nearest silhouette edge (light space), and the receivers' clusters.
     pub(crate) nearest: Vec<f64>,
     pub(crate) clusters: ReceiverClusters,
     /// Silhouette edges, for reports.
@@ -384,11 +384,7 @@ impl GpuScene {
             + std::mem::size_of_val(instances.as_slice())) as u64;
         Shadows {
             volume: buffer(device, "volume triangles", &vol, wgpu::BufferUsages::VERTEX),
-            volume_ranges: ranges
-                .into_iter()
-                .enumerate()
-                .map(|(i, r)| (i as u32, r))
-                .collect(),
+            volume_ranges: ranges,
             instance_buffer: buffer(device, "wedges", &instances, wgpu::BufferUsages::VERTEX),
             instances,
             instance_ranges,

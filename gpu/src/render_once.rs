@@ -43,11 +43,11 @@ impl GpuRenderer {
         let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
         let gbuffer = GBuffer::new(device, size);
         let visibility = visibility_target(device, size);
-        // Timestamp queries (for `wedges-blend` at most three passes per occluder: its group's).
+        // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
         let timer = Timer::new(
             &self.ctx,
             if technique == Technique::WedgesBlend {
-                2 + 3 * volumes.occluders.len()
+                2 + 3 * volumes.unit_count()
             } else {
                 4
             },

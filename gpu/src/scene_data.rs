@@ -13,8 +13,10 @@ use crate::passes::blend::TileMask;
 use crate::passes::wedge::WedgeInstance;
 
 /// The wedges of `volumes` with their light-space bounding boxes clipped to the receivers' box
-/// of `triangles` (world space); wedges wholly outside are dropped. Also each occluder's range of
-/// the instances (the wedges come grouped by occluder).
+/// of `triangles` (world space); wedges wholly outside are dropped. Also each blending unit's
+/// range of the instances (the wedges come grouped by unit, [`Wedge::unit`]).
+///
+/// [`Wedge::unit`]: penumbra_volumes::wedge::Wedge::unit
 pub fn wedge_instances(
     light: &RectLight,
     triangles: &[[DVec3; 3]],
@@ -25,7 +27,7 @@ pub fn wedge_instances(
         let v = v.as_vec3();
         [v.x, v.y, v.z, w]
     };
-    let mut ranges = vec![0..0; volumes.occluders.len()];
+    let mut ranges = vec![0..0; volumes.unit_count()];
     let mut out = Vec::with_capacity(volumes.wedges.len());
     for w in &volumes.wedges {
         let inst = wedge_frustum(w, lo, hi).map(|solid| {
@@ -44,7 +46,7 @@ pub fn wedge_instances(
             }
         });
         if let Some(i) = inst {
-            let r = &mut ranges[w.occluder as usize];
+            let r = &mut ranges[w.unit as usize];
             if r.start == r.end {
                 *r = out.len() as u32..out.len() as u32;
             }
@@ -246,45 +248,76 @@ pub fn occluder_tiles(
         .collect()
 }
 
-/// Each occluder's nearest silhouette edge's light-space depth in `volumes` (infinite for an
-/// occluder without one), for [`occluder_tiles`].
+/// Each blending unit's nearest silhouette edge's light-space depth in `volumes` (infinite for a
+/// unit without one), for [`occluder_tiles`].
 pub fn nearest_edges(volumes: &Volumes) -> Vec<f64> {
-    let mut nearest = vec![f64::INFINITY; volumes.occluders.len()];
+    let mut nearest = vec![f64::INFINITY; volumes.unit_count()];
     for wedge in &volumes.wedges {
-        let z = &mut nearest[wedge.occluder as usize];
+        let z = &mut nearest[wedge.unit as usize];
         *z = z.min(wedge.from.z).min(wedge.to.z);
     }
     nearest
 }
 
-/// Every shadow-volume triangle's vertices in homogeneous coordinates, with each occluder's
-/// range of them: a mesh vertex as `stored[o][i]` (mesh `o`'s vertex `i` as its vertex buffer
+/// Each blending unit's shadow volume (the unit is a caster patch, [`Wedge::unit`]: its light
+/// caps, its dark caps and the side quads of the silhouette edges it bounds, each `|m|` times
+/// with the patch's own multiplicity), closed on its own, so that its z-fail count is the number
+/// of its casters between P and the light's centre, as the CPU oracle counts per unit. Vertices
+/// are homogeneous: a mesh vertex as `stored[o][i]` (mesh `o`'s vertex `i` as its vertex buffer
 /// holds it, placed by the mesh's model matrix) with `w = 1`, a vertex at infinity as its
-/// direction from the light's centre with `w = 0`.
+/// direction from the light's centre with `w = 0`. Also each unit's mesh and range.
+///
+/// [`Wedge::unit`]: penumbra_volumes::wedge::Wedge::unit
 pub fn volume_vertices(
     volumes: &Volumes,
     stored: &[&[[f32; 3]]],
-) -> (Vec<[f32; 4]>, Vec<std::ops::Range<u32>>) {
+) -> (Vec<[f32; 4]>, Vec<(u32, std::ops::Range<u32>)>) {
+    use VolumeVertex::{Finite as F, Infinite as I};
     let c = volumes.light.center;
     let mut vol = Vec::new();
-    let mut ranges = Vec::with_capacity(volumes.occluders.len());
-    for (o, stored) in volumes.occluders.iter().zip(stored) {
-        let start = vol.len() as u32;
-        let p = &o.volume.positions;
-        for (t, _) in &o.volume.triangles {
-            for v in t {
-                vol.push(match *v {
-                    VolumeVertex::Finite(i) => {
-                        let [x, y, z] = stored[i as usize];
-                        [x, y, z, 1.0]
-                    }
-                    VolumeVertex::Infinite(i) => {
-                        Vec4::to_array(&(p[i as usize] - c).as_vec3().extend(0.0))
-                    }
-                });
+    let mut ranges = Vec::with_capacity(volumes.unit_count());
+    for (oi, (o, stored)) in volumes.occluders.iter().zip(stored).enumerate() {
+        let sil = &o.silhouette;
+        let p = &o.mesh.positions;
+        let vertex = |v: VolumeVertex| match v {
+            F(i) => {
+                let [x, y, z] = stored[i as usize];
+                [x, y, z, 1.0]
+            }
+            I(i) => Vec4::to_array(&(p[i as usize] - c).as_vec3().extend(0.0)),
+        };
+        // Each patch's triangles, in patch order.
+        let mut per_patch: Vec<Vec<[VolumeVertex; 3]>> = vec![Vec::new(); sil.patches as usize];
+        let casters = sil
+            .is_caster
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| **c)
+            .map(|(f, _)| f);
+        for (f, &[a, b, cc]) in casters.zip(&sil.casters) {
+            let t = &mut per_patch[sil.patch[f] as usize];
+            t.push([F(a), F(b), F(cc)]);
+            t.push([I(a), I(cc), I(b)]);
+        }
+        for (e, patches) in sil.edges.iter().zip(&sil.edge_patches) {
+            for &(patch, m) in patches {
+                let (from, to) = if m > 0 {
+                    (e.from, e.to)
+                } else {
+                    (e.to, e.from)
+                };
+                for _ in 0..m.unsigned_abs() {
+                    let t = &mut per_patch[patch as usize];
+                    t.push([F(to), F(from), I(from)]);
+                    t.push([F(to), I(from), I(to)]);
+                }
             }
         }
-        ranges.push(start..vol.len() as u32);
+        for tris in per_patch {
+            let start = vol.len() as u32;
+            vol.extend(tris.iter().flatten().map(|&v| vertex(v)));
+            ranges.push((oi as u32, start..vol.len() as u32));
+        }
     }
     (vol, ranges)
 }

@@ -182,18 +182,19 @@ fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
                 let Some(p) = cpu.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
                     continue;
                 };
-                let mut occluders: Vec<u32> = cpu.stencil_counts(&p).iter().map(|c| c.0).collect();
-                occluders.extend(
+                // Blending units (caster patches), as the stencil counts and wedges name them.
+                let mut units: Vec<u32> = cpu.stencil_counts(&p).iter().map(|c| c.0).collect();
+                units.extend(
                     cpu.wedges_containing(p.position)
                         .iter()
-                        .map(|&w| cpu.volumes.wedges[w as usize].occluder),
+                        .map(|&w| cpu.volumes.wedges[w as usize].unit),
                 );
-                occluders.sort_unstable();
-                occluders.dedup();
-                for o in occluders {
+                units.sort_unstable();
+                units.dedup();
+                for o in units {
                     assert!(
                         masks[o as usize].holds_pixel(i, j),
-                        "{name}: pixel ({i}, {j}) is reached by occluder {o} but not in its tiles"
+                        "{name}: pixel ({i}, {j}) is reached by unit {o} but not in its tiles"
                     );
                     reached += 1;
                 }

@@ -38,6 +38,7 @@ fn construct(mesh: &HalfEdgeMesh, light: &RectLight) -> (usize, usize) {
             multiplicity: e.multiplicity,
             occluder: 0,
             silhouette_loop: 0,
+            unit: 0,
         })
         .collect();
     (vol.triangles.len(), wedges.len())

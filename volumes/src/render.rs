@@ -11,9 +11,9 @@
 //!   `V = 1 - clamp(4·n + Σ_e s_e m_e |R_e|, 0, 4) / 4`. Counting rather than clamping the
 //!   stencil keeps each occluder's inner half-wedges subtracting from its own hard shadow;
 //!   overlapping occluders are still counted twice, which is what blending corrects;
-//! - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per occluder, its hard
+//! - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per blending unit, its hard
 //!   shadow plus its own edges' integrals per radial part, blended into the final buffer in
-//!   occluder order with Forest et al.'s function.
+//!   unit order with Forest et al.'s function.
 //!
 //! The hard shadow is the shadow volumes' winding number. Counted along the ray from P towards
 //! the light's centre, no side quad is crossed (each lies in a plane through the centre) and the
@@ -22,9 +22,13 @@
 //! the z-fail count of the actual volume geometry along the view ray
 //! ([`ShadowVolume::winding_number`]).
 //!
-//! The blending unit is the occluder (a scene mesh): the loops of one mesh are signed parts of one
-//! region (a hole's loop subtracts from its outer loop's area), so they share one buffer. For the
-//! fixtures each occluder has one loop, as Forest et al.'s spheres do.
+//! The blending unit is Forest et al.'s "silhouette": a caster patch, the light-facing (for an
+//! open mesh, every) triangles joined across edges that are not silhouette edges
+//! ([`Silhouette::patch`]). Its boundary is an outer loop with the hole loops inside it, signed
+//! parts of one region that share one buffer; patches of one mesh that overlap as seen from the
+//! light (a folded sheet, the near and far sides of an open body) each get their own and are
+//! blended, where a buffer per mesh would add them. Each unit's stencil count is its casters
+//! between P and the light's centre.
 
 use glam::{DVec3, Vec3A};
 use penumbra_geom::image::VisibilityImage;
@@ -81,6 +85,7 @@ impl Volumes {
         let scene_light = light;
         let c = light.center;
         let mut first = 0u32;
+        let mut first_unit = 0u32;
         let mut wedges = Vec::new();
         let occluders: Vec<Occluder> = meshes
             .into_iter()
@@ -92,13 +97,21 @@ impl Volumes {
                 for (li, lp) in silhouette.loops.iter().enumerate() {
                     for &ei in lp {
                         let e = silhouette.edges[ei as usize];
-                        wedges.push(Wedge {
-                            from: scene_light.to_light_space(mesh.positions[e.from as usize]),
-                            to: scene_light.to_light_space(mesh.positions[e.to as usize]),
-                            multiplicity: e.multiplicity,
-                            occluder: oi as u32,
-                            silhouette_loop: li as u32,
-                        });
+                        let from = scene_light.to_light_space(mesh.positions[e.from as usize]);
+                        let to = scene_light.to_light_space(mesh.positions[e.to as usize]);
+                        // One wedge per patch the edge bounds, with that patch's own
+                        // multiplicity and direction: each patch blends its own buffer.
+                        for &(patch, m) in &silhouette.edge_patches[ei as usize] {
+                            let (from, to) = if m > 0 { (from, to) } else { (to, from) };
+                            wedges.push(Wedge {
+                                from,
+                                to,
+                                multiplicity: m.unsigned_abs(),
+                                occluder: oi as u32,
+                                silhouette_loop: li as u32,
+                                unit: first_unit + patch,
+                            });
+                        }
                     }
                 }
                 let o = Occluder {
@@ -109,14 +122,40 @@ impl Volumes {
                     first_triangle: first,
                 };
                 first += m.triangles.len() as u32;
+                first_unit += o.silhouette.patches;
                 o
             })
             .collect();
+        // Each unit's wedges together (a stable sort keeps the loops' order within a unit).
+        wedges.sort_by_key(|w| w.unit);
         Volumes {
             light: *light,
             occluders,
             wedges,
         }
+    }
+}
+
+impl Volumes {
+    /// The blending units (caster patches) of all occluders: [`Wedge::unit`] runs below it.
+    pub fn unit_count(&self) -> usize {
+        self.occluders
+            .iter()
+            .map(|o| o.silhouette.patches as usize)
+            .sum()
+    }
+
+    /// The occluder that blending unit `unit` belongs to (units are numbered occluder by
+    /// occluder).
+    pub fn unit_occluder(&self, unit: u32) -> u32 {
+        let mut first = 0;
+        for (oi, o) in self.occluders.iter().enumerate() {
+            first += o.silhouette.patches;
+            if unit < first {
+                return oi as u32;
+            }
+        }
+        self.occluders.len() as u32
     }
 }
 
@@ -145,8 +184,9 @@ impl GeometryCounts {
                 .clone()
                 .flat_map(|s| s.edges.iter().map(|e| e.multiplicity as usize))
                 .sum(),
-            loops: sil.map(|s| s.loops.len()).sum(),
-            wedges: v.wedges.len(),
+            loops: sil.clone().map(|s| s.loops.len()).sum(),
+            // One wedge solid per silhouette edge (split by patch for the blending only).
+            wedges: sil.clone().map(|s| s.edges.len()).sum(),
             volume_triangles: v.occluders.iter().map(|o| o.volume.triangles.len()).sum(),
         }
     }
@@ -162,6 +202,8 @@ pub struct CpuRenderer {
     pub grid: WedgeGrid,
     /// Occluder of each scene triangle, with the top bit set for casters.
     triangle_occluder: Vec<u32>,
+    /// Blending unit of each caster triangle ([`Wedge::unit`]).
+    triangle_unit: Vec<u32>,
 }
 
 /// Hard-shadow parts: each radial part fully occluded, bounded by its own triangle.
@@ -234,6 +276,8 @@ impl CpuRenderer {
         let (lo, hi) = receiver_box(&light, &tracer.triangles);
         let grid = WedgeGrid::build(&volumes.wedges, lo, hi);
         let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
+        let mut triangle_unit = Vec::with_capacity(tracer.triangles.len());
+        let mut first_unit = 0;
         for (oi, o) in volumes.occluders.iter().enumerate() {
             triangle_occluder.extend(
                 o.silhouette
@@ -241,18 +285,28 @@ impl CpuRenderer {
                     .iter()
                     .map(|&c| oi as u32 | if c { CASTER_BIT } else { 0 }),
             );
+            triangle_unit.extend(o.silhouette.patch.iter().map(|&p| {
+                if p == u32::MAX {
+                    u32::MAX
+                } else {
+                    first_unit + p
+                }
+            }));
+            first_unit += o.silhouette.patches;
         }
         CpuRenderer {
             tracer,
             volumes,
             grid,
             triangle_occluder,
+            triangle_unit,
         }
     }
 
-    /// The stencil count of each occluder at `p`, for those where it is not zero, sorted by
-    /// occluder: the number of its caster triangles (light caps) between `p` and the light's
-    /// centre, which is its volume's winding number around `p`.
+    /// The stencil count of each blending unit (caster patch, [`Wedge::unit`]) at `p`, for
+    /// those where it is not zero, sorted by unit: the number of its caster triangles (light
+    /// caps) between `p` and the light's centre, which is its volume's winding number around
+    /// `p`.
     pub fn stencil_counts(&self, p: &SurfacePoint) -> Vec<(u32, u32)> {
         let c = self.tracer.light.center;
         let d = c - p.position;
@@ -280,7 +334,7 @@ impl CpuRenderer {
         out.dedup();
         let mut counts: Vec<(u32, u32)> = Vec::new();
         for t in out {
-            let o = self.triangle_occluder[t as usize] & !CASTER_BIT;
+            let o = self.triangle_unit[t as usize];
             match counts.iter_mut().find(|c| c.0 == o) {
                 Some(c) => c.1 += 1,
                 None => counts.push((o, 1)),
@@ -338,10 +392,10 @@ impl CpuRenderer {
             let Some(int) = w.integral(pl) else {
                 continue;
             };
-            let a = match acc.iter().position(|a| a.occluder == w.occluder) {
+            let a = match acc.iter().position(|a| a.occluder == w.unit) {
                 Some(i) => &mut acc[i],
                 None => {
-                    acc.push(Accum::new(w.occluder));
+                    acc.push(Accum::new(w.unit));
                     acc.last_mut().expect("just pushed")
                 }
             };

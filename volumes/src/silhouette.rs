@@ -55,6 +55,15 @@ pub struct Silhouette {
     /// Silhouette loops: connected sets of silhouette edges (indices into `edges`), connected
     /// through shared vertices. A vertex may join more than two edges.
     pub loops: Vec<Vec<u32>>,
+    /// Per mesh face, its caster patch (`u32::MAX` for a face that casts nothing): casters
+    /// joined across edges that are not silhouette edges. A patch's boundary is its silhouette:
+    /// an outer loop with the hole loops inside it, the unit Forest et al. blend.
+    pub patch: Vec<u32>,
+    /// Number of patches.
+    pub patches: u32,
+    /// Per silhouette edge (as `edges`), each adjacent patch with its own signed multiplicity
+    /// (positive when the patch runs the edge `from -> to`); they sum to the edge's.
+    pub edge_patches: Vec<Vec<(u32, i32)>>,
 }
 
 /// `(b - a) x (c - a) . (d - a)`: positive when `d` is on the side the triangle `a b c` faces.
@@ -100,7 +109,8 @@ impl Silhouette {
                 _ => Some([f[0], f[2], f[1]]),
             })
             .collect();
-        let is_caster = (0..mesh.faces.len()).map(|fi| counts(fi) != 0).collect();
+        let is_caster: Vec<bool> = (0..mesh.faces.len()).map(|fi| counts(fi) != 0).collect();
+        let mut parent: Vec<u32> = (0..mesh.faces.len() as u32).collect();
         let mut edges = Vec::new();
         for (ei, e) in mesh.edges.iter().enumerate() {
             let [u, v] = e.vertices;
@@ -110,6 +120,20 @@ impl Silhouette {
                 let s = counts(HalfEdgeMesh::face(h) as usize) as i32;
                 // The face's light-facing orientation runs origin -> dest when s = +1.
                 m += if he.origin == u { s } else { -s };
+            }
+            if m == 0 {
+                // Not a silhouette: its casters belong to one patch.
+                let mut first = None;
+                for &h in &e.half_edges {
+                    let f = HalfEdgeMesh::face(h);
+                    if !is_caster[f as usize] {
+                        continue;
+                    }
+                    match first {
+                        None => first = Some(f),
+                        Some(g) => union(&mut parent, f, g),
+                    }
+                }
             }
             if m != 0 {
                 let (from, to) = if m > 0 { (u, v) } else { (v, u) };
@@ -122,25 +146,67 @@ impl Silhouette {
             }
         }
         let loops = group_loops(&edges, p.len());
+        let mut patch = vec![u32::MAX; mesh.faces.len()];
+        let mut label = std::collections::HashMap::new();
+        for f in 0..mesh.faces.len() {
+            if is_caster[f] {
+                let r = find(&mut parent, f as u32);
+                let n = label.len() as u32;
+                patch[f] = *label.entry(r).or_insert(n);
+            }
+        }
+        let edge_patches = edges
+            .iter()
+            .map(|se| {
+                let e = &mesh.edges[se.edge as usize];
+                let mut out: Vec<(u32, i32)> = Vec::new();
+                for &h in &e.half_edges {
+                    let f = HalfEdgeMesh::face(h) as usize;
+                    let s = counts(f) as i32;
+                    if s == 0 {
+                        continue;
+                    }
+                    let he = mesh.half_edges[h as usize];
+                    let d = if he.origin == se.from { s } else { -s };
+                    match out.iter_mut().find(|(q, _)| *q == patch[f]) {
+                        Some((_, m)) => *m += d,
+                        None => out.push((patch[f], d)),
+                    }
+                }
+                out.retain(|&(_, m)| m != 0);
+                out
+            })
+            .collect();
         Silhouette {
             closed,
             casters,
             is_caster,
             edges,
             loops,
+            patches: label.len() as u32,
+            patch,
+            edge_patches,
         }
+    }
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        parent[x as usize] = parent[parent[x as usize] as usize];
+        x = parent[x as usize];
+    }
+    x
+}
+
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (a, b) = (find(parent, a), find(parent, b));
+    if a != b {
+        parent[a.max(b) as usize] = a.min(b);
     }
 }
 
 /// Connected components of the silhouette edge graph (union-find over vertices).
 fn group_loops(edges: &[SilhouetteEdge], vertex_count: usize) -> Vec<Vec<u32>> {
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
     let mut parent: Vec<u32> = (0..vertex_count as u32).collect();
     for e in edges {
         let (a, b) = (find(&mut parent, e.from), find(&mut parent, e.to));

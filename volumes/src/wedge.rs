@@ -56,6 +56,9 @@ pub struct Wedge {
     pub occluder: u32,
     /// Index of the silhouette loop within the occluder.
     pub silhouette_loop: u32,
+    /// The blending unit (Forest et al.'s "silhouette"): the caster patch whose boundary the
+    /// edge is, numbered across the scene, occluder by occluder.
+    pub unit: u32,
 }
 
 /// What one wedge contributes at one receiver point, per radial part.

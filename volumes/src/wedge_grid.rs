@@ -289,6 +289,7 @@ mod tests {
                 multiplicity: 1,
                 occluder: 0,
                 silhouette_loop: 0,
+                unit: 0,
             };
             let Some(f) = wedge_frustum(&w, lo, hi) else {
                 continue;
