@@ -259,6 +259,9 @@ pub fn nearest_edges(volumes: &Volumes) -> Vec<f64> {
     nearest
 }
 
+/// Homogeneous shadow-volume vertices, and each blending unit's mesh and range of them.
+pub type UnitVolumes = (Vec<[f32; 4]>, Vec<(u32, std::ops::Range<u32>)>);
+
 /// Each blending unit's shadow volume (the unit is a caster patch, [`Wedge::unit`]: its light
 /// caps, its dark caps and the side quads of the silhouette edges it bounds, each `|m|` times
 /// with the patch's own multiplicity), closed on its own, so that its z-fail count is the number
@@ -268,10 +271,7 @@ pub fn nearest_edges(volumes: &Volumes) -> Vec<f64> {
 /// direction from the light's centre with `w = 0`. Also each unit's mesh and range.
 ///
 /// [`Wedge::unit`]: penumbra_volumes::wedge::Wedge::unit
-pub fn volume_vertices(
-    volumes: &Volumes,
-    stored: &[&[[f32; 3]]],
-) -> (Vec<[f32; 4]>, Vec<(u32, std::ops::Range<u32>)>) {
+pub fn volume_vertices(volumes: &Volumes, stored: &[&[[f32; 3]]]) -> UnitVolumes {
     use VolumeVertex::{Finite as F, Infinite as I};
     let c = volumes.light.center;
     let mut vol = Vec::new();
