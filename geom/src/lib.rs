@@ -14,6 +14,7 @@ pub mod raycast;
 pub mod reference;
 pub mod rng;
 pub mod scene;
+pub mod scene_values;
 pub mod technique;
 pub mod union;
 

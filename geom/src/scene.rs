@@ -36,6 +36,8 @@ use crate::light::RectLight;
 use crate::mesh::{MeshError, TriangleMesh};
 use penumbra_params::TechniqueParams;
 
+use crate::scene_values::{Scale, Table, Vector};
+
 /// Tolerance on the unit length and orthogonality of the light's normal and tangent.
 pub const UNIT_TOLERANCE: f64 = 1e-4;
 
@@ -87,8 +89,8 @@ pub enum SceneError {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
-    camera: Spanned<CameraDesc>,
-    light: Spanned<LightDesc>,
+    camera: Spanned<Table<CameraDesc>>,
+    light: Spanned<Table<LightDesc>>,
     #[serde(default)]
     mesh: Vec<Spanned<MeshDesc>>,
     // The shadow-map techniques' tables (`penumbra_params::TABLES`; a test checks that these
@@ -104,9 +106,9 @@ struct SceneFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CameraDesc {
-    eye: Spanned<[f64; 3]>,
-    target: Spanned<[f64; 3]>,
-    up: Spanned<[f64; 3]>,
+    eye: Spanned<Vector<3>>,
+    target: Spanned<Vector<3>>,
+    up: Spanned<Vector<3>>,
     fov_y_deg: Spanned<f64>,
     width: Spanned<u32>,
     height: Spanned<u32>,
@@ -115,26 +117,19 @@ struct CameraDesc {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LightDesc {
-    center: Spanned<[f64; 3]>,
-    normal: Spanned<[f64; 3]>,
-    tangent: Spanned<[f64; 3]>,
-    size: Spanned<[f64; 2]>,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(untagged)]
-enum ScaleDesc {
-    Uniform(f64),
-    PerAxis([f64; 3]),
+    center: Spanned<Vector<3>>,
+    normal: Spanned<Vector<3>>,
+    tangent: Spanned<Vector<3>>,
+    size: Spanned<Vector<2>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MeshDesc {
     obj: Spanned<String>,
-    scale: Option<Spanned<ScaleDesc>>,
-    rotate_axis_angle: Option<Spanned<[f64; 4]>>,
-    translate: Option<Spanned<[f64; 3]>>,
+    scale: Option<Spanned<Scale>>,
+    rotate_axis_angle: Option<Spanned<Vector<4>>>,
+    translate: Option<Spanned<Vector<3>>>,
 }
 
 /// One mesh of a scene, in world space.
@@ -194,19 +189,19 @@ impl Scene {
             line: line_of(text, span.start),
             message,
         };
-        let finite3 = |v: &Spanned<[f64; 3]>, key: &str| -> Result<DVec3, SceneError> {
-            let d = DVec3::from(*v.get_ref());
+        let finite3 = |v: &Spanned<Vector<3>>, key: &str| -> Result<DVec3, SceneError> {
+            let d = DVec3::from(v.get_ref().0);
             if d.is_finite() {
                 Ok(d)
             } else {
                 Err(invalid(
                     v.span(),
-                    format!("{key} = {:?} is not finite", v.get_ref()),
+                    format!("{key} = {:?} is not finite", v.get_ref().0),
                 ))
             }
         };
 
-        let c = file.camera.get_ref();
+        let c = &file.camera.get_ref().0;
         let eye = finite3(&c.eye, "camera.eye")?;
         let target = finite3(&c.target, "camera.target")?;
         let up = finite3(&c.up, "camera.up")?;
@@ -229,7 +224,7 @@ impl Scene {
             invalid(span, format!("camera: {e}"))
         })?;
 
-        let l = file.light.get_ref();
+        let l = &file.light.get_ref().0;
         let center = finite3(&l.center, "light.center")?;
         let normal = finite3(&l.normal, "light.normal")?;
         let tangent = finite3(&l.tangent, "light.tangent")?;
@@ -257,7 +252,7 @@ impl Scene {
                 format!("light.tangent {tangent} is not orthogonal to light.normal {normal}"),
             ));
         }
-        let size = DVec2::from(*l.size.get_ref());
+        let size = DVec2::from(l.size.get_ref().0);
         if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
             return Err(invalid(
                 l.size.span(),
@@ -448,8 +443,8 @@ fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
         None => DVec3::ONE,
         Some(s) => {
             let v = match *s.get_ref() {
-                ScaleDesc::Uniform(k) => DVec3::splat(k),
-                ScaleDesc::PerAxis(a) => DVec3::from(a),
+                Scale::Uniform(k) => DVec3::splat(k),
+                Scale::PerAxis(a) => DVec3::from(a),
             };
             if !v.is_finite() || v.x == 0.0 || v.y == 0.0 || v.z == 0.0 {
                 return Err((s.span(), format!("scale {v} must be finite and non-zero")));
@@ -460,7 +455,7 @@ fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
     let rotation = match m.rotate_axis_angle.as_ref() {
         None => DQuat::IDENTITY,
         Some(r) => {
-            let [x, y, z, deg] = *r.get_ref();
+            let [x, y, z, deg] = r.get_ref().0;
             let axis = DVec3::new(x, y, z);
             match axis.try_normalize() {
                 Some(a) if deg.is_finite() => DQuat::from_axis_angle(a, deg.to_radians()),
@@ -469,7 +464,7 @@ fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
                         r.span(),
                         format!(
                             "rotate_axis_angle {:?} needs a non-zero finite axis and a finite angle",
-                            r.get_ref()
+                            r.get_ref().0
                         ),
                     ));
                 }
@@ -479,7 +474,7 @@ fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
     let translate = match m.translate.as_ref() {
         None => DVec3::ZERO,
         Some(t) => {
-            let v = DVec3::from(*t.get_ref());
+            let v = DVec3::from(t.get_ref().0);
             if !v.is_finite() {
                 return Err((t.span(), format!("translate {v} is not finite")));
             }

@@ -87,6 +87,39 @@ fn malformed_toml() {
 }
 
 #[test]
+fn arrays_of_the_wrong_length_or_beyond_f32_name_their_line() {
+    // GOOD_SCENE's line 3 is the eye, 11 the light's centre, 18 the first mesh's `scale`.
+    let s = GOOD_SCENE.replace("eye = [0.0, 3.0, 4.0]", "eye = [0.0, 3.0, 4.0, 1.0]");
+    assert_refused(
+        "eye4",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:3", "exactly 3 numbers, found 4"],
+    );
+    let s = GOOD_SCENE.replace("center = [0.0, 4.0, 0.0]", "center = [0.0, 1e39, 0.0]");
+    assert_refused(
+        "f32",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:11", "does not fit in 32-bit floats"],
+    );
+    let s = GOOD_SCENE.replace("scale = 4.0", "scale = [1, 2]");
+    assert_refused(
+        "scale2",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:18", "exactly 3 numbers, found 2"],
+    );
+    let s = GOOD_SCENE.replace("[camera]", "[[camera]]");
+    assert_refused(
+        "camera-array",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:2", "not `[[name]]`"],
+    );
+}
+
+#[test]
 fn unknown_key_names_key_and_line() {
     let s = GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1.0, 1.0]\ncolour = 3");
     assert_refused("key", &s, GOOD_OBJ, &["s.toml:15", "colour"]);
