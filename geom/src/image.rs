@@ -83,22 +83,119 @@ fn io_err(path: &Path, e: impl std::fmt::Display) -> ImageError {
     }
 }
 
-/// Writes through `write` into a hidden temporary file beside `path`, then renames it into
-/// place, so that a failed write leaves nothing behind.
+/// Where writing `path` puts the file: `path` itself when it is new or a regular file; for a
+/// symbolic link, its final target when that is a regular file (the link is kept, never
+/// replaced). Directories, devices, FIFOs, sockets and links to anything else are refused.
+pub fn output_target(path: &Path) -> Result<std::path::PathBuf, ImageError> {
+    let kind = |m: &std::fs::Metadata| -> &'static str {
+        let t = m.file_type();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::FileTypeExt;
+            if t.is_fifo() {
+                return "FIFO";
+            }
+            if t.is_block_device() || t.is_char_device() {
+                return "device";
+            }
+            if t.is_socket() {
+                return "socket";
+            }
+        }
+        if t.is_dir() {
+            "directory"
+        } else {
+            "special file"
+        }
+    };
+    match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(path.to_path_buf()),
+        Err(e) => Err(io_err(path, e)),
+        Ok(m) if m.is_file() => Ok(path.to_path_buf()),
+        Ok(m) if m.file_type().is_symlink() => {
+            let target = std::fs::canonicalize(path).map_err(|e| {
+                io_err(
+                    path,
+                    format!(
+                        "a symbolic link whose target cannot be resolved ({e}); refusing to write"
+                    ),
+                )
+            })?;
+            match std::fs::metadata(&target) {
+                Ok(t) if t.is_file() => Ok(target),
+                Ok(t) => Err(io_err(
+                    path,
+                    format!(
+                        "a symbolic link to a {} ({}), not to a regular file; refusing to write",
+                        kind(&t),
+                        target.display()
+                    ),
+                )),
+                Err(e) => Err(io_err(path, e)),
+            }
+        }
+        Ok(m) => Err(io_err(
+            path,
+            format!(
+                "is a {}, not a regular file; refusing to replace it",
+                kind(&m)
+            ),
+        )),
+    }
+}
+
+/// The hidden temporary name beside `path` that process `pid` writes it through.
+fn temporary(path: &Path, name: &std::ffi::OsStr, pid: u32) -> std::path::PathBuf {
+    path.with_file_name(format!(".{}.tmp-{pid}", name.to_string_lossy()))
+}
+
+/// Removes the temporary files beside `path` left by runs that died while writing it (killed,
+/// crashed): those of processes that no longer exist. Only where `/proc` tells.
+fn remove_stale_temporaries(path: &Path, name: &std::ffi::OsStr) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let file = e.file_name();
+        let Some(pid) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id() && !proc.join(pid.to_string()).exists() {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Writes through `write` into a hidden temporary file beside the output, then renames it into
+/// place, so that a failed write leaves nothing behind. The output is `path`, or the regular
+/// file a symbolic link at `path` points to ([`output_target`], which refuses anything else);
+/// temporaries of earlier runs that died while writing it are removed first.
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), ImageError>,
 ) -> Result<(), ImageError> {
-    let name = path
+    let target = output_target(path)?;
+    let name = target
         .file_name()
-        .ok_or_else(|| io_err(path, "not a file path"))?;
-    let tmp = path.with_file_name(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
+        .ok_or_else(|| io_err(path, "not a file path"))?
+        .to_os_string();
+    remove_stale_temporaries(&target, &name);
+    let tmp = temporary(&target, &name, std::process::id());
     let result =
-        write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| io_err(path, e)));
+        write(&tmp).and_then(|()| std::fs::rename(&tmp, &target).map_err(|e| io_err(path, e)));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
@@ -346,6 +443,60 @@ pub fn heatmap(a: &VisibilityImage, b: &VisibilityImage, full_scale: f32) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn outputs_are_regular_files_links_keep_and_stale_temporaries_go() {
+        let d = std::env::temp_dir().join(format!("penumbra-out-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        let img = VisibilityImage::filled(2, 2, 0.5);
+        // A directory and a device are refused, untouched.
+        let e = img.write_exr(&d).unwrap_err().to_string();
+        assert!(e.contains("directory"), "{e}");
+        let e = img
+            .write_exr(Path::new("/dev/null"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("device"), "{e}");
+        use std::os::unix::fs::FileTypeExt;
+        assert!(
+            std::fs::metadata("/dev/null")
+                .unwrap()
+                .file_type()
+                .is_char_device()
+        );
+        // A link to a regular file: the target gets the image, the link stays a link.
+        let target = d.join("target.exr");
+        std::fs::write(&target, b"old").unwrap();
+        let link = d.join("link.exr");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        img.write_exr(&link).unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(VisibilityImage::read_exr(&target).unwrap(), img);
+        // A link to a directory is refused.
+        let to_dir = d.join("to-dir.exr");
+        std::os::unix::fs::symlink(&d, &to_dir).unwrap();
+        assert!(img.write_exr(&to_dir).is_err());
+        // A dead run's temporary is removed by the next write of the same output; a live
+        // one's (ours stands for it) is kept.
+        let out = d.join("v.exr");
+        let dead = temporary(&out, std::ffi::OsStr::new("v.exr"), u32::MAX - 7);
+        let live = temporary(&out, std::ffi::OsStr::new("v.exr"), 1);
+        std::fs::write(&dead, b"partial").unwrap();
+        std::fs::write(&live, b"partial").unwrap();
+        img.write_exr(&out).unwrap();
+        if Path::new("/proc/self").exists() {
+            assert!(!dead.exists());
+            assert_eq!(live.exists(), Path::new("/proc/1").exists());
+        }
+        let _ = std::fs::remove_dir_all(&d);
+    }
 
     #[test]
     fn exr_round_trips_exactly_and_keeps_row_order() {

@@ -150,9 +150,12 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Refuses outputs that would overwrite an input or each other.
+/// Refuses outputs that would overwrite an input or each other, or that are not regular files
+/// (or links to one).
 fn check_outputs(inputs: &[PathBuf], outputs: &[&Path]) -> Result<()> {
     for (k, out) in outputs.iter().enumerate() {
+        // Before any work: a directory, device, FIFO or socket is refused, not replaced.
+        penumbra::geom::image::output_target(out)?;
         if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
             bail!(
                 "output {} is an input of this run ({}); refusing to overwrite it",

@@ -119,6 +119,36 @@ fn arrays_of_the_wrong_length_or_beyond_f32_name_their_line() {
     );
 }
 
+#[cfg(unix)]
+#[test]
+fn special_files_are_refused_as_outputs_and_left_alone() {
+    let d = scratch("special-out");
+    std::fs::write(d.join("s.toml"), GOOD_SCENE).unwrap();
+    std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
+    let fifo = d.join("v.exr");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let out = penumbra()
+        .args(["render", "--technique", "hard", "--backend", "cpu", "--out"])
+        .arg(&fifo)
+        .arg(d.join("s.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("is a FIFO"), "{err}");
+    use std::os::unix::fs::FileTypeExt;
+    assert!(
+        std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo()
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn unknown_key_names_key_and_line() {
     let s = GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1.0, 1.0]\ncolour = 3");
