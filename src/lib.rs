@@ -43,4 +43,4 @@ pub use penumbra_gpu as gpu;
 pub use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Uploads};
 pub use penumbra_params as params;
 pub use penumbra_volumes as volumes;
-pub use render::{Backend, Frame, RenderError, RenderOptions, Renderer};
+pub use render::{Backend, Frame, MAX_SAMPLES, RenderError, RenderOptions, Renderer};

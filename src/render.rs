@@ -32,6 +32,10 @@ pub enum Backend {
     Cpu,
 }
 
+/// The most light samples per pixel (256 x 256): beyond, a 320 x 240 reference would take hours
+/// and the sampling error is far below `f32`'s resolution of V anyway.
+pub const MAX_SAMPLES: usize = 65536;
+
 /// How the sampled techniques (`reference`, `depth-complexity`) sample the light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderOptions {
@@ -61,10 +65,11 @@ impl RenderOptions {
     /// let p = RenderOptions { samples: 1024, jitter: true }.pattern().unwrap();
     /// assert_eq!((p.per_axis, p.jitter), (32, true));
     /// assert!(RenderOptions { samples: 1000, jitter: false }.pattern().is_err());
+    /// assert!(RenderOptions { samples: 65536 * 4, jitter: false }.pattern().is_err());
     /// ```
     pub fn pattern(&self) -> Result<SamplePattern, RenderError> {
         let n = (self.samples as f64).sqrt().round() as usize;
-        if self.samples == 0 || n * n != self.samples {
+        if self.samples == 0 || n * n != self.samples || self.samples > MAX_SAMPLES {
             return Err(RenderError::BadSamples {
                 samples: self.samples,
             });
@@ -95,8 +100,10 @@ pub enum RenderError {
         /// The technique.
         technique: Technique,
     },
-    /// A sample count that is not a positive perfect square.
-    #[error("{samples} samples: the count must be a positive perfect square (64, 256, 1024, ...)")]
+    /// A sample count that is not a positive perfect square up to [`MAX_SAMPLES`].
+    #[error(
+        "{samples} samples: the count must be a positive perfect square (64, 256, 1024, ...) up to 65536"
+    )]
     BadSamples {
         /// The count given.
         samples: usize,

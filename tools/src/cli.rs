@@ -145,7 +145,7 @@ pub(crate) enum Command {
         /// Output EXR file.
         #[arg(long)]
         out: PathBuf,
-        /// Light samples per pixel for `reference` and `depth-complexity`: a perfect square.
+        /// Light samples per pixel for `reference` and `depth-complexity`: a perfect square up to 65536.
         #[arg(long, default_value_t = 256)]
         samples: usize,
         /// `depth-complexity`: the reference's own jittered points, pixel for pixel, instead of
@@ -169,7 +169,7 @@ pub(crate) enum Command {
         /// Pixel as X,Y (column, row; row 0 the top).
         #[arg(long)]
         pixel: String,
-        /// Light samples for the reference value: a perfect square.
+        /// Light samples for the reference value: a perfect square up to 65536.
         #[arg(long, default_value_t = 4096)]
         samples: usize,
     },
@@ -201,11 +201,11 @@ pub(crate) enum Command {
         /// Folder of scene files.
         #[arg(long, default_value = "fixtures/scenes")]
         scenes: PathBuf,
-        /// Reference light samples per pixel: a perfect square.
+        /// Reference light samples per pixel: a perfect square up to 65536.
         #[arg(long, default_value_t = 1024)]
         samples: usize,
         /// Light samples per pixel of the sampled techniques measured (`reference`,
-        /// `depth-complexity`): a perfect square.
+        /// `depth-complexity`): a perfect square up to 65536.
         #[arg(long, default_value_t = 256)]
         technique_samples: usize,
         /// `depth-complexity`: jitter its samples as the reference does.

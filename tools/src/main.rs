@@ -130,7 +130,10 @@ fn samples_per_axis(samples: usize) -> Result<usize> {
     match options.pattern() {
         Ok(p) => Ok(p.per_axis),
         Err(_) => {
-            bail!("--samples {samples} must be a positive perfect square (64, 256, 1024, ...)")
+            bail!(
+                "--samples {samples} must be a positive perfect square (64, 256, 1024, ...) up to {}",
+                penumbra::MAX_SAMPLES
+            )
         }
     }
 }

@@ -249,18 +249,25 @@ fn out_equal_to_an_input() {
 }
 
 #[test]
-fn samples_must_be_a_perfect_square() {
+fn samples_must_be_a_perfect_square_up_to_65536() {
     let d = scratch("samples");
-    let out = penumbra()
-        .arg("render")
-        .arg(fixtures().join("scenes/quad-over-plane.toml"))
-        .args(["--samples", "200", "--out"])
-        .arg(d.join("v.exr"))
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("perfect square"));
-    assert!(files_in(&d).is_empty());
+    // 200 is no square; 65536^2 (a square) would run for days.
+    for samples in ["200", "4294967296"] {
+        let out = penumbra()
+            .arg("render")
+            .arg(fixtures().join("scenes/quad-over-plane.toml"))
+            .args(["--technique", "reference", "--samples", samples, "--out"])
+            .arg(d.join("v.exr"))
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("perfect square") && err.contains("up to 65536"),
+            "{err}"
+        );
+        assert!(files_in(&d).is_empty());
+    }
 }
 
 #[test]
