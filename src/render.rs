@@ -122,6 +122,16 @@ pub enum RenderError {
         /// Why there is none.
         why: String,
     },
+    /// An image too large for the back end or the memory.
+    #[error("the image is {width} x {height} pixels, too large: {why}")]
+    TooLarge {
+        /// Its width.
+        width: u32,
+        /// Its height.
+        height: u32,
+        /// What it does not fit.
+        why: String,
+    },
     /// The GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
@@ -272,7 +282,45 @@ impl Renderer {
         if options.jitter && !technique.takes_samples() {
             return Err(RenderError::NoSamples { technique });
         }
-        if self.uses_gpu(technique)? {
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        let mut on_gpu = self.uses_gpu(technique)?;
+        if on_gpu {
+            let ctx = match &self.gpu {
+                GpuState::Ready(ctx) => ctx,
+                _ => unreachable!("uses_gpu opened it"),
+            };
+            let limit = ctx.device.limits().max_texture_dimension_2d;
+            if width > limit || height > limit {
+                // Under `auto` a technique the CPU also renders goes there.
+                if self.backend == Backend::Auto && !technique.needs_gpu() {
+                    on_gpu = false;
+                } else {
+                    return Err(RenderError::TooLarge {
+                        width,
+                        height,
+                        why: format!(
+                            "the GPU's textures are at most {limit} pixels on a side ({}){}",
+                            ctx.describe(),
+                            if technique.needs_gpu() {
+                                ""
+                            } else {
+                                "; --backend cpu renders it"
+                            }
+                        ),
+                    });
+                }
+            }
+        }
+        check_memory(
+            width,
+            height,
+            if on_gpu {
+                GPU_BYTES_PER_PIXEL
+            } else {
+                CPU_BYTES_PER_PIXEL
+            },
+        )?;
+        if on_gpu {
             let ctx = match &self.gpu {
                 GpuState::Ready(ctx) => GpuContext::clone(ctx),
                 _ => unreachable!("uses_gpu opened it"),
@@ -312,6 +360,38 @@ impl Renderer {
             });
         }
         Ok(render_cpu(scene, technique, pattern, progress))
+    }
+}
+
+/// Bytes per pixel a CPU render holds: V (4) and the row buffers around it, with room.
+const CPU_BYTES_PER_PIXEL: u64 = 16;
+
+/// Bytes per pixel a GPU render holds on the device and in the readback: depth-stencil (8),
+/// positions (16), normals (8), V (4), the silhouette buffer (56), the final buffer (8), the
+/// readback (4) and V on the CPU (4), with room.
+const GPU_BYTES_PER_PIXEL: u64 = 128;
+
+/// Refuses an image of `width x height` pixels at `per_pixel` bytes each that would not fit the
+/// memory available (as `/proc/meminfo` says, where it does), before anything is allocated.
+fn check_memory(width: u32, height: u32, per_pixel: u64) -> Result<(), RenderError> {
+    let needed = width as u64 * height as u64 * per_pixel;
+    let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
+        m.lines()
+            .find_map(|l| l.strip_prefix("MemAvailable:"))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+            .map(|kb| kb * 1024)
+    });
+    match available {
+        Some(a) if needed > a => Err(RenderError::TooLarge {
+            width,
+            height,
+            why: format!(
+                "it needs about {:.1} GB and {:.1} GB of memory are available",
+                needed as f64 / 1e9,
+                a as f64 / 1e9
+            ),
+        }),
+        _ => Ok(()),
     }
 }
 

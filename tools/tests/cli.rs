@@ -150,6 +150,45 @@ fn special_files_are_refused_as_outputs_and_left_alone() {
 }
 
 #[test]
+fn images_too_large_for_the_gpu_or_the_memory_are_refused_or_go_to_the_cpu() {
+    // Wider than any GPU's textures (16384 on lavapipe, 32768 at most elsewhere).
+    let wide = GOOD_SCENE
+        .replace("width = 24", "width = 40000")
+        .replace("height = 16", "height = 1");
+    assert_refused_with(
+        "wide-gpu",
+        &wide,
+        GOOD_OBJ,
+        &["--technique", "hard", "--backend", "gpu"],
+        &["40000 x 1"],
+    );
+    // Under `auto` the CPU renders it.
+    let (d, out) = render_case_with("wide-auto", &wide, GOOD_OBJ, &["--technique", "hard"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        penumbra_geom::VisibilityImage::read_exr(&d.join("v.exr"))
+            .unwrap()
+            .width,
+        40000
+    );
+    // 4e10 pixels: refused before any allocation, where the CPU path aborted.
+    let huge = GOOD_SCENE
+        .replace("width = 24", "width = 200000")
+        .replace("height = 16", "height = 200000");
+    assert_refused_with(
+        "huge-cpu",
+        &huge,
+        GOOD_OBJ,
+        &["--technique", "hard", "--backend", "cpu"],
+        &["200000 x 200000", "too large", "GB"],
+    );
+}
+
+#[test]
 fn unknown_key_names_key_and_line() {
     let s = GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1.0, 1.0]\ncolour = 3");
     assert_refused("key", &s, GOOD_OBJ, &["s.toml:15", "colour"]);
