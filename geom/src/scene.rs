@@ -158,6 +158,11 @@ pub struct Scene {
     pub params: TechniqueParams,
 }
 
+/// Largest magnitude of a world coordinate (eye, target, light centre, every mesh vertex after
+/// its transform): the ray caster's hierarchy quantizes boxes relative to the scene's, and
+/// scenes reaching 1e20 break it. Within it, every back end renders the same image.
+pub const MAX_COORDINATE: f64 = 1e15;
+
 /// 1-based line of byte offset `at` in `text`.
 fn line_of(text: &str, at: usize) -> usize {
     text.as_bytes()[..at.min(text.len())]
@@ -191,6 +196,14 @@ impl Scene {
         };
         let finite3 = |v: &Spanned<Vector<3>>, key: &str| -> Result<DVec3, SceneError> {
             let d = DVec3::from(v.get_ref().0);
+            if d.is_finite() && d.abs().max_element() > MAX_COORDINATE {
+                return Err(invalid(
+                    v.span(),
+                    format!(
+                        "{key} = {d} lies outside the supported range (coordinates up to {MAX_COORDINATE:e})"
+                    ),
+                ));
+            }
             if d.is_finite() {
                 Ok(d)
             } else {
@@ -276,8 +289,22 @@ impl Scene {
                 mesh: index,
                 error: e,
             })?;
+            let world = mesh.transformed(&transform);
+            if let Some(v) = world
+                .positions
+                .iter()
+                .find(|v| !(v.abs().max_element() <= MAX_COORDINATE))
+            {
+                return Err(invalid(
+                    m.obj.span(),
+                    format!(
+                        "mesh {index} ({}) has a vertex at {v} after its transform, outside the supported range (coordinates up to {MAX_COORDINATE:e})",
+                        m.obj.get_ref()
+                    ),
+                ));
+            }
             meshes.push(SceneMesh {
-                mesh: mesh.transformed(&transform),
+                mesh: world,
                 source,
                 transform,
             });
