@@ -189,6 +189,36 @@ fn images_too_large_for_the_gpu_or_the_memory_are_refused_or_go_to_the_cpu() {
 }
 
 #[test]
+fn compare_names_the_file_with_a_non_finite_pixel() {
+    use exr::prelude::*;
+    let d = scratch("compare-nan");
+    let (good, bad) = (d.join("good.exr"), d.join("bad.exr"));
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.5)
+        .write_exr(&good)
+        .unwrap();
+    // A V channel with a NaN, as another tool might write it.
+    let data = vec![0.5, 0.5, f32::NAN, 0.5, 0.5, 0.5];
+    let channel = AnyChannel::new("V", FlatSamples::F32(data));
+    let layer = Layer::new(
+        (3, 2),
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+    );
+    Image::from_layer(layer).write().to_file(&bad).unwrap();
+    for (a, b) in [(&good, &bad), (&bad, &good)] {
+        let out = penumbra().arg("compare").arg(a).arg(b).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{err}");
+        assert!(
+            err.contains("bad.exr") && err.contains("pixel (2, 0) is not finite"),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
 fn unknown_key_names_key_and_line() {
     let s = GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1.0, 1.0]\ncolour = 3");
     assert_refused("key", &s, GOOD_OBJ, &["s.toml:15", "colour"]);

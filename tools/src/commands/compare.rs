@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use penumbra::geom::image::{self, VisibilityImage};
 
 use crate::check_outputs;
@@ -13,6 +13,11 @@ pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) ->
     }
     let ia = VisibilityImage::read_exr(a)?;
     let ib = VisibilityImage::read_exr(b)?;
+    // A non-finite pixel is named with its file.
+    for (img, path) in [(&ia, a), (&ib, b)] {
+        img.check_finite()
+            .with_context(|| format!("{}", path.display()))?;
+    }
     let c = image::compare(&ia, &ib)?;
     if let Some(h) = heatmap {
         let rgb = image::heatmap(&ia, &ib, 0.1);
