@@ -121,12 +121,11 @@ impl GpuScene {
             position: &position,
         };
         let (cube, wedge_buffer) = (&self.cube, &shadows.instance_buffer);
-        let _sampled =
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let all_instances = 0..shadows.instances.len() as u32;
         let all_instances = std::slice::from_ref(&all_instances);
         match technique {
-            Technique::Hard => {
+            Technique::Hard | Technique::Wedges => {
+                // Every volume's stencil count, then the hard shadow, or the wedges over it.
                 p.stencil.record(
                     encoder,
                     bindings,
@@ -134,47 +133,32 @@ impl GpuScene {
                     &shadows.volume_ranges,
                     stamp(Pass::Stencil),
                 );
-                p.resolve.record(
-                    encoder,
-                    bindings,
-                    ResolveInput::Hard,
-                    target,
-                    stamp(Pass::Resolve),
-                );
-            }
-            Technique::Wedges => {
-                p.stencil.record(
-                    encoder,
-                    bindings,
-                    &shadows.volume,
-                    &shadows.volume_ranges,
-                    stamp(Pass::Stencil),
-                );
-                let occlusion = self.scratch.occlusion.as_ref().expect("prepared above");
-                p.wedge.record(
-                    encoder,
-                    bindings,
-                    WedgeDraws {
-                        cube,
-                        wedges: wedge_buffer,
-                        ranges: all_instances,
-                    },
-                    WedgeOutput::Additive(occlusion),
-                    stamp(Pass::Wedge),
-                );
-                let group = bind_group(
-                    device,
-                    "occlusion",
-                    &p.resolve.texture_layout,
-                    &[wgpu::BindingResource::TextureView(occlusion)],
-                );
-                p.resolve.record(
-                    encoder,
-                    bindings,
-                    ResolveInput::Additive(&group),
-                    target,
-                    stamp(Pass::Resolve),
-                );
+                let group;
+                let input = if technique == Technique::Hard {
+                    ResolveInput::Hard
+                } else {
+                    let occlusion = self.scratch.occlusion.as_ref().expect("prepared above");
+                    p.wedge.record(
+                        encoder,
+                        bindings,
+                        WedgeDraws {
+                            cube,
+                            wedges: wedge_buffer,
+                            ranges: all_instances,
+                        },
+                        WedgeOutput::Additive(occlusion),
+                        stamp(Pass::Wedge),
+                    );
+                    group = bind_group(
+                        device,
+                        "occlusion",
+                        &p.resolve.texture_layout,
+                        &[wgpu::BindingResource::TextureView(occlusion)],
+                    );
+                    ResolveInput::Additive(&group)
+                };
+                p.resolve
+                    .record(encoder, bindings, input, target, stamp(Pass::Resolve));
             }
             Technique::WedgesBlend => {
                 // One silhouette buffer, and the final buffer, zeroed (no occlusion) and

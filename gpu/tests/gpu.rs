@@ -3,6 +3,9 @@
 
 use std::path::PathBuf;
 
+mod common;
+use common::{context, fixtures};
+
 use penumbra_geom::Scene;
 use penumbra_geom::image::compare;
 use penumbra_geom::reference::{self, Reference, Tracer};
@@ -10,24 +13,10 @@ use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
 use penumbra_gpu::passes::fullscreen;
 use penumbra_gpu::renderer::{ReceiverClusters, nearest_edges, occluder_tiles, wedge_instances};
 use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
-use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
+use penumbra_gpu::{GpuRenderer, ShadowMapRenderer};
 use penumbra_params::{MdsmExtra, fractional_disk_samples};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::{CpuRenderer, Technique};
-
-fn context() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => {
-            println!("adapter: {}", c.describe());
-            Some(c)
-        }
-        Err(e) if std::env::var_os("CI").is_some() => panic!("CI needs a GPU adapter: {e}"),
-        Err(e) => {
-            println!("SKIPPED (no adapter): {e}");
-            None
-        }
-    }
-}
 
 /// Whether every mesh of `scene` is one of the generated fixture meshes (spheres, quads, the
 /// three-page book), not a real mesh.
@@ -37,22 +26,6 @@ fn generated(scene: &Scene) -> bool {
             .iter()
             .any(|g| m.source.ends_with(g))
     })
-}
-
-fn fixtures() -> Vec<(String, Scene)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
-    let mut v: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .map(|p| {
-            let name = p.file_stem().unwrap().to_string_lossy().into_owned();
-            (name, Scene::load(&p).unwrap())
-        })
-        .collect();
-    v.sort_by(|a, b| a.0.cmp(&b.0));
-    assert!(v.len() >= 8, "fixtures missing");
-    v
 }
 
 #[test]

@@ -5,6 +5,9 @@
 
 use std::path::Path;
 
+mod common;
+use common::context;
+
 use glam::dcamera::rh::{proj::directx, view};
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra_geom::image::{VisibilityImage, compare};
@@ -19,17 +22,6 @@ const SIZE: (u32, u32) = (96, 72);
 const EYE: DVec3 = DVec3::new(0.5, 5.0, 6.5);
 const TARGET: DVec3 = DVec3::new(0.0, 0.5, 0.0);
 const FOV_DEG: f64 = 45.0;
-
-fn context() -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => Some(c),
-        Err(e) if std::env::var_os("CI").is_some() => panic!("CI needs a GPU adapter: {e}"),
-        Err(e) => {
-            println!("SKIPPED (no adapter): {e}");
-            None
-        }
-    }
-}
 
 /// A ground, a sphere and a box, each in its own space, with their transforms.
 fn meshes() -> Vec<(TriangleMesh, DMat4)> {

@@ -3,11 +3,12 @@
 //! accuracy, several times faster): how much of the umbra (V <= 0.02) each leaves lit (V > 0.5),
 //! and `pcss`'s penumbra error. They need an adapter (lavapipe in CI), as `gpu.rs` does.
 
-use std::path::PathBuf;
+mod common;
+use common::{context, fixtures};
 
+use penumbra_geom::Technique;
 use penumbra_geom::image::compare;
-use penumbra_geom::{Scene, Technique};
-use penumbra_gpu::{GpuContext, ShadowMapRenderer};
+use penumbra_gpu::ShadowMapRenderer;
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
 /// Most of the umbra a technique may leave lit.
@@ -32,32 +33,9 @@ const KNOWN: [(Technique, &str, f64); 8] = [
     (Technique::FractionalDisk, "spot", 0.065),
 ];
 
-fn fixtures() -> Vec<(String, Scene)> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
-    let mut v: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .map(|p| {
-            let name = p.file_stem().unwrap().to_string_lossy().into_owned();
-            (name, Scene::load(&p).unwrap())
-        })
-        .collect();
-    v.sort_by(|a, b| a.0.cmp(&b.0));
-    assert!(v.len() >= 13, "fixtures missing");
-    v
-}
-
 #[test]
 fn shadow_maps_keep_their_umbrae_and_pcss_its_penumbrae_on_every_fixture() {
-    let ctx = match GpuContext::new() {
-        Ok(c) => c,
-        Err(e) if std::env::var_os("CI").is_some() => panic!("CI needs a GPU adapter: {e}"),
-        Err(e) => {
-            println!("SKIPPED (no adapter): {e}");
-            return;
-        }
-    };
+    let Some(ctx) = context() else { return };
     let techniques = [
         Technique::Pcf,
         Technique::Pcss,

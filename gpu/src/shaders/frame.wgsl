@@ -112,3 +112,50 @@ fn final_index(pixel: vec2<u32>) -> u32 {
 fn unpack_final_area(w0: u32, w1: u32) -> vec4<f32> {
     return vec4<f32>(unpack2x16unorm(w0), unpack2x16unorm(w1));
 }
+
+// The share of the light's square [-1, 1]^2 (in half sides) where c + a u + b v > 0: the light
+// in front of a receiver's tangent plane, for the terminator cap (Sutherland-Hodgman against the
+// one line, the area summed as the vertices come).
+fn square_share_above(c: f32, a: f32, b: f32) -> f32 {
+    let corners = array<vec2<f32>, 4>(
+        vec2<f32>(-1.0, -1.0),
+        vec2<f32>(1.0, -1.0),
+        vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, 1.0),
+    );
+    var twice = 0.0;
+    var first = vec2<f32>(0.0);
+    var prev = vec2<f32>(0.0);
+    var count = 0u;
+    for (var i = 0u; i < 4u; i++) {
+        let p0 = corners[i];
+        let p1 = corners[(i + 1u) % 4u];
+        let f0 = c + a * p0.x + b * p0.y;
+        let f1 = c + a * p1.x + b * p1.y;
+        var out = array<vec2<f32>, 2>(p0, p0);
+        var n_out = 0u;
+        if (f0 > 0.0) {
+            out[n_out] = p0;
+            n_out++;
+        }
+        if ((f0 > 0.0) != (f1 > 0.0)) {
+            out[n_out] = p0 + (p1 - p0) * (f0 / (f0 - f1));
+            n_out++;
+        }
+        for (var k = 0u; k < n_out; k++) {
+            let v = out[k];
+            if (count == 0u) {
+                first = v;
+            } else {
+                twice += prev.x * v.y - prev.y * v.x;
+            }
+            prev = v;
+            count++;
+        }
+    }
+    if (count < 3u) {
+        return 0.0;
+    }
+    twice += prev.x * first.y - prev.y * first.x;
+    return clamp(0.5 * twice / 4.0, 0.0, 1.0);
+}

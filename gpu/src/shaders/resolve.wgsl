@@ -44,52 +44,11 @@ fn front_share(pixel: vec4<f32>) -> f32 {
     }
     let p = textureLoad(position, vec2<i32>(pixel.xy), 0).xyz;
     let n = nm.xyz;
-    // Over the light's square [-1, 1]^2 in half sides: f(u, v) = c + a u + b v.
+    // Over the light's square in half sides: n . (X - P) = c + a u + b v.
     let c = dot(n, frame.light_center.xyz - p);
     let a = dot(n, frame.light_tangent.xyz) * frame.light_tangent.w;
     let b = dot(n, frame.light_bitangent.xyz) * frame.light_bitangent.w;
-    let corners = array<vec2<f32>, 4>(
-        vec2<f32>(-1.0, -1.0),
-        vec2<f32>(1.0, -1.0),
-        vec2<f32>(1.0, 1.0),
-        vec2<f32>(-1.0, 1.0),
-    );
-    // Sutherland-Hodgman against the one plane, the area summed as the vertices come.
-    var twice = 0.0;
-    var first = vec2<f32>(0.0);
-    var prev = vec2<f32>(0.0);
-    var count = 0u;
-    for (var i = 0u; i < 4u; i++) {
-        let p0 = corners[i];
-        let p1 = corners[(i + 1u) % 4u];
-        let f0 = c + a * p0.x + b * p0.y;
-        let f1 = c + a * p1.x + b * p1.y;
-        var out = array<vec2<f32>, 2>(p0, p0);
-        var n_out = 0u;
-        if (f0 > 0.0) {
-            out[n_out] = p0;
-            n_out++;
-        }
-        if ((f0 > 0.0) != (f1 > 0.0)) {
-            out[n_out] = p0 + (p1 - p0) * (f0 / (f0 - f1));
-            n_out++;
-        }
-        for (var k = 0u; k < n_out; k++) {
-            let v = out[k];
-            if (count == 0u) {
-                first = v;
-            } else {
-                twice += prev.x * v.y - prev.y * v.x;
-            }
-            prev = v;
-            count++;
-        }
-    }
-    if (count < 3u) {
-        return 0.0;
-    }
-    twice += prev.x * first.y - prev.y * first.x;
-    return clamp(0.5 * twice / 4.0, 0.0, 1.0);
+    return square_share_above(c, a, b);
 }
 
 struct ResolveOut {

@@ -168,51 +168,9 @@ fn front_share(r: Receiver) -> f32 {
     if (!r.closed) {
         return 1.0;
     }
-    // Light points X = (x, y, 0) with n . (X - P) > 0.
-    let c = -dot(r.n, r.l);
+    // Light points X = (u hx, v hy, 0) with n . (X - P) > 0.
     let h = shadow.light.xy;
-    let corners = array<vec2<f32>, 4>(
-        vec2<f32>(-h.x, -h.y),
-        vec2<f32>(h.x, -h.y),
-        vec2<f32>(h.x, h.y),
-        vec2<f32>(-h.x, h.y),
-    );
-    // Sutherland-Hodgman against the one plane, the area summed as the vertices come.
-    var area = 0.0;
-    var first = vec2<f32>(0.0);
-    var prev = vec2<f32>(0.0);
-    var count = 0u;
-    for (var i = 0u; i < 4u; i++) {
-        let p = corners[i];
-        let q = corners[(i + 1u) % 4u];
-        let fp = dot(r.n.xy, p) + c;
-        let fq = dot(r.n.xy, q) + c;
-        var out = array<vec2<f32>, 2>(p, p);
-        var n_out = 0u;
-        if (fp > 0.0) {
-            out[n_out] = p;
-            n_out++;
-        }
-        if ((fp > 0.0) != (fq > 0.0)) {
-            out[n_out] = p + (q - p) * (fp / (fp - fq));
-            n_out++;
-        }
-        for (var k = 0u; k < n_out; k++) {
-            let v = out[k];
-            if (count == 0u) {
-                first = v;
-            } else {
-                area += prev.x * v.y - prev.y * v.x;
-            }
-            prev = v;
-            count++;
-        }
-    }
-    if (count < 3u) {
-        return 0.0;
-    }
-    area += prev.x * first.y - prev.y * first.x;
-    return clamp(0.5 * area / (4.0 * h.x * h.y), 0.0, 1.0);
+    return square_share_above(-dot(r.n, r.l), r.n.x * h.x, r.n.y * h.y);
 }
 
 // A technique's V at receiver `r`, capped by `front_share`, as the pass's output.
