@@ -279,6 +279,7 @@ fn scan_obj(path: &Path, text: &str) -> Result<(), MeshError> {
         message,
     };
     let mut vertices = 0usize;
+    let mut colours: Option<(bool, usize)> = None;
     for (n, raw) in text.lines().enumerate() {
         let line = n + 1;
         let stmt = raw.split('#').next().unwrap_or("");
@@ -303,6 +304,32 @@ fn scan_obj(path: &Path, text: &str) -> Result<(), MeshError> {
                             index: vertices,
                         });
                     }
+                    // The OBJ reader keeps 32-bit floats: a larger number would become infinite.
+                    if x.abs() > f32::MAX as f64 {
+                        return Err(parse_err(
+                            line,
+                            format!(
+                                "`{w}` does not fit in 32-bit floats (largest magnitude 3.4e38)"
+                            ),
+                        ));
+                    }
+                }
+                // Vertex colours (3 more numbers) on every vertex or on none: the reader
+                // refuses a mix without saying where.
+                let coloured = nums.len() >= 6;
+                match colours {
+                    None => colours = Some((coloured, line)),
+                    Some((c, first)) if c != coloured => {
+                        return Err(parse_err(
+                            line,
+                            format!(
+                                "vertex colours on some vertices only: this vertex {} them, the first (line {first}) {}",
+                                if coloured { "has" } else { "lacks" },
+                                if c { "has" } else { "lacks" }
+                            ),
+                        ));
+                    }
+                    Some(_) => {}
                 }
                 vertices += 1;
             }
@@ -389,6 +416,9 @@ mod tests {
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", 4),
             ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3),
             ("v 0 0\n", 1),
+            // Beyond f32 (the reader's), and colours on some vertices only: both went to line 0.
+            ("v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n", 2),
+            ("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 1 1 1\nf 1 2 3\n", 2),
         ] {
             match load_str(text).unwrap_err() {
                 MeshError::Parse { line, .. } => assert_eq!(line, want, "{text}"),
