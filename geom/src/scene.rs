@@ -163,6 +163,13 @@ pub struct Scene {
 /// scenes reaching 1e20 break it. Within it, every back end renders the same image.
 pub const MAX_COORDINATE: f64 = 1e15;
 
+/// Narrowest supported field of view, in degrees: below, a pixel's footprint is beneath `f32`'s
+/// resolution of the GPU's projection and the back ends disagree.
+pub const MIN_FOV_DEG: f64 = 1e-3;
+
+/// Widest supported field of view, in degrees (the projection diverges at 180).
+pub const MAX_FOV_DEG: f64 = 179.0;
+
 /// 1-based line of byte offset `at` in `text`.
 fn line_of(text: &str, at: usize) -> usize {
     text.as_bytes()[..at.min(text.len())]
@@ -215,6 +222,15 @@ impl Scene {
         };
 
         let c = &file.camera.get_ref().0;
+        let fov = *c.fov_y_deg.get_ref();
+        if fov.is_finite() && fov > 0.0 && !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&fov) {
+            return Err(invalid(
+                c.fov_y_deg.span(),
+                format!(
+                    "camera.fov_y_deg = {fov} lies outside the supported range [{MIN_FOV_DEG}, {MAX_FOV_DEG}] degrees"
+                ),
+            ));
+        }
         let eye = finite3(&c.eye, "camera.eye")?;
         let target = finite3(&c.target, "camera.target")?;
         let up = finite3(&c.up, "camera.up")?;
@@ -270,6 +286,14 @@ impl Scene {
             return Err(invalid(
                 l.size.span(),
                 format!("light.size {size} must be two positive finite lengths"),
+            ));
+        }
+        if size.max_element() > MAX_COORDINATE {
+            return Err(invalid(
+                l.size.span(),
+                format!(
+                    "light.size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})"
+                ),
             ));
         }
         // Remove the tolerated rounding so that the light frame is exactly orthonormal.
