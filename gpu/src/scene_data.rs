@@ -6,7 +6,7 @@ use glam::{DVec2, DVec3, Vec4};
 use penumbra_geom::RectLight;
 use penumbra_volumes::Volumes;
 use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_frustum};
-use penumbra_volumes::shadow_volume::VolumeVertex;
+use penumbra_volumes::shadow_volume::{VolumeVertex, caps, side};
 
 use crate::frame::FrameCamera;
 use crate::passes::blend::TileMask;
@@ -294,10 +294,8 @@ pub fn volume_vertices(volumes: &Volumes, stored: &[&[[f32; 3]]]) -> UnitVolumes
             .enumerate()
             .filter(|(_, c)| **c)
             .map(|(f, _)| f);
-        for (f, &[a, b, cc]) in casters.zip(&sil.casters) {
-            let t = &mut per_patch[sil.patch[f] as usize];
-            t.push([F(a), F(b), F(cc)]);
-            t.push([I(a), I(cc), I(b)]);
+        for (f, &caster) in casters.zip(&sil.casters) {
+            per_patch[sil.patch[f] as usize].extend(caps(caster));
         }
         for (e, patches) in sil.edges.iter().zip(&sil.edge_patches) {
             for &(patch, m) in patches {
@@ -307,9 +305,7 @@ pub fn volume_vertices(volumes: &Volumes, stored: &[&[[f32; 3]]]) -> UnitVolumes
                     (e.to, e.from)
                 };
                 for _ in 0..m.unsigned_abs() {
-                    let t = &mut per_patch[patch as usize];
-                    t.push([F(to), F(from), I(from)]);
-                    t.push([F(to), I(from), I(to)]);
+                    per_patch[patch as usize].extend(side(from, to));
                 }
             }
         }

@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene, Technique};
 use penumbra_params::{MdsmExtra, TechniqueParams, equal_area_radius};
+use penumbra_volumes::terminator::outward_sign;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 
@@ -114,20 +115,12 @@ pub fn closed_first(scene: &Scene) -> (Vec<[DVec3; 3]>, usize) {
     for m in &scene.meshes {
         let mesh = &m.mesh;
         let tris = (0..mesh.triangles.len()).map(|t| mesh.triangle(t));
-        let he = HalfEdgeMesh::build(mesh);
-        if !he.is_closed() || he.has_inconsistent_orientation() {
+        let sign = outward_sign(mesh, &HalfEdgeMesh::build(mesh));
+        if sign == 0.0 {
             open.extend(tris);
-            continue;
+        } else {
+            closed.extend(tris.map(|[a, b, c]| if sign < 0.0 { [a, c, b] } else { [a, b, c] }));
         }
-        let volume: f64 = mesh
-            .triangles
-            .iter()
-            .map(|&[a, b, c]| {
-                let p = &mesh.positions;
-                p[a as usize].dot(p[b as usize].cross(p[c as usize]))
-            })
-            .sum();
-        closed.extend(tris.map(|[a, b, c]| if volume < 0.0 { [a, c, b] } else { [a, b, c] }));
     }
     let n = closed.len();
     closed.extend(open);

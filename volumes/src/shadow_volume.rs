@@ -62,20 +62,31 @@ pub struct OpenVolume {
     pub backward: usize,
 }
 
+/// The light cap and the dark cap of the caster triangle `t` (oriented to face the light).
+pub fn caps([a, b, c]: [u32; 3]) -> [[VolumeVertex; 3]; 2] {
+    use VolumeVertex::{Finite as F, Infinite as I};
+    [[F(a), F(b), F(c)], [I(a), I(c), I(b)]]
+}
+
+/// The two triangles of the side quad of the silhouette edge `from -> to` (the casters run it
+/// that way; the quad `to, from, from∞, to∞` runs it back), once per unit of multiplicity.
+pub fn side(from: u32, to: u32) -> [[VolumeVertex; 3]; 2] {
+    use VolumeVertex::{Finite as F, Infinite as I};
+    [[F(to), F(from), I(from)], [F(to), I(from), I(to)]]
+}
+
 impl ShadowVolume {
     /// Builds the volume of `mesh` for the silhouette `sil` taken from the light's centre `c`.
     pub fn build(mesh: &HalfEdgeMesh, sil: &Silhouette, c: DVec3) -> Self {
-        use VolumeVertex::{Finite as F, Infinite as I};
         let mut triangles = Vec::with_capacity(2 * sil.casters.len() + 2 * sil.edges.len());
-        for &[a, b, cc] in &sil.casters {
-            triangles.push(([F(a), F(b), F(cc)], FaceKind::LightCap));
-            triangles.push(([I(a), I(cc), I(b)], FaceKind::DarkCap));
+        for &caster in &sil.casters {
+            let [light, dark] = caps(caster);
+            triangles.push((light, FaceKind::LightCap));
+            triangles.push((dark, FaceKind::DarkCap));
         }
         for e in &sil.edges {
-            // Caps run from -> to; the side quad (to, from, from∞, to∞) runs it back.
             for _ in 0..e.multiplicity {
-                triangles.push(([F(e.to), F(e.from), I(e.from)], FaceKind::Side));
-                triangles.push(([F(e.to), I(e.from), I(e.to)], FaceKind::Side));
+                triangles.extend(side(e.from, e.to).map(|t| (t, FaceKind::Side)));
             }
         }
         ShadowVolume {
