@@ -121,6 +121,11 @@ impl Rect {
         }
     }
 
+    /// Its centre (meaningless when empty).
+    pub fn centre(&self) -> DVec2 {
+        (self.min + self.max) * 0.5
+    }
+
     /// Smallest rectangle holding both.
     pub fn union(&self, o: &Rect) -> Rect {
         Rect {

@@ -13,7 +13,7 @@
 //!   overlapping occluders are still counted twice, which is what blending corrects;
 //! - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per blending unit, its hard
 //!   shadow plus its own edges' integrals per radial part, blended into the final buffer in
-//!   unit order with Forest et al.'s function.
+//!   unit order with Forest et al.'s function ([`crate::blend`]).
 //!
 //! The hard shadow is the shadow volumes' winding number. Counted along the ray from P towards
 //! the light's centre, no side quad is crossed (each lies in a plane through the centre) and the

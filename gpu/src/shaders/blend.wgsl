@@ -1,9 +1,10 @@
 // Blend pass of penumbra-wedges blending (Forest, Barthe & Paulin 2006, section 3.2), once per
 // silhouette (occluder): builds the silhouette's buffer per radial part from its stencil count n
 // and its wedge pass's targets, exactly as the CPU oracle's `Accum::buffer`, and blends it into
-// the final buffer with
-//     eps = (A_f / |B_f|) · (A_s / |B_s|) · |B_f ∩ B_s|,   A = A_f + A_s - eps,   B = B_f ∪ B_s,
-// skipped where either occlusion is zero. A compute pass over the screen tiles the silhouettes
+// the final buffer as the oracle's `blend_part` does,
+//     eps = |core_f ∩ core_s|,   A = A_f + A_s - eps,   B = B_f ∪ B_s,
+// a region's core being its rectangle B scaled about its centre to the area A; skipped where
+// either occlusion is zero. A compute pass over the screen tiles the silhouettes
 // of one group can shadow (a workgroup per tile, an invocation per pixel), updating the final
 // buffer in place.
 
@@ -34,6 +35,19 @@ struct TileRange {
 // The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
 // rectangle to end at them (CPU: 2 (1 - 1e-9); the cover is summed in f16, 11 bits).
 const FULL_COVER: f32 = 1.996;
+
+// The core of a region of area a in the encoded rectangle e of part k: the decoded rectangle
+// scaled about its centre to area a (the CPU's `blend::core`).
+fn core(e: vec4<f32>, k: u32, a: f32) -> vec4<f32> {
+    let t = part_rect(k);
+    let ext = t.zw - t.xy;
+    let lo = t.xy + e.xy * ext;
+    let hi = t.zw - e.zw * ext;
+    let size = hi - lo;
+    let half = size * (0.5 * sqrt(clamp(a / (size.x * size.y), 0.0, 1.0)));
+    let c = (lo + hi) * 0.5;
+    return vec4<f32>(c - half, c + half);
+}
 
 @compute @workgroup_size(TILE, TILE)
 fn blend(
@@ -87,12 +101,12 @@ fn blend(
             continue;
         }
         let f_rect = unpack4x8unorm(final_buffer[w]);
-        let bf = encoded_area(f_rect);
-        let bs = encoded_area(s_rect);
-        let beta = encoded_area(max(f_rect, s_rect));
         var eps = 0.0;
-        if (bf > 0.0 && bs > 0.0) {
-            eps = (fa / bf) * (s_area / bs) * beta;
+        if (encoded_area(f_rect) > 0.0 && encoded_area(s_rect) > 0.0) {
+            let cf = core(f_rect, k, fa);
+            let cs = core(s_rect, k, s_area);
+            let size = max(min(cf.zw, cs.zw) - max(cf.xy, cs.xy), vec2<f32>(0.0));
+            eps = min(size.x * size.y, min(fa, s_area));
         }
         out_areas[k] = clamp(fa + s_area - eps, 0.0, 1.0);
         final_buffer[w] = pack4x8unorm(min(f_rect, s_rect));
