@@ -6,4 +6,5 @@ mod fixtures;
 mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;
+mod through_the_light;
 mod volumes;

@@ -43,6 +43,7 @@ pub fn wedge_instances(
                 to: f(w.to, 0.0),
                 near: rect(solid.near),
                 far: rect(solid.far),
+                caster: w.caster.map_or([0.0; 4], |c| f(c, 1.0)),
             }
         });
         if let Some(i) = inst {
@@ -352,6 +353,7 @@ mod tests {
                     to: [0.0; 4],
                     near,
                     far,
+                    caster: [0.0; 4],
                 }
             })
             .collect();

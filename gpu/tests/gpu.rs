@@ -480,3 +480,25 @@ fn fractional_disk_sample_count_follows_eq_2() {
     assert_eq!(out[20], 40.0);
     assert_eq!(out[79], 50.0);
 }
+
+#[path = "../../tests/through_the_light.rs"]
+mod through_the_light;
+
+#[test]
+fn occluders_through_the_light_plane_match_the_cpu_oracle() {
+    let Some(ctx) = context() else { return };
+    let r = GpuRenderer::with_context(&ctx);
+    let scene = through_the_light::scene();
+    let volumes = Volumes::build(&scene);
+    let cpu = CpuRenderer::new(&scene);
+    for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
+        let img = r.render(&scene, &volumes, t).unwrap();
+        let want = cpu.render(&scene, t, &|_| {});
+        let c = compare(&img, &want).unwrap();
+        println!(
+            "through the light: GPU {t} vs CPU: MAE {:.2e}, p99 {:.2e}",
+            c.all.mae, c.all.p99
+        );
+        assert!(c.all.mae <= 1e-3 && c.all.p99 <= 0.02, "{t}: {c:?}");
+    }
+}

@@ -39,6 +39,7 @@ fn construct(mesh: &HalfEdgeMesh, light: &RectLight) -> (usize, usize) {
             occluder: 0,
             silhouette_loop: 0,
             unit: 0,
+            caster: None,
         })
         .collect();
     (vol.triangles.len(), wedges.len())

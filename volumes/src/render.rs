@@ -92,17 +92,38 @@ impl Volumes {
             .enumerate()
             .map(|(oi, m)| {
                 let mesh = HalfEdgeMesh::build(m);
-                let silhouette = Silhouette::build(&mesh, c);
+                let ls: Vec<DVec3> = mesh
+                    .positions
+                    .iter()
+                    .map(|&v| scene_light.to_light_space(v))
+                    .collect();
+                // A mesh cut by the light's plane: only its part in front can occlude, an open
+                // surface even when the mesh is closed; its silhouette from the centre no longer
+                // bounds what it hides, and each wedge is split by its caster's side instead.
+                let cut = mesh.faces.iter().any(|t| {
+                    t.iter().any(|&v| ls[v as usize].z < 0.0)
+                        && t.iter().any(|&v| ls[v as usize].z > 0.0)
+                });
+                let silhouette = Silhouette::build_as(&mesh, c, mesh.is_closed() && !cut);
                 let volume = ShadowVolume::build(&mesh, &silhouette, c);
                 for (li, lp) in silhouette.loops.iter().enumerate() {
                     for &ei in lp {
                         let e = silhouette.edges[ei as usize];
-                        let from = scene_light.to_light_space(mesh.positions[e.from as usize]);
-                        let to = scene_light.to_light_space(mesh.positions[e.to as usize]);
+                        // Only the part in front of the light's plane can hide light.
+                        let (a, b) = (ls[e.from as usize], ls[e.to as usize]);
+                        let Some((from, to)) = Wedge::clipped_to_light(a, b) else {
+                            continue;
+                        };
                         // One wedge per patch the edge bounds, with that patch's own
                         // multiplicity and direction: each patch blends its own buffer.
                         for &(patch, m) in &silhouette.edge_patches[ei as usize] {
                             let (from, to) = if m > 0 { (from, to) } else { (to, from) };
+                            let caster = if cut {
+                                caster_next_to(&mesh, &silhouette, e.edge, patch)
+                                    .map(|v| ls[v as usize])
+                            } else {
+                                None
+                            };
                             wedges.push(Wedge {
                                 from,
                                 to,
@@ -110,8 +131,27 @@ impl Volumes {
                                 occluder: oi as u32,
                                 silhouette_loop: li as u32,
                                 unit: first_unit + patch,
+                                caster,
                             });
                         }
+                    }
+                }
+                // Casters through the light's plane: the cut closes their outline.
+                let loops = silhouette.loops.len() as u32;
+                for (f, face) in mesh.faces.iter().enumerate() {
+                    if !silhouette.is_caster[f] {
+                        continue;
+                    }
+                    if let Some((from, to, top)) = Wedge::cut(face.map(|v| ls[v as usize])) {
+                        wedges.push(Wedge {
+                            from,
+                            to,
+                            multiplicity: 1,
+                            occluder: oi as u32,
+                            silhouette_loop: loops,
+                            unit: first_unit + silhouette.patch[f],
+                            caster: Some(top),
+                        });
                     }
                 }
                 let o = Occluder {
@@ -134,6 +174,17 @@ impl Volumes {
             wedges,
         }
     }
+}
+
+/// The vertex opposite mesh edge `edge` in one of its faces of caster patch `patch`.
+fn caster_next_to(mesh: &HalfEdgeMesh, sil: &Silhouette, edge: u32, patch: u32) -> Option<u32> {
+    let e = &mesh.edges[edge as usize];
+    e.half_edges.iter().find_map(|&h| {
+        let f = HalfEdgeMesh::face(h) as usize;
+        (sil.is_caster[f] && sil.patch[f] == patch)
+            .then(|| mesh.faces[f].into_iter().find(|v| !e.vertices.contains(v)))
+            .flatten()
+    })
 }
 
 impl Volumes {

@@ -75,7 +75,13 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 impl Silhouette {
     /// Finds the silhouette of `mesh` as seen from the light centre `c`.
     pub fn build(mesh: &HalfEdgeMesh, c: DVec3) -> Self {
-        let closed = mesh.is_closed();
+        Self::build_as(mesh, c, mesh.is_closed())
+    }
+
+    /// [`Silhouette::build`] with the rule for closed meshes (light-facing triangles only) or
+    /// for open ones (every triangle) chosen by `closed`: a closed mesh that the light's plane
+    /// cuts is open where it can occlude.
+    pub fn build_as(mesh: &HalfEdgeMesh, c: DVec3, closed: bool) -> Self {
         let p = &mesh.positions;
         // Orientation of each face as seen from c: +1 facing, -1 away, 0 edge-on.
         let facing: Vec<i8> = mesh

@@ -59,6 +59,10 @@ pub struct Wedge {
     /// The blending unit (Forest et al.'s "silhouette"): the caster patch whose boundary the
     /// edge is, numbered across the scene, occluder by occluder.
     pub unit: u32,
+    /// For an edge of a mesh that the light's plane cuts (its silhouette edges, clipped to the
+    /// emitting side, and its cut edges, [`Wedge::cut`]), a point of its caster next to it;
+    /// `None` for the others. It tells the wedge's halves apart (see [`Wedge::integral`]).
+    pub caster: Option<DVec3>,
 }
 
 /// What one wedge contributes at one receiver point, per radial part.
@@ -124,9 +128,26 @@ impl Wedge {
             return None;
         }
         let s0 = s0.signum();
-        // Outer when p is away from the casters: the casters (facing the light) lie on the
-        // negative side of the plane (from, to, c).
-        let side = orient3d(self.from, self.to, DVec3::ZERO, p);
+        // Outer when the caster, seen from p, lies beyond the edge from the light's centre. On a
+        // mesh in front of the light, Forest et al. take that side as p's side of the plane
+        // (from, to, c): the casters (facing the light) lie on its negative side. On a mesh that
+        // the light's plane cuts, whose outline then runs along the light, it is taken as it
+        // is: the caster and the centre on opposite sides of the plane (from, to, p), whose
+        // trace on the light's plane is the projected edge.
+        let side = match self.caster {
+            None => orient3d(self.from, self.to, DVec3::ZERO, p),
+            Some(f) => {
+                let (a, b) = (
+                    orient3d(self.from, self.to, p, f),
+                    orient3d(self.from, self.to, p, DVec3::ZERO),
+                );
+                if a == 0.0 || b == 0.0 {
+                    0.0
+                } else {
+                    -(a * b).signum()
+                }
+            }
+        };
         if side == 0.0 {
             return None;
         }
@@ -167,6 +188,55 @@ impl Wedge {
     }
 }
 
+impl Wedge {
+    /// The silhouette edge `from -> to` (light space) clipped to the emitting side of the light's
+    /// plane, `z >= 0`: only that part can hide any light. `None` when nothing of it is left.
+    pub fn clipped_to_light(from: DVec3, to: DVec3) -> Option<(DVec3, DVec3)> {
+        match (from.z >= 0.0, to.z >= 0.0) {
+            (true, true) => Some((from, to)),
+            (false, false) => None,
+            (true, false) => Some((from, cut_point(from, to))),
+            (false, true) => Some((cut_point(to, from), to)),
+        }
+        .filter(|(a, b)| a != b)
+    }
+
+    /// The cut edge of a caster triangle (light space) that crosses the light's plane: the
+    /// segment along `z = 0` where the plane cuts the part of it that can occlude (`z >= 0`)
+    /// off the rest. With the clipped silhouette edges it closes the occluder's outline as seen
+    /// from any receiver. Returns the edge and the triangle's vertex farthest in front of the
+    /// light (its [`Wedge::caster`]), or `None` when the triangle does not reach both sides
+    /// of the plane.
+    pub fn cut(tri: [DVec3; 3]) -> Option<(DVec3, DVec3, DVec3)> {
+        let top = tri.into_iter().max_by(|a, b| a.z.total_cmp(&b.z))?;
+        if !(top.z > 0.0) || !tri.iter().any(|v| v.z < 0.0) {
+            return None;
+        }
+        // Where the boundary leaves the emitting side, and where it comes back.
+        let (mut exit, mut entry) = (None, None);
+        for i in 0..3 {
+            let (a, b) = (tri[i], tri[(i + 1) % 3]);
+            if a.z >= 0.0 && b.z < 0.0 {
+                exit = Some(cut_point(a, b));
+            } else if a.z < 0.0 && b.z >= 0.0 {
+                entry = Some(cut_point(b, a));
+            }
+        }
+        let (x, y) = (exit?, entry?);
+        (x != y).then_some((x, y, top))
+    }
+}
+
+/// The point of segment `a b` (`a.z >= 0 > b.z`) on the light's plane, `a` itself when it lies
+/// on it.
+fn cut_point(a: DVec3, b: DVec3) -> DVec3 {
+    if a.z == 0.0 {
+        return a;
+    }
+    let p = a + (b - a) * (a.z / (a.z - b.z));
+    DVec3::new(p.x, p.y, 0.0)
+}
+
 /// A plane `n · x + d = 0` in light space; its inside is `n · x + d >= 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
@@ -184,8 +254,9 @@ impl Plane {
 }
 
 impl Wedge {
-    /// The plane through the edge and the light's centre that splits the wedge into its outer
-    /// half (positive side, away from the casters) and its inner half (negative side).
+    /// The plane through the edge and the light's centre that splits the wedge of an edge in
+    /// front of the light ([`Wedge::caster`] `None`) into its outer half (positive side, away
+    /// from the casters) and its inner half (negative side).
     pub fn split_plane(&self) -> Plane {
         let n = (self.to - self.from).cross(-self.from);
         Plane {
@@ -208,6 +279,14 @@ impl Wedge {
     /// the side planes alone bound the wedge, so an edge pointing at the light stays conservative
     /// and never yields a NaN plane. The light's plane is always included.
     pub fn bounding_planes(&self) -> Vec<Plane> {
+        if !(self.from.z > 0.0 && self.to.z > 0.0) {
+            // An edge on the light's plane (a cut edge, or a clipped end): its wedge may reach
+            // every receiver.
+            return vec![Plane {
+                n: DVec3::Z,
+                d: 0.0,
+            }];
+        }
         let e = self.to - self.from;
         let mut dirs = Vec::with_capacity(8);
         for s in [self.from, self.to] {

@@ -290,6 +290,7 @@ mod tests {
                 occluder: 0,
                 silhouette_loop: 0,
                 unit: 0,
+                caster: None,
             };
             let Some(f) = wedge_frustum(&w, lo, hi) else {
                 continue;

@@ -27,9 +27,12 @@ pub struct WedgeInstance {
     pub near: [f32; 4],
     /// Its rectangle at depth `hi.z`.
     pub far: [f32; 4],
+    /// [`penumbra_volumes::wedge::Wedge::caster`]: the point, `w` = 1 where there is one (an
+    /// edge of a mesh that the light's plane cuts), all 0 where there is none.
+    pub caster: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<WedgeInstance>() == 96);
+const _: () = assert!(std::mem::size_of::<WedgeInstance>() == 112);
 
 impl WedgeInstance {
     /// The solid it rasterises, in `f64`.
@@ -182,7 +185,7 @@ impl WedgePass {
                             step_mode: wgpu::VertexStepMode::Instance,
                             attributes: &wgpu::vertex_attr_array![
                                 1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4,
-                                5 => Float32x4, 6 => Float32x4
+                                5 => Float32x4, 6 => Float32x4, 7 => Float32x4
                             ],
                         }),
                     ],

@@ -17,12 +17,15 @@ struct WedgeIn {
     // The rasterised solid's rectangles (min x, min y, max x, max y) at depths lo.z and hi.z.
     @location(5) near: vec4<f32>,
     @location(6) far: vec4<f32>,
+    // A point of the edge's caster (w = 1) on a mesh that the light's plane cuts; w = 0 else.
+    @location(7) caster: vec4<f32>,
 }
 
 struct WedgeOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) edge_from: vec4<f32>,
     @location(1) @interpolate(flat) edge_to: vec4<f32>,
+    @location(2) @interpolate(flat) caster: vec4<f32>,
 }
 
 @group(1) @binding(0) var position: texture_2d<f32>;
@@ -35,6 +38,7 @@ fn vs(in: WedgeIn) -> WedgeOut {
     out.clip = frame.view_proj * vec4<f32>(from_light(l), 1.0);
     out.edge_from = in.edge_from;
     out.edge_to = in.edge_to;
+    out.caster = in.caster;
     return out;
 }
 
@@ -229,7 +233,7 @@ const AREAS_ONLY: u32 = 0u;
 const RECTS_OUTER: u32 = 1u;
 const RECTS_INNER: u32 = 2u;
 
-fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -> Integral {
+fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, caster: vec4<f32>, p: vec3<f32>, want: u32) -> Integral {
     var out: Integral;
     out.valid = false;
     if (!(p.z > 0.0)) {
@@ -257,8 +261,17 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, p: vec3<f32>, want: u32) -
     if (s0 == 0.0) {
         return out;
     }
-    // Outer half-wedge (away from the casters) adds, inner subtracts.
-    let side = dot(cross(edge_to.xyz - edge_from.xyz, -edge_from.xyz), p - edge_from.xyz);
+    // Outer half-wedge (the caster beyond the edge from the centre) adds, inner subtracts: by
+    // p's side of the plane (from, to, c), or on a mesh that the light's plane cuts by the
+    // caster's and the centre's sides of the plane (from, to, p) (CPU: `Wedge::integral`).
+    let e3 = edge_to.xyz - edge_from.xyz;
+    var side = dot(cross(e3, -edge_from.xyz), p - edge_from.xyz);
+    if (caster.w != 0.0) {
+        let n = cross(e3, p - edge_from.xyz);
+        let a = dot(n, caster.xyz - edge_from.xyz);
+        let b = dot(n, -edge_from.xyz);
+        side = select(-sign(a * b), 0.0, a == 0.0 || b == 0.0);
+    }
     if (side == 0.0) {
         return out;
     }
@@ -330,7 +343,7 @@ fn fs(in: WedgeOut) -> @location(0) vec4<f32> {
     if (p.w == 0.0) {
         discard;
     }
-    let i = integral(in.edge_from, in.edge_to, p.xyz, AREAS_ONLY);
+    let i = integral(in.edge_from, in.edge_to, in.caster, p.xyz, AREAS_ONLY);
     if (!i.valid) {
         discard;
     }
@@ -363,7 +376,7 @@ fn fs_silhouette(in: WedgeOut) -> Silhouette {
     if (p.w == 0.0) {
         discard;
     }
-    let i = integral(in.edge_from, in.edge_to, p.xyz, select(RECTS_OUTER, RECTS_INNER, hard));
+    let i = integral(in.edge_from, in.edge_to, in.caster, p.xyz, select(RECTS_OUTER, RECTS_INNER, hard));
     if (!i.valid) {
         discard;
     }
