@@ -194,12 +194,32 @@ pub fn write_atomically(
         .to_os_string();
     remove_stale_temporaries(&target, &name);
     let tmp = temporary(&target, &name, std::process::id());
+    in_progress().push(tmp.clone());
     let result =
         write(&tmp).and_then(|()| std::fs::rename(&tmp, &target).map_err(|e| io_err(path, e)));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    in_progress().retain(|t| t != &tmp);
     result
+}
+
+/// The temporary files [`write_atomically`] is writing now.
+fn in_progress() -> std::sync::MutexGuard<'static, Vec<std::path::PathBuf>> {
+    static WRITING: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+    WRITING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes the temporary files being written at this moment, for a program about to exit on a
+/// signal (SIGINT, SIGTERM): the outputs keep their previous content, and no `.tmp-` file is
+/// left behind. Returns how many were removed.
+pub fn remove_temporaries_in_progress() -> usize {
+    let mut list = in_progress();
+    let n = list
+        .drain(..)
+        .filter(|t| std::fs::remove_file(t).is_ok())
+        .count();
+    n
 }
 
 impl VisibilityImage {

@@ -18,6 +18,7 @@ use commands::{accuracy, bench, compare, geometry, probe, render};
 
 fn main() -> ExitCode {
     quiet_device_select();
+    remove_temporaries_on_signal();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -25,6 +26,17 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP, removes the temporary files of the outputs being written (their
+/// previous content stays) and exits with 130, as an interrupted command does.
+fn remove_temporaries_on_signal() {
+    // Without a handler the signal ends the process as before; a temporary file it leaves is
+    // then removed by the next run writing the same output.
+    let _ = ctrlc::set_handler(|| {
+        penumbra::geom::image::remove_temporaries_in_progress();
+        std::process::exit(130);
+    });
 }
 
 /// Turns off Mesa's device-select layer, an implicit Vulkan layer that connects to a Wayland or

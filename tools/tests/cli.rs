@@ -539,3 +539,50 @@ fn render_help_lists_the_shadow_map_parameters() {
         assert!(help.contains(flag), "render --help lacks {flag}");
     }
 }
+
+#[test]
+fn an_interrupted_write_leaves_no_temporary_file() {
+    // A render whose EXR takes a while to write: SIGINT while its temporary file exists.
+    for side in [3000, 4500, 6000] {
+        let scene = GOOD_SCENE
+            .replace("width = 24", &format!("width = {side}"))
+            .replace("height = 16", &format!("height = {side}"));
+        let d = case_dir(&format!("interrupted-{side}"), &scene, GOOD_OBJ);
+        let mut child = penumbra()
+            .arg("render")
+            .arg(d.join("s.toml"))
+            .args(["--technique", "hard", "--backend", "cpu", "--out"])
+            .arg(d.join("v.exr"))
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        let mut seen = false;
+        while start.elapsed() < std::time::Duration::from_secs(60) {
+            if files_in(&d).iter().any(|f| f.contains(".tmp-")) {
+                seen = true;
+                let kill = std::process::Command::new("kill")
+                    .args(["-INT", &child.id().to_string()])
+                    .status()
+                    .unwrap();
+                assert!(kill.success());
+                break;
+            }
+            if child.try_wait().unwrap().is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        let status = child.wait().unwrap();
+        if !seen {
+            // The write was too quick to catch: try a larger image.
+            let _ = std::fs::remove_dir_all(&d);
+            continue;
+        }
+        assert_eq!(status.code(), Some(130), "exit status {status:?}");
+        assert_eq!(files_in(&d), ["m.obj", "s.toml"], "left files behind");
+        let _ = std::fs::remove_dir_all(&d);
+        return;
+    }
+    panic!("never caught the render while it wrote its temporary file");
+}
