@@ -214,12 +214,10 @@ fn in_progress() -> std::sync::MutexGuard<'static, Vec<std::path::PathBuf>> {
 /// signal (SIGINT, SIGTERM): the outputs keep their previous content, and no `.tmp-` file is
 /// left behind. Returns how many were removed.
 pub fn remove_temporaries_in_progress() -> usize {
-    let mut list = in_progress();
-    let n = list
+    in_progress()
         .drain(..)
         .filter(|t| std::fs::remove_file(t).is_ok())
-        .count();
-    n
+        .count()
 }
 
 impl VisibilityImage {
