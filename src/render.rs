@@ -116,6 +116,10 @@ pub enum RenderError {
         /// The technique.
         technique: Technique,
     },
+    /// A scene with a value outside the supported range (a scene made in code: the loader
+    /// refuses those of scene files with their line).
+    #[error("{0}")]
+    OutOfRange(String),
     /// The GPU back end chosen, and no adapter.
     #[error("no GPU: {why}")]
     NoGpu {
@@ -278,6 +282,9 @@ impl Renderer {
         volumes: Option<&Volumes>,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Frame, RenderError> {
+        if let Some(why) = scene.out_of_range() {
+            return Err(RenderError::OutOfRange(why));
+        }
         let pattern = options.pattern()?;
         if options.jitter && !technique.takes_samples() {
             return Err(RenderError::NoSamples { technique });

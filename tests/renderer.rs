@@ -56,3 +56,40 @@ fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
         assert!(auto.gpu_description().is_some(), "CI has lavapipe");
     }
 }
+
+#[test]
+fn scenes_made_in_code_outside_the_supported_range_are_refused() {
+    use glam::{DMat4, DVec3};
+    use penumbra::geom::TriangleMesh;
+    let base = load("quad-over-plane");
+    let far = TriangleMesh::from_raw(
+        std::path::Path::new("far"),
+        &[
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(1.0, 1e20, 0.0),
+            DVec3::new(0.0, 1.0, 1.0),
+        ],
+        &[[0, 1, 2]],
+    )
+    .unwrap();
+    let scene =
+        penumbra::Scene::new(base.camera, base.light).with_mesh("far", &far, DMat4::IDENTITY);
+    for t in [
+        Technique::Hard,
+        Technique::WedgesBlend,
+        Technique::Reference,
+        Technique::DepthComplexity,
+    ] {
+        let err = Renderer::new(Backend::Cpu)
+            .render(&scene, t, &RenderOptions::default())
+            .unwrap_err();
+        assert!(matches!(err, RenderError::OutOfRange(_)), "{t}: {err}");
+        assert!(err.to_string().contains("mesh 0 (far)"), "{err}");
+    }
+    let mut wide = base.clone();
+    wide.camera.fov_y_deg = 1e-30;
+    let err = Renderer::new(Backend::Cpu)
+        .render(&wide, Technique::Hard, &RenderOptions::default())
+        .unwrap_err();
+    assert!(err.to_string().contains("field of view"), "{err}");
+}

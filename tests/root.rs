@@ -3,6 +3,7 @@
 mod common;
 mod depth_complexity;
 mod fixtures;
+mod fuzz;
 mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;

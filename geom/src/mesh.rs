@@ -151,8 +151,13 @@ impl TriangleMesh {
             path: path.to_path_buf(),
             error,
         })?;
+        Self::parse_obj(path, &text)
+    }
+
+    /// [`TriangleMesh::load_obj`] of the text of an OBJ file; `path` names it in errors.
+    pub fn parse_obj(path: &Path, text: &str) -> Result<Self, MeshError> {
         // Our own scan first: it knows line numbers, which tobj's errors do not carry.
-        scan_obj(path, &text)?;
+        scan_obj(path, text)?;
         let opts = tobj::LoadOptions {
             triangulate: true,
             single_index: false,

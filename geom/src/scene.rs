@@ -416,6 +416,40 @@ impl Scene {
         }
     }
 
+    /// The first value of the scene outside the supported range of `docs/scene-format.md`
+    /// ("Supported range"), described, or `None` when all are inside: the scene loader refuses
+    /// such scenes with their line, and a renderer refuses a scene made in code the same way.
+    pub fn out_of_range(&self) -> Option<String> {
+        let coordinate = |v: DVec3| !(v.abs().max_element() <= MAX_COORDINATE);
+        if coordinate(self.camera.eye) {
+            return Some(format!(
+                "the eye at {} lies outside the supported range (coordinates up to {MAX_COORDINATE:e})",
+                self.camera.eye
+            ));
+        }
+        if coordinate(self.light.center) || !(self.light.size.max_element() <= MAX_COORDINATE) {
+            return Some(format!(
+                "the light at {} of size {} lies outside the supported range (coordinates and sides up to {MAX_COORDINATE:e})",
+                self.light.center, self.light.size
+            ));
+        }
+        if !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&self.camera.fov_y_deg) {
+            return Some(format!(
+                "a field of view of {} degrees lies outside the supported range [{MIN_FOV_DEG}, {MAX_FOV_DEG}]",
+                self.camera.fov_y_deg
+            ));
+        }
+        for (index, m) in self.meshes.iter().enumerate() {
+            if let Some(v) = m.mesh.positions.iter().find(|v| coordinate(**v)) {
+                return Some(format!(
+                    "mesh {index} ({}) has a vertex at {v}, outside the supported range (coordinates up to {MAX_COORDINATE:e})",
+                    m.source.display()
+                ));
+            }
+        }
+        None
+    }
+
     /// The scene with `mesh` added, its positions moved by `transform` into the world; `name`
     /// stands for its file in messages.
     pub fn with_mesh(mut self, name: &str, mesh: &TriangleMesh, transform: DMat4) -> Scene {
