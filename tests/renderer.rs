@@ -93,3 +93,49 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
         .unwrap_err();
     assert!(err.to_string().contains("field of view"), "{err}");
 }
+
+#[test]
+fn scenes_far_from_the_origin_render_as_at_it() {
+    // The ray caster takes triangles and rays relative to the scene's centre before rounding
+    // them to f32: at 1e8 from the origin an f32 coordinate is 8 units apart, and a scene there
+    // lost its triangles.
+    let mut scene = load("quad-over-plane");
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    let options = RenderOptions {
+        samples: 16,
+        jitter: false,
+    };
+    let techniques = [
+        Technique::HardReference,
+        Technique::Reference,
+        Technique::Hard,
+        Technique::WedgesBlend,
+        Technique::DepthComplexity,
+    ];
+    let mut cpu = Renderer::new(Backend::Cpu);
+    let at_origin: Vec<_> = techniques
+        .iter()
+        .map(|&t| cpu.render(&scene, t, &options).unwrap())
+        .collect();
+    for offset in [1e7, 1e8, 1e12] {
+        let moved = scene.transformed(&glam::DMat4::from_translation(glam::DVec3::new(
+            offset,
+            -0.5 * offset,
+            offset,
+        )));
+        for (t, want) in techniques.iter().zip(&at_origin) {
+            let img = cpu.render(&moved, *t, &options).unwrap();
+            let c = penumbra::geom::image::compare(&img, want).unwrap();
+            println!(
+                "offset {offset:e}: {t}: MAE {:.2e}, max {:.2e}",
+                c.all.mae, c.all.max
+            );
+            assert!(
+                c.all.mae <= 1e-4,
+                "offset {offset:e}: {t}: MAE {}",
+                c.all.mae
+            );
+        }
+    }
+}

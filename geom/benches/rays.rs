@@ -8,11 +8,11 @@
 use std::path::PathBuf;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use glam::{DVec2, Vec3A};
+use glam::{DVec2, DVec3, Vec3A};
 use penumbra_geom::{Rng, Scene, Tracer};
 
 struct ShadowRay {
-    origin: Vec3A,
+    origin: DVec3,
     dir: Vec3A,
     tmax: f32,
     exclude: u32,
@@ -42,7 +42,7 @@ fn setup() -> (Tracer, Scene, Vec<ShadowRay>) {
                 let d = scene.light.point(uv) - p.position;
                 let len = d.length();
                 rays.push(ShadowRay {
-                    origin: p.position.as_vec3().into(),
+                    origin: p.position,
                     dir: (d / len).as_vec3().into(),
                     tmax: (len - tracer.epsilon) as f32,
                     exclude: p.triangle,

@@ -98,6 +98,10 @@ impl WatertightRay {
 /// A BVH over a triangle soup, answering closest-hit and occlusion queries.
 pub struct SceneBvh {
     bvh: Option<CwBvh>,
+    /// The centre of the triangles' bounding box: triangles and rays are taken relative to it
+    /// before they are rounded to `f32`, so that a scene far from the world's origin keeps the
+    /// precision of one at it.
+    origin: DVec3,
     /// Triangles in BVH leaf order (so a leaf's triangles are adjacent in memory).
     tris: Vec<[Vec3A; 3]>,
     /// Original triangle index of each entry of `tris`.
@@ -110,16 +114,29 @@ impl SceneBvh {
         if triangles.is_empty() {
             return SceneBvh {
                 bvh: None,
+                origin: DVec3::ZERO,
                 tris: Vec::new(),
                 ids: Vec::new(),
             };
         }
+        let (lo, hi) = triangles
+            .iter()
+            .flatten()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        let origin = (lo + hi) * 0.5;
+        let origin = if origin.is_finite() {
+            origin
+        } else {
+            DVec3::ZERO
+        };
         let soup: Vec<Triangle> = triangles
             .iter()
             .map(|t| Triangle {
-                v0: t[0].as_vec3().into(),
-                v1: t[1].as_vec3().into(),
-                v2: t[2].as_vec3().into(),
+                v0: (t[0] - origin).as_vec3().into(),
+                v1: (t[1] - origin).as_vec3().into(),
+                v2: (t[2] - origin).as_vec3().into(),
             })
             .collect();
         let mut build_time = Duration::ZERO;
@@ -134,15 +151,22 @@ impl SceneBvh {
             .collect();
         SceneBvh {
             bvh: Some(bvh),
+            origin,
             tris,
             ids,
         }
     }
 
+    /// `p` relative to [`SceneBvh::origin`], in `f32`.
+    #[inline]
+    fn local(&self, p: DVec3) -> Vec3A {
+        (p - self.origin).as_vec3().into()
+    }
+
     /// Closest hit of `origin + t * dir` (`dir` unit) with `t` in `(0, tmax)`.
     pub fn closest_hit(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
-        let o: Vec3A = origin.as_vec3().into();
+        let o = self.local(origin);
         let d: Vec3A = dir.as_vec3().into();
         let wt = WatertightRay::new(o, d);
         let ray = Ray::new(o, d, 0.0, tmax as f32);
@@ -162,10 +186,11 @@ impl SceneBvh {
     /// Whether anything but triangle `exclude` blocks `origin + t * dir` for `t` in
     /// `(tmin, tmax)`.
     #[inline]
-    pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32, exclude: u32) -> bool {
+    pub fn occluded(&self, origin: DVec3, dir: Vec3A, tmin: f32, tmax: f32, exclude: u32) -> bool {
         let Some(bvh) = self.bvh.as_ref() else {
             return false;
         };
+        let origin = self.local(origin);
         let wt = WatertightRay::new(origin, dir);
         let ray = Ray::new(origin, dir, tmin, tmax);
         !bvh.ray_traverse_miss(ray, |_, id| {
@@ -184,7 +209,7 @@ impl SceneBvh {
     /// may be reported more than once when spatial splits put it in several leaves).
     pub fn for_each_hit(
         &self,
-        origin: Vec3A,
+        origin: DVec3,
         dir: Vec3A,
         tmin: f32,
         tmax: f32,
@@ -194,6 +219,7 @@ impl SceneBvh {
         let Some(bvh) = self.bvh.as_ref() else {
             return;
         };
+        let origin = self.local(origin);
         let wt = WatertightRay::new(origin, dir);
         let ray = Ray::new(origin, dir, tmin, tmax);
         bvh.ray_traverse_anyhit(ray, |_, id| {
@@ -230,8 +256,7 @@ mod tests {
                 let dir = (target - from).normalize();
                 let hit = bvh.closest_hit(from, dir, 100.0);
                 assert!(hit.is_some(), "leak at {target}");
-                let o: Vec3A = from.as_vec3().into();
-                assert!(bvh.occluded(o, dir.as_vec3().into(), 0.0, 100.0, u32::MAX));
+                assert!(bvh.occluded(from, dir.as_vec3().into(), 0.0, 100.0, u32::MAX));
             }
         }
     }
@@ -241,7 +266,7 @@ mod tests {
         let mut tris = quad(0.0);
         tris.extend(quad(1.0));
         let bvh = SceneBvh::build(&tris);
-        let o = Vec3A::new(0.1, -1.0, 0.2);
+        let o = DVec3::new(0.1, -1.0, 0.2);
         let up = Vec3A::Y;
         assert!(bvh.occluded(o, up, 0.0, 10.0, u32::MAX));
         assert!(!bvh.occluded(o, up, 0.0, 0.5, u32::MAX));
@@ -253,7 +278,7 @@ mod tests {
         assert!((hit.t - 1.0).abs() < 1e-6);
         assert!(hit.triangle < 2);
         // Excluding the triangle hit at t = 1 alone still finds the quad above.
-        let from_top = Vec3A::new(0.1, 0.0, 0.2);
+        let from_top = DVec3::new(0.1, 0.0, 0.2);
         assert!(bvh.occluded(from_top, up, 0.0, 10.0, hit.triangle));
     }
 
@@ -261,6 +286,6 @@ mod tests {
     fn empty_scene_hits_nothing() {
         let bvh = SceneBvh::build(&[]);
         assert!(bvh.closest_hit(DVec3::ZERO, DVec3::Y, 1.0).is_none());
-        assert!(!bvh.occluded(Vec3A::ZERO, Vec3A::Y, 0.0, 1.0, 0));
+        assert!(!bvh.occluded(DVec3::ZERO, Vec3A::Y, 0.0, 1.0, 0));
     }
 }

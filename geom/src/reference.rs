@@ -18,7 +18,7 @@
 //! The hard reference uses the single point `L = light centre`: the hard shadow of a point light
 //! there, which shadow volumes must reproduce.
 
-use glam::{DVec2, DVec3, Vec3A};
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use crate::boxtree::BoxTree;
@@ -165,9 +165,8 @@ impl Tracer {
             return true;
         }
         let dir = d / dist;
-        let o: Vec3A = p.position.as_vec3().into();
         !self.bvh.occluded(
-            o,
+            p.position,
             dir.as_vec3().into(),
             self.epsilon as f32,
             (dist - self.touch) as f32,

@@ -45,7 +45,7 @@
 //! samples within rounding of a projected edge, and where the reference's start and end offset
 //! [`Tracer::epsilon`] hides a triangle crossed within that distance of `P` or of the light.
 
-use glam::{DVec2, DVec3, Vec3A};
+use glam::{DVec2, DVec3};
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
@@ -203,9 +203,8 @@ impl DepthComplexity {
         let dist = d.length();
         if dist > t.epsilon {
             let dir = d / dist;
-            let o: Vec3A = p.position.as_vec3().into();
             t.bvh.for_each_hit(
-                o,
+                p.position,
                 dir.as_vec3().into(),
                 t.epsilon as f32,
                 (dist - t.touch) as f32,

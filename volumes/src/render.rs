@@ -30,7 +30,7 @@
 //! blended, where a buffer per mesh would add them. Each unit's stencil count is its casters
 //! between P and the light's centre.
 
-use glam::{DVec3, Vec3A};
+use glam::DVec3;
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{
     HalfEdgeMesh, RectLight, Scene, SurfacePoint, Technique, Tracer, TriangleMesh,
@@ -366,9 +366,8 @@ impl CpuRenderer {
         let mut out = Vec::new();
         if dist > 2.0 * eps {
             let dir = d / dist;
-            let o: Vec3A = p.position.as_vec3().into();
             self.tracer.bvh.for_each_hit(
-                o,
+                p.position,
                 dir.as_vec3().into(),
                 eps as f32,
                 (dist - eps) as f32,
