@@ -318,6 +318,24 @@ impl Renderer {
                 }
             }
         }
+        // The GPU blends one silhouette after the other, a few passes each; with thousands of
+        // them over few pixels the CPU, whose cost grows with the silhouettes covering each
+        // pixel, is far quicker, and under `auto` it renders them.
+        let mut built = None;
+        if volumes.is_none() && on_gpu && technique.is_volume() {
+            built = Some(Volumes::build(scene));
+        }
+        if on_gpu
+            && self.backend == Backend::Auto
+            && technique == Technique::WedgesBlend
+            && volumes
+                .or(built.as_ref())
+                .is_some_and(|v| v.unit_count() > MAX_GPU_BLEND_UNITS)
+        {
+            on_gpu = false;
+            built = None;
+        }
+        let volumes = volumes.or(built.as_ref());
         check_memory(
             width,
             height,
@@ -350,14 +368,7 @@ impl Renderer {
                 let r = self
                     .volumes
                     .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
-                let built;
-                let volumes = match volumes {
-                    Some(v) => v,
-                    None => {
-                        built = Volumes::build(scene);
-                        &built
-                    }
-                };
+                let volumes = volumes.expect("built above for a volume technique on the GPU");
                 r.render_timed(scene, volumes, technique)?
             };
             return Ok(Frame {
@@ -369,6 +380,10 @@ impl Renderer {
         Ok(render_cpu(scene, technique, pattern, progress))
     }
 }
+
+/// Most blending units (caster patches, [`Volumes::unit_count`]) of a `wedges-blend` scene that
+/// `--backend auto` renders on the GPU; beyond, it renders on the CPU.
+pub const MAX_GPU_BLEND_UNITS: usize = 1024;
 
 /// Bytes per pixel a CPU render holds: V (4) and the row buffers around it, with room.
 const CPU_BYTES_PER_PIXEL: u64 = 16;

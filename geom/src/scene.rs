@@ -303,16 +303,25 @@ impl Scene {
 
         let base = path.parent().unwrap_or(Path::new("."));
         let mut meshes = Vec::with_capacity(file.mesh.len());
+        // Each file is read and parsed once, however many entries name it.
+        let mut loaded: std::collections::HashMap<PathBuf, TriangleMesh> =
+            std::collections::HashMap::new();
         for (index, m) in file.mesh.iter().enumerate() {
             let m = m.get_ref();
             let transform = mesh_transform(m).map_err(|(span, msg)| invalid(span, msg))?;
             let source = base.join(m.obj.get_ref());
-            let mesh = TriangleMesh::load_obj(&source).map_err(|e| SceneError::Mesh {
-                path: path.to_path_buf(),
-                line: line_of(text, m.obj.span().start),
-                mesh: index,
-                error: e,
-            })?;
+            let mesh = match loaded.get(&source) {
+                Some(mesh) => mesh,
+                None => {
+                    let mesh = TriangleMesh::load_obj(&source).map_err(|e| SceneError::Mesh {
+                        path: path.to_path_buf(),
+                        line: line_of(text, m.obj.span().start),
+                        mesh: index,
+                        error: e,
+                    })?;
+                    loaded.entry(source.clone()).or_insert(mesh)
+                }
+            };
             let world = mesh.transformed(&transform);
             if let Some(v) = world
                 .positions

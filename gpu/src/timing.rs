@@ -86,9 +86,12 @@ pub struct Timer {
 }
 
 impl Timer {
-    /// Room for `passes` passes on `ctx`'s device.
+    /// Room for `passes` passes on `ctx`'s device. A frame of more passes than one query set
+    /// can time (`wgpu::QUERY_SET_MAX_QUERIES / 2`: a scene of thousands of silhouettes under
+    /// `wedges-blend`) records no pass times, rather than some of them.
     pub fn new(ctx: &GpuContext, passes: usize) -> Self {
-        let queries = ctx.timestamps.then(|| {
+        let fits = 2 * passes <= wgpu::QUERY_SET_MAX_QUERIES as usize;
+        let queries = (ctx.timestamps && fits).then(|| {
             ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass times"),
                 ty: wgpu::QueryType::Timestamp,

@@ -586,3 +586,48 @@ fn an_interrupted_write_leaves_no_temporary_file() {
     }
     panic!("never caught the render while it wrote its temporary file");
 }
+
+#[test]
+fn thousands_of_meshes_render_on_either_back_end() {
+    // 1500 small quads in the air, each its own silhouette, over a ground: more passes than one
+    // timestamp query set can time on the GPU, and more silhouettes than `auto` blends there.
+    let mut scene = GOOD_SCENE
+        .replace("width = 24", "width = 12")
+        .replace("height = 16", "height = 8");
+    let mut rng = penumbra::geom::Rng::new(5);
+    for _ in 0..1500 {
+        scene.push_str(&format!(
+            "\n[[mesh]]\nobj = \"m.obj\"\nscale = 0.05\ntranslate = [{:.3}, {:.3}, {:.3}]\n",
+            rng.range(-1.0, 1.0),
+            rng.range(0.5, 2.0),
+            rng.range(-1.0, 1.0)
+        ));
+    }
+    let d = case_dir("thousands", &scene, GOOD_OBJ);
+    let mut images = Vec::new();
+    for backend in ["auto", "gpu"] {
+        let out = penumbra()
+            .arg("render")
+            .arg(d.join("s.toml"))
+            .args(["--technique", "wedges-blend", "--backend", backend, "--out"])
+            .arg(d.join(format!("{backend}.exr")))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        if backend == "gpu" && err.contains("no GPU") && std::env::var_os("CI").is_none() {
+            return;
+        }
+        assert!(out.status.success(), "{backend}: {err}");
+        if backend == "auto" {
+            assert!(
+                err.contains("(cpu,"),
+                "auto should render 1500 silhouettes on the CPU: {err}"
+            );
+        }
+        images
+            .push(penumbra::VisibilityImage::read_exr(&d.join(format!("{backend}.exr"))).unwrap());
+    }
+    let c = penumbra::geom::image::compare(&images[1], &images[0]).unwrap();
+    assert!(c.all.mae <= 1e-3, "GPU against CPU: {c:?}");
+    let _ = std::fs::remove_dir_all(&d);
+}
