@@ -139,3 +139,60 @@ fn scenes_far_from_the_origin_render_as_at_it() {
         }
     }
 }
+
+#[test]
+fn random_similarity_transforms_leave_every_image_unchanged() {
+    // Rotations about random axes, moves up to 1e3 and uniform scales from 1e-2 to 1e2 of a
+    // scene and its light: every technique sees the same scene, and must draw the same image
+    // up to float noise (a pixel on an outline may see the other surface).
+    let options = RenderOptions {
+        samples: 16,
+        jitter: false,
+    };
+    let mut rng = penumbra::geom::Rng::new(77);
+    let mut renderer = Renderer::new(Backend::Auto);
+    let gpu = renderer
+        .render(&load("quad-over-plane"), Technique::Pcf, &options)
+        .is_ok();
+    assert!(gpu || std::env::var_os("CI").is_none(), "CI has lavapipe");
+    for name in ["overlapping-quads", "sphere-over-plane"] {
+        let mut scene = load(name);
+        scene.camera.width = 64;
+        scene.camera.height = 48;
+        let techniques: Vec<Technique> = Technique::ALL
+            .into_iter()
+            .filter(|t| gpu || !t.needs_gpu())
+            .collect();
+        let base: Vec<_> = techniques
+            .iter()
+            .map(|&t| renderer.render(&scene, t, &options).unwrap())
+            .collect();
+        for case in 0..3 {
+            let axis = glam::DVec3::new(rng.range(-1., 1.), rng.range(-1., 1.), rng.range(-1., 1.))
+                .normalize();
+            let m = glam::DMat4::from_scale_rotation_translation(
+                glam::DVec3::splat(10f64.powf(rng.range(-2.0, 2.0))),
+                glam::DQuat::from_axis_angle(axis, rng.range(0.0, std::f64::consts::TAU)),
+                glam::DVec3::new(
+                    rng.range(-1e3, 1e3),
+                    rng.range(-1e3, 1e3),
+                    rng.range(-1e3, 1e3),
+                ),
+            );
+            let moved = scene.transformed(&m);
+            for (t, want) in techniques.iter().zip(&base) {
+                let img = renderer.render(&moved, *t, &options).unwrap();
+                let c = penumbra::geom::image::compare(&img, want).unwrap();
+                println!(
+                    "{name} case {case}: {t}: MAE {:.1e}, over 0.05 {:.2}%",
+                    c.all.mae,
+                    100.0 * c.all.share_over
+                );
+                assert!(
+                    c.all.mae <= 1e-4 && c.all.share_over <= 0.005,
+                    "{name} case {case}: {t}: {c:?}"
+                );
+            }
+        }
+    }
+}

@@ -502,3 +502,74 @@ fn occluders_through_the_light_plane_match_the_cpu_oracle() {
         assert!(c.all.mae <= 1e-3 && c.all.p99 <= 0.02, "{t}: {c:?}");
     }
 }
+
+#[test]
+fn random_scenes_match_the_cpu_oracle() {
+    use glam::{DMat4, DQuat, DVec2, DVec3};
+    use penumbra_geom::camera::Camera;
+    use penumbra_geom::{RectLight, Rng, TriangleMesh};
+    let Some(ctx) = context() else { return };
+    let r = GpuRenderer::with_context(&ctx);
+    let mut rng = Rng::new(2026);
+    let quad = TriangleMesh::from_raw(
+        std::path::Path::new("quad"),
+        &[
+            DVec3::new(-0.5, 0.0, -0.5),
+            DVec3::new(-0.5, 0.0, 0.5),
+            DVec3::new(0.5, 0.0, 0.5),
+            DVec3::new(0.5, 0.0, -0.5),
+        ],
+        &[[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap();
+    let sphere = TriangleMesh::uv_sphere(8, 12);
+    let ground = quad.transformed(&DMat4::from_scale(DVec3::splat(12.0)));
+    for case in 0..6 {
+        let tilt = DQuat::from_axis_angle(
+            DVec3::new(rng.range(-1., 1.), 0.0, rng.range(-1., 1.)).normalize(),
+            rng.range(0.0, 40f64.to_radians()),
+        );
+        let normal = tilt * DVec3::NEG_Y;
+        let light = RectLight::new(
+            DVec3::new(rng.range(-1., 1.), rng.range(4., 6.), rng.range(-1., 1.)),
+            normal,
+            normal.any_orthonormal_vector(),
+            DVec2::new(rng.range(0.5, 3.0), rng.range(0.5, 3.0)),
+        );
+        let eye = DVec3::new(rng.range(-4., 4.), rng.range(2., 5.), rng.range(3., 6.));
+        let camera = Camera::look_at(eye, DVec3::ZERO, DVec3::Y, 45.0, 48, 36).unwrap();
+        let mut scene =
+            penumbra_geom::Scene::new(camera, light).with_mesh("ground", &ground, DMat4::IDENTITY);
+        for k in 0..1 + rng.below(3) {
+            let m = DMat4::from_scale_rotation_translation(
+                DVec3::splat(rng.range(0.3, 1.2)),
+                DQuat::from_axis_angle(
+                    DVec3::new(rng.range(-1., 1.), 1.0, rng.range(-1., 1.)).normalize(),
+                    rng.range(0.0, 6.28),
+                ),
+                DVec3::new(
+                    rng.range(-1.5, 1.5),
+                    rng.range(0.8, 2.5),
+                    rng.range(-1.5, 1.5),
+                ),
+            );
+            let mesh = if rng.below(2) == 0 { &quad } else { &sphere };
+            scene = scene.with_mesh(&format!("m{k}"), mesh, m);
+        }
+        let volumes = Volumes::build(&scene);
+        let cpu = CpuRenderer::new(&scene);
+        for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
+            let img = r.render(&scene, &volumes, t).unwrap();
+            let want = cpu.render(&scene, t, &|_| {});
+            let c = compare(&img, &want).unwrap();
+            println!(
+                "random scene {case}: GPU {t} vs CPU: MAE {:.2e}, p99 {:.2e}",
+                c.all.mae, c.all.p99
+            );
+            assert!(
+                c.all.mae <= 1e-3 && c.all.p99 <= 0.02,
+                "case {case}: {t}: {c:?}"
+            );
+        }
+    }
+}
