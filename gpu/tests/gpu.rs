@@ -545,7 +545,7 @@ fn random_scenes_match_the_cpu_oracle() {
                 DVec3::splat(rng.range(0.3, 1.2)),
                 DQuat::from_axis_angle(
                     DVec3::new(rng.range(-1., 1.), 1.0, rng.range(-1., 1.)).normalize(),
-                    rng.range(0.0, 6.28),
+                    rng.range(0.0, std::f64::consts::TAU),
                 ),
                 DVec3::new(
                     rng.range(-1.5, 1.5),
