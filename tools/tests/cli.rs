@@ -631,3 +631,70 @@ fn thousands_of_meshes_render_on_either_back_end() {
     assert!(c.all.mae <= 1e-3, "GPU against CPU: {c:?}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn scenes_beyond_the_supported_range_are_refused_with_their_line() {
+    // GOOD_SCENE's line 3 is the eye, 6 the field of view, 14 the light's size, 17 the first
+    // mesh's `obj`. The ray caster's hierarchy panicked on coordinates of 1e20, and the CPU and
+    // the GPU disagreed on a field of view of 1e-30 degrees and a light 1e30 wide.
+    let cases = [
+        (
+            "scale",
+            GOOD_SCENE.replace("scale = 4.0", "scale = 1e20"),
+            GOOD_OBJ.to_owned(),
+            "s.toml:17",
+        ),
+        (
+            "translate",
+            GOOD_SCENE.replace("scale = 4.0", "translate = [1e30, 0, 0]"),
+            GOOD_OBJ.to_owned(),
+            "s.toml:17",
+        ),
+        (
+            "vertex",
+            GOOD_SCENE.to_owned(),
+            GOOD_OBJ.replace("v 0.5 0 0.5", "v 0.5 1e20 0.5"),
+            "s.toml:17",
+        ),
+        (
+            "eye",
+            GOOD_SCENE.replace("eye = [0.0, 3.0, 4.0]", "eye = [0.0, 3.0, 1e20]"),
+            GOOD_OBJ.to_owned(),
+            "s.toml:3",
+        ),
+        (
+            "fov",
+            GOOD_SCENE.replace("fov_y_deg = 45.0", "fov_y_deg = 1e-30"),
+            GOOD_OBJ.to_owned(),
+            "s.toml:6",
+        ),
+        (
+            "light",
+            GOOD_SCENE.replace("size = [1.0, 1.0]", "size = [1e30, 1.0]"),
+            GOOD_OBJ.to_owned(),
+            "s.toml:14",
+        ),
+    ];
+    for (name, scene, obj, line) in &cases {
+        assert_refused(
+            &format!("range-{name}"),
+            scene,
+            obj,
+            &[line, "supported range"],
+        );
+        // `probe` refuses it the same way, without a panic.
+        let d = case_dir(&format!("range-probe-{name}"), scene, obj);
+        let out = penumbra()
+            .arg("probe")
+            .arg(d.join("s.toml"))
+            .args(["--pixel", "1,1"])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(line) && !err.contains("panicked"),
+            "{name}: {err}"
+        );
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}
