@@ -52,13 +52,19 @@ pub struct Occluder {
     pub mesh: HalfEdgeMesh,
     /// Its silhouette from the light's centre.
     pub silhouette: Silhouette,
-    /// Its closed shadow volume.
-    pub volume: ShadowVolume,
     /// Index of its first triangle in [`Scene::triangles`].
     pub first_triangle: u32,
     /// [`crate::terminator::outward_sign`]: +1 or -1 for a closed mesh wound outwards or
     /// inwards, 0 for an open one.
     pub outward: f64,
+}
+
+impl Occluder {
+    /// Its closed shadow volume from the light's centre `c` (built on demand: the renderers
+    /// count casters along rays on the CPU and build per-patch volumes on the GPU).
+    pub fn shadow_volume(&self, c: DVec3) -> ShadowVolume {
+        ShadowVolume::build(&self.mesh, &self.silhouette, c)
+    }
 }
 
 /// Silhouettes, volumes and wedges of a whole scene.
@@ -105,7 +111,6 @@ impl Volumes {
                         && t.iter().any(|&v| ls[v as usize].z > 0.0)
                 });
                 let silhouette = Silhouette::build_as(&mesh, c, mesh.is_closed() && !cut);
-                let volume = ShadowVolume::build(&mesh, &silhouette, c);
                 for (li, lp) in silhouette.loops.iter().enumerate() {
                     for &ei in lp {
                         let e = silhouette.edges[ei as usize];
@@ -158,7 +163,6 @@ impl Volumes {
                     outward: crate::terminator::outward_sign(m, &mesh),
                     mesh,
                     silhouette,
-                    volume,
                     first_triangle: first,
                 };
                 first += m.triangles.len() as u32;
@@ -238,7 +242,11 @@ impl GeometryCounts {
             loops: sil.clone().map(|s| s.loops.len()).sum(),
             // One wedge solid per silhouette edge (split by patch for the blending only).
             wedges: sil.clone().map(|s| s.edges.len()).sum(),
-            volume_triangles: v.occluders.iter().map(|o| o.volume.triangles.len()).sum(),
+            volume_triangles: v
+                .occluders
+                .iter()
+                .map(|o| o.shadow_volume(v.light.center).triangles.len())
+                .sum(),
         }
     }
 }
