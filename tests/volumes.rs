@@ -75,8 +75,8 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
             let hard = r.stencil_counts(&p);
             // P is not occluded by its own triangle: count from just on the light's side of it.
             let q = p.position + (c - p.position).normalize() * r.tracer.epsilon * 10.0;
-            for oi in 0..r.volumes.occluders.len() {
-                let w = volumes[oi].winding_number(q, dir);
+            for (oi, volume) in volumes.iter().enumerate() {
+                let w = volume.winding_number(q, dir);
                 // The renderer counts per blending unit (caster patch): their sum per occluder.
                 let fast: i32 = hard
                     .iter()
