@@ -509,6 +509,14 @@ fn shadow_map_parameters_out_of_range_name_table_key_and_line() {
         &["--technique", "fractional-disk", "--fd-max-radius", "40"],
         &["fractional_disk.passes", "--fd-passes"],
     );
+    // A negative value is read as the flag's value, out of range, not as an unknown flag.
+    assert_refused_with(
+        "negative-flag",
+        GOOD_SCENE,
+        GOOD_OBJ,
+        &["--technique", "gaussian", "--gaussian-dm", "-1"],
+        &["gaussian.dm", "-1"],
+    );
 }
 
 #[test]
