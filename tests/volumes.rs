@@ -155,31 +155,40 @@ fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
     }
 }
 
+/// A named polygon and its triangles.
+type Shape = (&'static str, Vec<DVec3>, Vec<[u32; 3]>);
+
+/// Two planar polygons in `y = 0` about the origin: a quad and a concave L (six corners, four
+/// triangles).
+fn planar_shapes() -> [Shape; 2] {
+    let quad = vec![
+        DVec3::new(-1., 0., -0.7),
+        DVec3::new(1., 0., -0.7),
+        DVec3::new(1., 0., 0.7),
+        DVec3::new(-1., 0., 0.7),
+    ];
+    let l_shape = vec![
+        DVec3::new(-1., 0., -1.),
+        DVec3::new(1., 0., -1.),
+        DVec3::new(1., 0., -0.3),
+        DVec3::new(-0.3, 0., -0.3),
+        DVec3::new(-0.3, 0., 1.),
+        DVec3::new(-1., 0., 1.),
+    ];
+    [
+        ("quad", quad, vec![[0, 1, 2], [0, 2, 3]]),
+        (
+            "L",
+            l_shape,
+            vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]],
+        ),
+    ]
+}
+
 #[test]
 fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
-    let quad = (
-        vec![
-            DVec3::new(-1., 0., -0.7),
-            DVec3::new(1., 0., -0.7),
-            DVec3::new(1., 0., 0.7),
-            DVec3::new(-1., 0., 0.7),
-        ],
-        vec![[0, 1, 2], [0, 2, 3]],
-    );
-    // An L: concave, six corners, four triangles.
-    let l_shape = (
-        vec![
-            DVec3::new(-1., 0., -1.),
-            DVec3::new(1., 0., -1.),
-            DVec3::new(1., 0., -0.3),
-            DVec3::new(-0.3, 0., -0.3),
-            DVec3::new(-0.3, 0., 1.),
-            DVec3::new(-1., 0., 1.),
-        ],
-        vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]],
-    );
     let mut rng = Rng::new(4);
-    for (shape, (pts, tris)) in [("quad", quad), ("L", l_shape)] {
+    for (shape, pts, tris) in planar_shapes() {
         let mut worst: f64 = 0.0;
         let mut penumbra = 0;
         for case in 0..10 {
@@ -565,34 +574,13 @@ fn wedges_blend_is_exact_on_the_planar_real_mesh() {
     );
 }
 
-/// A named polygon and its triangles.
-type Shape<'a> = (&'a str, &'a [DVec3], &'a [[u32; 3]]);
-
 #[test]
 fn planar_occluders_through_the_light_plane_stay_exact() {
     // A quad and an L, tilted 20 to 70 degrees about a horizontal axis through a point near the
     // light's plane (y = 5): part of each lies behind the light and hides nothing. The light's
     // plane cuts them, and the wedges of the cut, with the clipped outline, stay exact.
-    let quad = [
-        DVec3::new(-1., 0., -0.7),
-        DVec3::new(1., 0., -0.7),
-        DVec3::new(1., 0., 0.7),
-        DVec3::new(-1., 0., 0.7),
-    ];
-    let l_shape = [
-        DVec3::new(-1., 0., -1.),
-        DVec3::new(1., 0., -1.),
-        DVec3::new(1., 0., -0.3),
-        DVec3::new(-0.3, 0., -0.3),
-        DVec3::new(-0.3, 0., 1.),
-        DVec3::new(-1., 0., 1.),
-    ];
-    let shapes: [Shape; 2] = [
-        ("quad", &quad, &[[0, 1, 2], [0, 2, 3]]),
-        ("L", &l_shape, &[[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]]),
-    ];
     let mut rng = Rng::new(9);
-    for (shape, pts, tris) in shapes {
+    for (shape, pts, tris) in planar_shapes() {
         let (mut worst, mut penumbra, mut cut) = (0.0f64, 0, 0);
         for case in 0..10 {
             let axis = DVec3::new(rng.range(-1., 1.), 0.0, rng.range(-1., 1.)).normalize();
@@ -600,7 +588,7 @@ fn planar_occluders_through_the_light_plane_stay_exact() {
             let rot = DQuat::from_axis_angle(axis, tilt.to_radians());
             let at = DVec3::new(rng.range(-0.5, 0.5), 5.0 + rng.range(-0.2, 0.2), 0.0);
             let moved: Vec<DVec3> = pts.iter().map(|&p| rot * p + at).collect();
-            let scene = single_occluder_scene(&moved, tris);
+            let scene = single_occluder_scene(&moved, &tris);
             let r = CpuRenderer::new(&scene);
             cut += r
                 .volumes
