@@ -1,9 +1,11 @@
 //! Workspace-level tests, compiled as one binary through this module tree.
 
+mod blending;
 mod common;
 mod depth_complexity;
 mod fixtures;
 mod fuzz;
+mod light_plane;
 mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;

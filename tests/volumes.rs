@@ -1,19 +1,17 @@
 //! Acceptance of the volumes crate over the fixtures: hard shadows, closed volumes, wedge
-//! conservativeness, exactness for planar occluders, blending, invariance and robustness.
+//! conservativeness, exactness for planar occluders, invariance and robustness.
 
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra::geom::camera::Camera;
-use penumbra::geom::image::compare;
 use penumbra::geom::reference::{self, Reference, Tracer};
 use penumbra::geom::scene::SceneMesh;
 use penumbra::geom::{Rng, Scene, SurfacePoint, TriangleMesh};
 use penumbra::volumes::{CpuRenderer, Technique};
-use rayon::prelude::*;
 
 use crate::common::{fixture_names, load};
 
 /// Not on any triangle: nothing is excluded.
-const IN_THE_AIR: u32 = u32::MAX;
+pub const IN_THE_AIR: u32 = u32::MAX;
 
 #[test]
 fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
@@ -96,7 +94,7 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
 }
 
 /// Random points strictly between the ground and the lowest occluder.
-fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
+pub fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
     (0..n)
         .map(|_| {
             DVec3::new(
@@ -135,7 +133,8 @@ fn wedges_cover_every_penumbra_point_of_the_planar_fixtures() {
     }
 }
 
-fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
+/// A scene of one occluder `polygon` under a 2.5 x 1.5 light facing down from `(0, 5, 0)`.
+pub fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
     let mesh = TriangleMesh::from_raw(std::path::Path::new("occluder"), polygon, tris).unwrap();
     Scene {
         path: "memory".into(),
@@ -156,11 +155,11 @@ fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
 }
 
 /// A named polygon and its triangles.
-type Shape = (&'static str, Vec<DVec3>, Vec<[u32; 3]>);
+pub type Shape = (&'static str, Vec<DVec3>, Vec<[u32; 3]>);
 
 /// Two planar polygons in `y = 0` about the origin: a quad and a concave L (six corners, four
 /// triangles).
-fn planar_shapes() -> [Shape; 2] {
+pub fn planar_shapes() -> [Shape; 2] {
     let quad = vec![
         DVec3::new(-1., 0., -0.7),
         DVec3::new(1., 0., -0.7),
@@ -223,59 +222,6 @@ fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
             "{shape}: wedges vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra)"
         );
         assert!(penumbra > 150, "{shape}: too few penumbra points");
-    }
-}
-
-/// Mean absolute error of `wedges` and `wedges-blend` against the exact evaluator at penumbra
-/// points seen by the camera.
-fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
-    let scene = load(name);
-    let r = CpuRenderer::new(&scene);
-    let cam = scene.camera;
-    let mut rng = Rng::new(31);
-    let mut candidates = Vec::new();
-    while candidates.len() < points * 6 {
-        let (i, j) = (
-            rng.below(cam.width as usize) as u32,
-            rng.below(cam.height as usize) as u32,
-        );
-        if let Some(p) = r.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) {
-            candidates.push(p);
-        }
-    }
-    let rows: Vec<(f64, f64, f64)> = candidates
-        .par_iter()
-        .map(|p| {
-            (
-                r.tracer.exact_visibility(p),
-                r.visibility(p, Technique::Wedges),
-                r.visibility(p, Technique::WedgesBlend),
-            )
-        })
-        .collect();
-    let pen: Vec<_> = rows
-        .into_iter()
-        .filter(|r| r.0 > 0.02 && r.0 < 0.98)
-        .take(points)
-        .collect();
-    let n = pen.len() as f64;
-    let mae =
-        |f: fn(&(f64, f64, f64)) -> f64| pen.iter().map(|r| (f(r) - r.0).abs()).sum::<f64>() / n;
-    (mae(|r| r.1), mae(|r| r.2), pen.len())
-}
-
-#[test]
-fn blending_beats_additive_wedges_where_penumbrae_overlap() {
-    for name in ["overlapping-quads", "spheres-9x9"] {
-        let (w, b, n) = overlap_errors(name, 600);
-        println!(
-            "{name:>18}: penumbra MAE against exact over {n} points: wedges {w:.5}, wedges-blend {b:.5}"
-        );
-        assert!(n >= 300, "{name}: only {n} penumbra points");
-        assert!(
-            b < w,
-            "{name}: blending ({b}) is not better than additive wedges ({w})"
-        );
     }
 }
 
@@ -515,160 +461,4 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
         rejected > 500,
         "the planes reject only {rejected} of 1000 points"
     );
-}
-
-/// Penumbra MAE of `wedges-blend` on the real-mesh fixtures with one visibility buffer per mesh
-/// and the even spread of Forest et al. over the rectangles, before per-patch blending, the
-/// tangent-plane cap and the cores (320x240, 1024-sample reference; docs/accuracy.md).
-const PER_MESH_BLEND: [(&str, f64); 4] = [
-    ("beetle", 0.0856),
-    ("cheburashka", 0.0365),
-    ("fandisk", 0.0916),
-    ("spot", 0.0535),
-];
-
-#[test]
-fn wedges_blend_on_real_meshes_is_within_0_6_of_blending_per_mesh() {
-    for (name, before) in PER_MESH_BLEND {
-        // A quarter of the pixels and 256 samples: the bound has room for the reference's noise
-        // (about 0.006 over penumbra pixels).
-        let mut scene = load(name);
-        scene.camera.width /= 2;
-        scene.camera.height /= 2;
-        let tracer = Tracer::new(&scene);
-        let truth = reference::render(
-            &scene,
-            &tracer,
-            Reference::Sampled { per_axis: 16 },
-            &|_| {},
-        );
-        let img = CpuRenderer::new(&scene).render(&scene, Technique::WedgesBlend, &|_| {});
-        let c = compare(&img, &truth).unwrap();
-        println!(
-            "{name:>12}: wedges-blend penumbra MAE {:.4} over {} pixels, per mesh {before}: {:.2}x",
-            c.penumbra.mae,
-            c.penumbra.pixels,
-            c.penumbra.mae / before
-        );
-        assert!(c.penumbra.pixels > 1000, "{name}: too few penumbra pixels");
-        assert!(
-            c.penumbra.mae <= 0.6 * before,
-            "{name}: penumbra MAE {} above 0.6 x {before}",
-            c.penumbra.mae
-        );
-    }
-}
-
-#[test]
-fn wedges_blend_is_exact_on_the_planar_real_mesh() {
-    // Woody is one planar cut-out: one silhouette, exact for the wedges, whose error against the
-    // reference image is that image's own noise.
-    let (w, b, n) = overlap_errors("woody", 300);
-    println!(
-        "       woody: penumbra MAE against exact over {n} points: wedges {w:.2e}, wedges-blend {b:.2e}"
-    );
-    assert!(n >= 100, "woody: only {n} penumbra points");
-    assert!(
-        b <= 1e-6,
-        "woody: wedges-blend {b} against the exact evaluator"
-    );
-}
-
-#[test]
-fn planar_occluders_through_the_light_plane_stay_exact() {
-    // A quad and an L, tilted 20 to 70 degrees about a horizontal axis through a point near the
-    // light's plane (y = 5): part of each lies behind the light and hides nothing. The light's
-    // plane cuts them, and the wedges of the cut, with the clipped outline, stay exact.
-    let mut rng = Rng::new(9);
-    for (shape, pts, tris) in planar_shapes() {
-        let (mut worst, mut penumbra, mut cut) = (0.0f64, 0, 0);
-        for case in 0..10 {
-            let axis = DVec3::new(rng.range(-1., 1.), 0.0, rng.range(-1., 1.)).normalize();
-            let tilt = rng.range(20f64, 70.) * if rng.range(0., 1.) < 0.5 { -1. } else { 1. };
-            let rot = DQuat::from_axis_angle(axis, tilt.to_radians());
-            let at = DVec3::new(rng.range(-0.5, 0.5), 5.0 + rng.range(-0.2, 0.2), 0.0);
-            let moved: Vec<DVec3> = pts.iter().map(|&p| rot * p + at).collect();
-            let scene = single_occluder_scene(&moved, &tris);
-            let r = CpuRenderer::new(&scene);
-            cut += r
-                .volumes
-                .wedges
-                .iter()
-                .filter(|w| w.caster.is_some())
-                .count();
-            let lowest = moved.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-            for p in air_points(&mut rng, 100, 3.0, lowest - 0.05) {
-                let sp = SurfacePoint {
-                    position: p,
-                    triangle: IN_THE_AIR,
-                };
-                let exact = r.tracer.exact_visibility(&sp);
-                if exact > 0.0 && exact < 1.0 {
-                    penumbra += 1;
-                }
-                for t in [Technique::Wedges, Technique::WedgesBlend] {
-                    let got = r.visibility(&sp, t);
-                    worst = worst.max((got - exact).abs());
-                    assert!(
-                        (got - exact).abs() <= 1e-4,
-                        "{shape}, case {case}, at {p}: {t} {got}, exact {exact}"
-                    );
-                }
-            }
-        }
-        println!(
-            "{shape} through the light: wedges and wedges-blend vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra), {cut} wedges of cut meshes"
-        );
-        assert!(penumbra > 150, "{shape}: too few penumbra points");
-        assert!(
-            cut >= 30,
-            "{shape}: the light's plane should cut every case"
-        );
-    }
-}
-
-#[test]
-fn a_box_and_a_quad_through_the_light_plane() {
-    let scene = crate::through_the_light::scene();
-    let tracer = Tracer::new(&scene);
-    let r = CpuRenderer::new(&scene);
-    assert!(
-        r.volumes.wedges.iter().any(|w| w.caster.is_some()),
-        "the light's plane should cut the box and the quad"
-    );
-    // The hard shadow is the centre's count, exact whatever crosses the plane.
-    let hard = r.render(&scene, Technique::Hard, &|_| {});
-    let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
-    let differ = hard
-        .data
-        .iter()
-        .zip(&want.data)
-        .filter(|(a, b)| a != b)
-        .count();
-    assert_eq!(
-        differ, 0,
-        "hard differs from the hard reference on {differ} pixels"
-    );
-    // The soft ones: the silhouette from the light's centre is a poor guess of the box's from
-    // the rest of a light it touches, but nothing behind the light's plane hides any light.
-    let truth = reference::render(
-        &scene,
-        &tracer,
-        Reference::Sampled { per_axis: 16 },
-        &|_| {},
-    );
-    for (t, bound) in [(Technique::Wedges, 0.16), (Technique::WedgesBlend, 0.09)] {
-        let img = r.render(&scene, t, &|_| {});
-        assert!(img.data.iter().all(|v| (0.0..=1.0).contains(v)));
-        let c = compare(&img, &truth).unwrap();
-        println!(
-            "through the light: {t} penumbra MAE {:.4} over {} pixels",
-            c.penumbra.mae, c.penumbra.pixels
-        );
-        assert!(
-            c.penumbra.mae <= bound,
-            "{t}: penumbra MAE {}",
-            c.penumbra.mae
-        );
-    }
 }

@@ -10,6 +10,7 @@ pub mod halfedge;
 pub mod image;
 pub mod light;
 pub mod mesh;
+pub mod range;
 pub mod raycast;
 pub mod reference;
 pub mod rng;

@@ -1,8 +1,8 @@
 //! Helpers shared by the command's test binaries.
 #![allow(dead_code, reason = "each test binary uses a part of them")]
 
-use std::path::PathBuf;
-use std::process::Command;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 pub fn penumbra() -> Command {
     Command::new(env!("CARGO_BIN_EXE_penumbra"))
@@ -52,4 +52,57 @@ pub fn case_dir(name: &str, scene: &str, obj: &str) -> PathBuf {
     std::fs::write(d.join("s.toml"), scene).unwrap();
     std::fs::write(d.join("m.obj"), obj).unwrap();
     d
+}
+
+/// Writes `scene` and `obj` into a scratch folder, renders, and returns the folder and output.
+pub fn render_case(name: &str, scene: &str, obj: &str) -> (PathBuf, Output) {
+    render_case_with(name, scene, obj, &[])
+}
+
+/// [`render_case`] with more arguments for `penumbra render`.
+pub fn render_case_with(name: &str, scene: &str, obj: &str, args: &[&str]) -> (PathBuf, Output) {
+    let d = case_dir(name, scene, obj);
+    let out = penumbra()
+        .arg("render")
+        .arg(d.join("s.toml"))
+        .args(["--samples", "4", "--out"])
+        .arg(d.join("v.exr"))
+        .arg("--png")
+        .arg(d.join("v.png"))
+        .args(args)
+        .output()
+        .unwrap();
+    (d, out)
+}
+
+pub fn files_in(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Asserts a failed run whose message contains every piece of `want`, and that only the inputs
+/// remain in the folder.
+pub fn assert_refused(name: &str, scene: &str, obj: &str, want: &[&str]) {
+    assert_refused_with(name, scene, obj, &[], want)
+}
+
+/// [`assert_refused`] with more arguments for `penumbra render`.
+pub fn assert_refused_with(name: &str, scene: &str, obj: &str, args: &[&str], want: &[&str]) {
+    let (d, out) = render_case_with(name, scene, obj, args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{name}: should fail");
+    assert!(!err.contains("panicked"), "{name}: panicked: {err}");
+    for w in want {
+        assert!(err.contains(w), "{name}: error should mention {w:?}: {err}");
+    }
+    assert_eq!(
+        files_in(&d),
+        ["m.obj", "s.toml"],
+        "{name}: left output behind"
+    );
+    let _ = std::fs::remove_dir_all(&d);
 }
