@@ -11,6 +11,9 @@ use penumbra_params::TechniqueParams;
 
 use super::*;
 
+#[path = "../../tests/through_the_light.rs"]
+mod through_the_light;
+
 /// Light samples per axis: 64 per pixel.
 const PER_AXIS: usize = 8;
 
@@ -285,44 +288,10 @@ fn receivers_on_back_facing_triangles() {
 fn occluders_through_the_light_plane() {
     // A closed box standing up through the light's plane beside its centre, and a quad tilted
     // through it: their projections on the light end where they cross its plane, not at edges.
-    let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
-    let p = [
-        c(-0.1, 3.0, -0.7),
-        c(0.5, 3.0, -0.7),
-        c(0.5, 3.0, -0.1),
-        c(-0.1, 3.0, -0.1),
-        c(-0.1, 6.0, -0.7),
-        c(0.5, 6.0, -0.7),
-        c(0.5, 6.0, -0.1),
-        c(-0.1, 6.0, -0.1),
-    ];
-    let t = [
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ];
-    let cube = mesh(&p, &t);
-    assert!(penumbra_geom::HalfEdgeMesh::build(&cube).is_closed());
-    let q = [
-        c(-2.2, 4.0, -1.0),
-        c(-1.0, 6.0, -1.0),
-        c(-1.0, 6.0, 0.2),
-        c(-2.2, 4.0, 0.2),
-    ];
-    let quad = mesh(&q, &[[0, 1, 2], [0, 2, 3]]);
-    let s = scene(
-        vec![cube, quad],
-        DVec3::new(1.0, 3.5, 4.5),
-        DVec3::new(-0.5, 0.5, -0.3),
+    let s = through_the_light::scene();
+    assert!(
+        penumbra_geom::HalfEdgeMesh::build(&s.meshes[1].mesh).is_closed(),
+        "the box is closed"
     );
     let dc = DepthComplexity::new(&s);
     assert!(
