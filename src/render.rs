@@ -211,6 +211,14 @@ impl Renderer {
     }
 
     /// The GPU context, opened on first use; `Err` with the reason where there is none.
+    /// The device that [`Renderer::uses_gpu`] opened, once it said yes.
+    fn opened(&self) -> &GpuContext {
+        match &self.gpu {
+            GpuState::Ready(ctx) => ctx,
+            _ => unreachable!("uses_gpu opened it"),
+        }
+    }
+
     fn context(&mut self) -> Result<&GpuContext, String> {
         if let GpuState::Untried = self.gpu {
             self.gpu = match GpuContext::new() {
@@ -292,10 +300,7 @@ impl Renderer {
         let (width, height) = (scene.camera.width, scene.camera.height);
         let mut on_gpu = self.uses_gpu(technique)?;
         if on_gpu {
-            let ctx = match &self.gpu {
-                GpuState::Ready(ctx) => ctx,
-                _ => unreachable!("uses_gpu opened it"),
-            };
+            let ctx = self.opened();
             let limit = ctx.device.limits().max_texture_dimension_2d;
             if width > limit || height > limit {
                 // Under `auto` a technique the CPU also renders goes there.
@@ -346,10 +351,7 @@ impl Renderer {
             },
         )?;
         if on_gpu {
-            let ctx = match &self.gpu {
-                GpuState::Ready(ctx) => GpuContext::clone(ctx),
-                _ => unreachable!("uses_gpu opened it"),
-            };
+            let ctx = GpuContext::clone(self.opened());
             let (image, times) = if technique.needs_gpu() {
                 let i = match self
                     .shadow_maps

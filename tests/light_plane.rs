@@ -1,12 +1,12 @@
 //! Occluders through the light's plane: only their part in front of it hides light.
 
 use glam::{DQuat, DVec3};
+use penumbra::geom::Rng;
 use penumbra::geom::image::compare;
 use penumbra::geom::reference::{self, Reference, Tracer};
-use penumbra::geom::{Rng, SurfacePoint};
 use penumbra::volumes::{CpuRenderer, Technique};
 
-use crate::volumes::{IN_THE_AIR, air_points, planar_shapes, single_occluder_scene};
+use crate::volumes::{exact_in_the_air, planar_shapes, single_occluder_scene};
 
 #[test]
 fn planar_occluders_through_the_light_plane_stay_exact() {
@@ -31,24 +31,15 @@ fn planar_occluders_through_the_light_plane_stay_exact() {
                 .filter(|w| w.caster.is_some())
                 .count();
             let lowest = moved.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-            for p in air_points(&mut rng, 100, 3.0, lowest - 0.05) {
-                let sp = SurfacePoint {
-                    position: p,
-                    triangle: IN_THE_AIR,
-                };
-                let exact = r.tracer.exact_visibility(&sp);
-                if exact > 0.0 && exact < 1.0 {
-                    penumbra += 1;
-                }
-                for t in [Technique::Wedges, Technique::WedgesBlend] {
-                    let got = r.visibility(&sp, t);
-                    worst = worst.max((got - exact).abs());
-                    assert!(
-                        (got - exact).abs() <= 1e-4,
-                        "{shape}, case {case}, at {p}: {t} {got}, exact {exact}"
-                    );
-                }
-            }
+            let (w, n) = exact_in_the_air(
+                &r,
+                &mut rng,
+                lowest,
+                &[Technique::Wedges, Technique::WedgesBlend],
+                &format!("{shape}, case {case}"),
+            );
+            worst = worst.max(w);
+            penumbra += n;
         }
         println!(
             "{shape} through the light: wedges and wedges-blend vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra), {cut} wedges of cut meshes"

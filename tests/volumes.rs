@@ -11,7 +11,7 @@ use penumbra::volumes::{CpuRenderer, Technique};
 use crate::common::{fixture_names, load};
 
 /// Not on any triangle: nothing is excluded.
-pub const IN_THE_AIR: u32 = u32::MAX;
+const IN_THE_AIR: u32 = u32::MAX;
 
 #[test]
 fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
@@ -94,7 +94,7 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
 }
 
 /// Random points strictly between the ground and the lowest occluder.
-pub fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
+fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
     (0..n)
         .map(|_| {
             DVec3::new(
@@ -184,6 +184,38 @@ pub fn planar_shapes() -> [Shape; 2] {
     ]
 }
 
+/// At 100 random points in the air below `lowest`, asserts that each of `techniques` equals
+/// the exact evaluator within 1e-4; returns the largest difference and how many points were in
+/// penumbra.
+pub fn exact_in_the_air(
+    r: &CpuRenderer,
+    rng: &mut Rng,
+    lowest: f64,
+    techniques: &[Technique],
+    what: &str,
+) -> (f64, usize) {
+    let (mut worst, mut penumbra) = (0.0f64, 0);
+    for p in air_points(rng, 100, 3.0, lowest - 0.05) {
+        let sp = SurfacePoint {
+            position: p,
+            triangle: IN_THE_AIR,
+        };
+        let exact = r.tracer.exact_visibility(&sp);
+        if exact > 0.0 && exact < 1.0 {
+            penumbra += 1;
+        }
+        for &t in techniques {
+            let got = r.visibility(&sp, t);
+            worst = worst.max((got - exact).abs());
+            assert!(
+                (got - exact).abs() <= 1e-4,
+                "{what}, at {p}: {t} {got}, exact {exact}"
+            );
+        }
+    }
+    (worst, penumbra)
+}
+
 #[test]
 fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
     let mut rng = Rng::new(4);
@@ -201,22 +233,15 @@ fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
             let scene = single_occluder_scene(&moved, &tris);
             let lowest = moved.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
             let r = CpuRenderer::new(&scene);
-            for p in air_points(&mut rng, 100, 3.0, lowest - 0.05) {
-                let sp = SurfacePoint {
-                    position: p,
-                    triangle: IN_THE_AIR,
-                };
-                let exact = r.tracer.exact_visibility(&sp);
-                let got = r.visibility(&sp, Technique::Wedges);
-                if exact > 0.0 && exact < 1.0 {
-                    penumbra += 1;
-                }
-                worst = worst.max((got - exact).abs());
-                assert!(
-                    (got - exact).abs() <= 1e-4,
-                    "{shape}, case {case}, at {p}: wedges {got}, exact {exact}"
-                );
-            }
+            let (w, n) = exact_in_the_air(
+                &r,
+                &mut rng,
+                lowest,
+                &[Technique::Wedges],
+                &format!("{shape}, case {case}"),
+            );
+            worst = worst.max(w);
+            penumbra += n;
         }
         println!(
             "{shape}: wedges vs exact, max |error| {worst:.2e} over 1000 points ({penumbra} in penumbra)"

@@ -18,12 +18,17 @@ pub const MIN_FOV_DEG: f64 = 1e-3;
 /// Widest supported field of view, in degrees (the projection diverges at 180).
 pub const MAX_FOV_DEG: f64 = 179.0;
 
+/// Whether every coordinate of `v` lies within [`MAX_COORDINATE`] (false for NaN).
+pub fn within_coordinates(v: DVec3) -> bool {
+    v.abs().max_element() <= MAX_COORDINATE
+}
+
 impl Scene {
     /// The first value of the scene outside the supported range of `docs/scene-format.md`
     /// ("Supported range"), described, or `None` when all are inside: the scene loader refuses
     /// such scenes with their line, and a renderer refuses a scene made in code the same way.
     pub fn out_of_range(&self) -> Option<String> {
-        let coordinate = |v: DVec3| !(v.abs().max_element() <= MAX_COORDINATE);
+        let coordinate = |v: DVec3| !within_coordinates(v);
         if coordinate(self.camera.eye) {
             return Some(format!(
                 "the eye at {} lies outside the supported range (coordinates up to {MAX_COORDINATE:e})",

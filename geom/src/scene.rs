@@ -158,7 +158,7 @@ pub struct Scene {
     pub params: TechniqueParams,
 }
 
-pub use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG};
+pub use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 
 /// 1-based line of byte offset `at` in `text`.
 fn line_of(text: &str, at: usize) -> usize {
@@ -193,7 +193,7 @@ impl Scene {
         };
         let finite3 = |v: &Spanned<Vector<3>>, key: &str| -> Result<DVec3, SceneError> {
             let d = DVec3::from(v.get_ref().0);
-            if d.is_finite() && d.abs().max_element() > MAX_COORDINATE {
+            if d.is_finite() && !within_coordinates(d) {
                 return Err(invalid(
                     v.span(),
                     format!(
@@ -313,11 +313,7 @@ impl Scene {
                 }
             };
             let world = mesh.transformed(&transform);
-            if let Some(v) = world
-                .positions
-                .iter()
-                .find(|v| !(v.abs().max_element() <= MAX_COORDINATE))
-            {
+            if let Some(v) = world.positions.iter().find(|v| !within_coordinates(**v)) {
                 return Err(invalid(
                     m.obj.span(),
                     format!(
