@@ -94,7 +94,7 @@ pub enum RenderError {
     },
     /// A CPU-only technique asked for on the GPU.
     #[error(
-        "{technique} runs on the CPU only (the GPU renders the volume and shadow-map techniques)"
+        "{technique} runs on the CPU only (the GPU renders the volume and shadow-map techniques and depth-complexity)"
     )]
     CpuOnly {
         /// The technique.
@@ -125,6 +125,20 @@ pub enum RenderError {
     NoGpu {
         /// Why there is none.
         why: String,
+    },
+    /// Light samples the GPU's depth-complexity sampling does not take, asked of the GPU back
+    /// end.
+    #[error(
+        "depth-complexity on the GPU takes up to {max} multi-jittered samples per pixel, not {samples}{}; --backend cpu renders it",
+        if *.jitter { " jittered" } else { "" }
+    )]
+    GpuSamples {
+        /// The samples asked for.
+        samples: usize,
+        /// Whether jittered.
+        jitter: bool,
+        /// The most the GPU takes.
+        max: u32,
     },
     /// An image too large for the back end or the memory.
     #[error("the image is {width} x {height} pixels, too large: {why}")]
@@ -299,6 +313,20 @@ impl Renderer {
         }
         let (width, height) = (scene.camera.width, scene.camera.height);
         let mut on_gpu = self.uses_gpu(technique)?;
+        // The GPU's depth-complexity sampling takes the multi-jittered pattern up to
+        // MAX_SAMPLES; under `auto` the CPU renders the others.
+        let gpu_samples = !options.jitter && options.samples <= MAX_GPU_SAMPLES as usize;
+        if on_gpu && technique == Technique::DepthComplexity && !gpu_samples {
+            if self.backend == Backend::Auto {
+                on_gpu = false;
+            } else {
+                return Err(RenderError::GpuSamples {
+                    samples: options.samples,
+                    jitter: options.jitter,
+                    max: MAX_GPU_SAMPLES,
+                });
+            }
+        }
         if on_gpu {
             let ctx = self.opened();
             let limit = ctx.device.limits().max_texture_dimension_2d;
@@ -366,6 +394,33 @@ impl Renderer {
                     }
                 };
                 self.shadow_maps[i].render_timed(scene)?
+            } else if technique == Technique::DepthComplexity {
+                let r = self
+                    .volumes
+                    .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
+                let out = match r.render_depth_complexity(scene, options.samples as u32) {
+                    // A software device that would cut pixels short: under `auto`, the
+                    // CPU renders it.
+                    Err(GpuError::CutShort(why)) if self.backend == Backend::Auto => {
+                        let mut frame = render_cpu(scene, technique, pattern, progress);
+                        frame.detail = format!("{} ({why})", frame.detail);
+                        return Ok(frame);
+                    }
+                    other => other?,
+                };
+                return Ok(Frame {
+                    image: out.image,
+                    times: out.times,
+                    detail: format!(
+                        "gpu: {}, {} multi-jittered samples, {} potential silhouette edges of {}, \
+                         {} edge-list entries",
+                        ctx.describe(),
+                        options.samples,
+                        out.potential_edges,
+                        out.all_edges,
+                        out.list_entries
+                    ),
+                });
             } else {
                 let r = self
                     .volumes
@@ -382,6 +437,9 @@ impl Renderer {
         Ok(render_cpu(scene, technique, pattern, progress))
     }
 }
+
+/// Most light samples per pixel of depth-complexity sampling on the GPU.
+pub const MAX_GPU_SAMPLES: u32 = penumbra_gpu::constants::MAX_SAMPLES;
 
 /// Most blending units (caster patches, [`Volumes::unit_count`]) of a `wedges-blend` scene that
 /// `--backend auto` renders on the GPU; beyond, it renders on the CPU.

@@ -18,7 +18,7 @@ fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
     ));
     let mut gpu = Renderer::new(Backend::Gpu);
     assert!(matches!(
-        gpu.render(&scene, Technique::DepthComplexity, &small),
+        gpu.render(&scene, Technique::Reference, &small),
         Err(RenderError::CpuOnly { .. })
     ));
     let odd = RenderOptions {
@@ -37,7 +37,7 @@ fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
         cpu.render(&scene, Technique::Wedges, &jitter),
         Err(RenderError::NoSamples { .. })
     ));
-    // The references and depth-complexity never open the GPU; a volume technique does on Auto
+    // The references never open the GPU; a volume technique does on Auto
     // where there is one, and its image is the CPU renderer's.
     let mut auto = Renderer::new(Backend::Auto);
     auto.render(&scene, Technique::HardReference, &small)
@@ -54,6 +54,41 @@ fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
     assert!(differ <= 8, "{differ} pixels differ");
     if std::env::var_os("CI").is_some() {
         assert!(auto.gpu_description().is_some(), "CI has lavapipe");
+    }
+    // Depth-complexity sampling on the GPU up to 1024 multi-jittered samples; beyond, or
+    // jittered, on the CPU under Auto and refused by the GPU back end.
+    if auto.gpu_description().is_some() {
+        let frame = |r: &mut Renderer, o: &RenderOptions| {
+            r.render_frame(&scene, Technique::DepthComplexity, o, None, &|_| {})
+        };
+        let on_gpu = frame(&mut auto, &small).unwrap();
+        assert!(on_gpu.detail.starts_with("gpu: "), "{}", on_gpu.detail);
+        let on_cpu = frame(&mut cpu, &small).unwrap();
+        assert!(on_cpu.detail.starts_with("cpu"), "{}", on_cpu.detail);
+        let equal = on_gpu
+            .image
+            .data
+            .iter()
+            .zip(&on_cpu.image.data)
+            .filter(|(a, b)| a == b)
+            .count();
+        assert!(
+            equal * 1000 >= 999 * on_cpu.image.data.len(),
+            "{equal} equal"
+        );
+        let many = RenderOptions {
+            samples: 4096,
+            jitter: false,
+        };
+        for o in [&jitter, &many] {
+            let f = frame(&mut auto, o).unwrap();
+            assert!(f.detail.starts_with("cpu"), "{}", f.detail);
+            let Err(err) = frame(&mut gpu, o) else {
+                panic!("the GPU rendered {} samples", o.samples);
+            };
+            assert!(matches!(err, RenderError::GpuSamples { .. }), "{err}");
+            assert!(err.to_string().contains("--backend cpu"), "{err}");
+        }
     }
 }
 

@@ -354,6 +354,8 @@ pub struct Metrics {
     pub max: f64,
     /// Share of pixels whose absolute error exceeds [`ERROR_THRESHOLD`].
     pub share_over: f64,
+    /// Share of pixels whose values are identical (error 0).
+    pub equal: f64,
 }
 
 impl Metrics {
@@ -369,6 +371,7 @@ impl Metrics {
             .iter()
             .filter(|&&e| e > ERROR_THRESHOLD as f64)
             .count();
+        let equal = errors.iter().filter(|&&e| e == 0.0).count();
         errors.sort_by(f64::total_cmp);
         let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n) - 1;
         Metrics {
@@ -378,6 +381,7 @@ impl Metrics {
             p99: errors[rank],
             max: errors[n - 1],
             share_over: over as f64 / n as f64,
+            equal: equal as f64 / n as f64,
         }
     }
 }

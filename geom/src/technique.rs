@@ -87,7 +87,7 @@ impl Technique {
                 "Ray-cast hard shadow of a point light at the light's centre"
             }
             Technique::DepthComplexity => {
-                "Exact for its N light samples: depth-complexity sampling (Laine et al. 2005; Forest, Barthe & Paulin 2008; CPU)"
+                "Exact for its N light samples: depth-complexity sampling (Laine et al. 2005; Forest, Barthe & Paulin 2008; GPU up to 1024 samples, CPU otherwise)"
             }
             Technique::Hard => "Hard shadow of the light's centre by shadow volumes",
             Technique::Wedges => "Additive penumbra wedges (Akenine-Möller & Assarsson 2002)",
@@ -128,9 +128,15 @@ impl Technique {
         )
     }
 
-    /// The techniques that run on the CPU only: the references and depth-complexity sampling.
+    /// The techniques that run on the GPU where there is one and on the CPU otherwise: the
+    /// volume techniques and depth-complexity sampling.
+    pub fn on_either(self) -> bool {
+        self.is_volume() || self == Technique::DepthComplexity
+    }
+
+    /// The techniques that run on the CPU only: the references.
     pub fn cpu_only(self) -> bool {
-        !(self.needs_gpu() || self.is_volume())
+        !(self.needs_gpu() || self.on_either())
     }
 
     /// Whether it evaluates N light samples per pixel (`--samples`).
@@ -175,7 +181,7 @@ mod tests {
         for t in Technique::ALL {
             assert_eq!(t.name().parse::<Technique>(), Ok(t));
             assert_eq!(t.to_string(), t.name());
-            let kinds = [t.needs_gpu(), t.is_volume(), t.cpu_only()];
+            let kinds = [t.needs_gpu(), t.on_either(), t.cpu_only()];
             assert_eq!(kinds.iter().filter(|&&k| k).count(), 1, "{t}");
         }
         let err = "wedge".parse::<Technique>().unwrap_err().to_string();

@@ -36,6 +36,10 @@ pub enum GpuError {
     /// A frame's inputs that do not fit together or that the passes cannot take.
     #[error("{0}")]
     Frame(String),
+    /// A frame that ran, but whose image the device may have cut short (see
+    /// `complexity::SOFTWARE_LOOP_BUDGET`).
+    #[error("{0}")]
+    CutShort(String),
     /// A readback failed.
     #[error("reading back from the GPU failed: {0}")]
     Readback(String),

@@ -43,7 +43,8 @@ impl Uploads {
 pub struct FrameInputs {
     /// The camera.
     pub camera: FrameCamera,
-    /// A volume technique: `hard`, `wedges` or `wedges-blend`.
+    /// A volume technique (`hard`, `wedges` or `wedges-blend`) or `depth-complexity` (with
+    /// [`GpuScene::light_samples`] samples per pixel).
     pub technique: Technique,
 }
 
@@ -99,6 +100,13 @@ pub struct GpuScene {
     pub(crate) cube: wgpu::Buffer,
     pub(crate) scratch: Scratch,
     pub(crate) uploads: Uploads,
+    /// Depth-complexity sampling: what it keeps of the scene (dropped with `shadows`), its
+    /// frame's buffers, its samples per axis and its edge list's entries (0: not yet sized).
+    pub(crate) complexity: Option<crate::complexity::ComplexityScene>,
+    pub(crate) complexity_frame: Option<crate::complexity::ComplexityFrame>,
+    pub(crate) samples_per_axis: u32,
+    pub(crate) list_capacity: u32,
+    pub(crate) loop_budget: u32,
 }
 
 /// The techniques' own targets at one image size, made the first time a frame needs them and
@@ -289,6 +297,15 @@ impl GpuScene {
             cube,
             scratch: Scratch::default(),
             uploads,
+            complexity: None,
+            complexity_frame: None,
+            samples_per_axis: crate::complexity::DEFAULT_AXIS,
+            list_capacity: 0,
+            loop_budget: if renderer.ctx.info.device_type == wgpu::DeviceType::Cpu {
+                crate::complexity::SOFTWARE_LOOP_BUDGET
+            } else {
+                u32::MAX
+            },
         }
     }
 
@@ -328,6 +345,7 @@ impl GpuScene {
         if m.transform != transform {
             m.transform = transform;
             self.shadows = None;
+            self.complexity = None;
         }
     }
 
@@ -341,6 +359,7 @@ impl GpuScene {
         if self.light != light {
             self.light = light;
             self.shadows = None;
+            self.complexity = None;
         }
     }
 
@@ -356,7 +375,7 @@ impl GpuScene {
     }
 
     /// The world-space meshes and their triangles.
-    fn world(&self) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
+    pub(crate) fn world(&self) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
         let meshes: Vec<TriangleMesh> = self
             .meshes
             .iter()
@@ -436,11 +455,12 @@ impl GpuScene {
 
 /// Checks that `technique` is one [`GpuScene::record`] renders.
 pub(crate) fn check_technique(technique: Technique) -> Result<(), GpuError> {
-    if technique.is_volume() {
+    if technique.on_either() {
         Ok(())
     } else {
         Err(GpuError::Frame(format!(
-            "{technique}: a GpuScene records the volume techniques (hard, wedges, wedges-blend)"
+            "{technique}: a GpuScene records the volume techniques (hard, wedges, wedges-blend) \
+             and depth-complexity"
         )))
     }
 }

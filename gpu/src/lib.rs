@@ -11,6 +11,7 @@
 //! command encoder and its own target ([`GBuffer`] and [`FrameCamera`] say what it needs).
 #![warn(missing_docs)]
 
+pub mod complexity;
 pub mod constants;
 pub mod context;
 pub mod frame;

@@ -99,6 +99,9 @@ impl GpuScene {
             )));
         }
         self.write_frame(camera);
+        if technique == Technique::DepthComplexity {
+            return self.record_complexity(encoder, inputs, gbuffer, Some(target), timer);
+        }
         self.shadows();
         self.scratch
             .prepare(&self.ctx.device, technique, camera.size);
@@ -106,15 +109,7 @@ impl GpuScene {
         let p = &self.pipelines;
         let device = &self.ctx.device;
         let stamp = |kind| timer.render(kind);
-        let position = bind_group(
-            device,
-            "receivers",
-            &p.resolve.receiver_layout,
-            &[
-                wgpu::BindingResource::TextureView(&gbuffer.position_view),
-                wgpu::BindingResource::TextureView(&gbuffer.normal_view),
-            ],
-        );
+        let position = p.resolve.receivers(device, gbuffer);
         let bindings = FrameBindings {
             frame: &self.frame,
             depth: &gbuffer.depth_view,

@@ -5,6 +5,7 @@ use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_volumes::Volumes;
 
+use crate::complexity::ComplexityImage;
 use crate::context::GpuError;
 use crate::frame::{FrameCamera, eye_relative, scene_radius};
 use crate::gpu_scene::{FrameInputs, GpuScene, check_technique};
@@ -57,5 +58,71 @@ impl GpuRenderer {
         let inputs = FrameInputs { camera, technique };
         gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
         read_frame(&self.ctx, enc, &timer, &visibility)
+    }
+
+    /// Renders V of `scene` by depth-complexity sampling with `samples` light samples per pixel
+    /// (a perfect square up to 1024), with the GPU time of each pass and the potential
+    /// silhouette edges and all edges of the scene. The edge lists are recorded once alone first
+    /// to size the list ([`GpuScene::record_edge_lists`]); a frame whose list still overflowed
+    /// would be rendered again with the list grown.
+    pub fn render_depth_complexity(
+        &self,
+        scene: &Scene,
+        samples: u32,
+    ) -> Result<ComplexityImage, GpuError> {
+        let device = &self.ctx.device;
+        let size = (scene.camera.width, scene.camera.height);
+        let world = scene.triangles();
+        let radius = scene_radius(&eye_relative(scene.camera.eye, &world));
+        let camera = FrameCamera::for_scene(&scene.camera, radius);
+        let meshes: Vec<(&penumbra_geom::TriangleMesh, glam::DMat4, glam::DVec3, f64)> = scene
+            .meshes
+            .iter()
+            .map(|m| (&m.mesh, glam::DMat4::IDENTITY, scene.camera.eye, 0.0))
+            .collect();
+        let mut gpu_scene = GpuScene::with_origins(self, &meshes, scene.light);
+        gpu_scene.set_light_samples(samples)?;
+        let gbuffer = GBuffer::new(device, size);
+        let visibility = visibility_target(device, size);
+        let inputs = FrameInputs {
+            camera,
+            technique: Technique::DepthComplexity,
+        };
+        // The edge lists alone first, to size the list: no frame then overflows.
+        let mut enc = device.create_command_encoder(&Default::default());
+        gpu_scene.record_edge_lists(&mut enc, &inputs, &gbuffer)?;
+        self.ctx.queue.submit([enc.finish()]);
+        gpu_scene.complexity_report()?;
+        loop {
+            // Depth, stencil, edge lists, count, resolve.
+            let timer = Timer::new(&self.ctx, 5);
+            let mut enc = device.create_command_encoder(&Default::default());
+            gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
+            gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
+            let (image, times) = read_frame(&self.ctx, enc, &timer, &visibility)?;
+            let report = gpu_scene
+                .complexity_report()?
+                .expect("a frame was recorded");
+            if report.cut_short > 0 {
+                return Err(GpuError::CutShort(format!(
+                    "{}: {} pixels need more loop iterations than this software device runs \
+                     ({} at most per invocation): their V would be wrong",
+                    self.ctx.describe(),
+                    report.cut_short,
+                    gpu_scene.loop_budget()
+                )));
+            }
+            if !report.overflowed {
+                let (potential_edges, all_edges) = gpu_scene.potential_edges();
+                return Ok(ComplexityImage {
+                    image,
+                    times,
+                    potential_edges,
+                    all_edges,
+                    list_entries: report.demand,
+                    list_capacity: gpu_scene.edge_list_capacity(),
+                });
+            }
+        }
     }
 }

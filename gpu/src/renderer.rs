@@ -13,7 +13,12 @@ use std::sync::Arc;
 
 use crate::context::{GpuContext, GpuError};
 use crate::passes::{
-    blend::BlendPass, depth::DepthPass, frame_layout, resolve::ResolvePass, stencil::StencilPass,
+    blend::BlendPass,
+    complexity::{ComplexityPass, inputs_layout},
+    depth::DepthPass,
+    frame_layout,
+    resolve::ResolvePass,
+    stencil::StencilPass,
     wedge::WedgePass,
 };
 pub use crate::scene_data::{
@@ -30,6 +35,10 @@ pub(crate) struct Pipelines {
     pub(crate) wedge: WedgePass,
     pub(crate) blend: BlendPass,
     pub(crate) resolve: ResolvePass,
+    /// Depth-complexity sampling's group 1 and its two compute passes.
+    pub(crate) complexity_layout: wgpu::BindGroupLayout,
+    pub(crate) edge_lists: ComplexityPass,
+    pub(crate) count: ComplexityPass,
 }
 
 /// The volume techniques' pipelines on one device. Cloning it is cheap: the pipelines are
@@ -64,7 +73,11 @@ impl GpuRenderer {
         let frame_layout = frame_layout(device);
         let resolve = ResolvePass::new(device, &frame_layout);
         let wedge = WedgePass::new(device, &frame_layout, &resolve.receiver_layout);
+        let complexity_layout = inputs_layout(device);
         let pipelines = Pipelines {
+            edge_lists: ComplexityPass::edge_lists(device, &frame_layout, &complexity_layout),
+            count: ComplexityPass::count(device, &frame_layout, &complexity_layout),
+            complexity_layout,
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
             blend: BlendPass::new(device, &frame_layout),

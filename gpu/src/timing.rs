@@ -28,6 +28,10 @@ pub struct PassTimes {
     /// Their filter passes (the V pass of `pcf`, `pcss`, `mdsm`, `fractional-disk`; the
     /// blur passes of `gaussian`).
     pub filter: f64,
+    /// The edge-list pass of `depth-complexity`.
+    pub edge_lists: f64,
+    /// Its counting pass.
+    pub count: f64,
 }
 
 impl PassTimes {
@@ -41,6 +45,8 @@ impl PassTimes {
             + self.light_map
             + self.preprocess
             + self.filter
+            + self.edge_lists
+            + self.count
     }
 
     fn slot(&mut self, kind: Pass) -> &mut f64 {
@@ -53,6 +59,8 @@ impl PassTimes {
             Pass::LightMap => &mut self.light_map,
             Pass::Preprocess => &mut self.preprocess,
             Pass::Filter => &mut self.filter,
+            Pass::EdgeLists => &mut self.edge_lists,
+            Pass::Count => &mut self.count,
         }
     }
 }
@@ -76,6 +84,10 @@ pub enum Pass {
     Preprocess,
     /// [`PassTimes::filter`].
     Filter,
+    /// [`PassTimes::edge_lists`].
+    EdgeLists,
+    /// [`PassTimes::count`].
+    Count,
 }
 
 /// Timestamps of one frame: two per pass, at most `passes` passes; nothing where the device has

@@ -41,8 +41,12 @@ fn every_wgsl_file_validates_with_naga() {
         // (`passes::wgsl_source`), and the shadow-map techniques' with shadow.wgsl too
         // (`passes::fullscreen::shadow_shader`).
         let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
+        // And depth-complexity sampling's passes with complexity.wgsl
+        // (`passes::complexity::pipeline`).
         let shadow = if fullscreen::SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             fullscreen::SHADOW_WGSL
+        } else if ["edge_lists", "count", "complexity"].contains(&stem.as_str()) {
+            penumbra_gpu::passes::complexity::COMPLEXITY_WGSL
         } else {
             ""
         };
@@ -50,7 +54,7 @@ fn every_wgsl_file_validates_with_naga() {
             "{shadow}\n{}",
             std::fs::read_to_string(&p).unwrap()
         ));
-        if p.ends_with("frame.wgsl") || p.ends_with("shadow.wgsl") {
+        if p.ends_with("frame.wgsl") || p.ends_with("shadow.wgsl") || stem == "complexity" {
             continue;
         }
         let module = naga::front::wgsl::parse_str(&src)

@@ -21,7 +21,7 @@
 
 use glam::DVec3;
 use penumbra_geom::boxtree::{BoxTree, Plane};
-use penumbra_geom::{HalfEdgeMesh, RectLight, Scene};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
 
 use crate::silhouette::orient3d;
 
@@ -138,14 +138,23 @@ fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
 impl PotentialEdges {
     /// Finds the potential silhouette edges of every mesh of `scene` for its light.
     pub fn build(scene: &Scene) -> Self {
-        let light = scene.light;
+        Self::build_meshes(scene.meshes.iter().map(|m| &m.mesh), &scene.light)
+    }
+
+    /// Finds the potential silhouette edges of the world-space `meshes` for `light`; triangles
+    /// are numbered through the meshes in order, as [`Scene::triangles`] numbers them.
+    pub fn build_meshes<'a>(
+        meshes: impl IntoIterator<Item = &'a TriangleMesh>,
+        light: &RectLight,
+    ) -> Self {
+        let light = *light;
         let mut edges = Vec::new();
         let mut faces = Vec::new();
         let mut all_edges = 0;
         let mut first_triangle = 0u32;
         let mut crossings = Vec::new();
-        for m in &scene.meshes {
-            let mesh = HalfEdgeMesh::build(&m.mesh);
+        for m in meshes {
+            let mesh = HalfEdgeMesh::build(m);
             all_edges += mesh.edges.len();
             let pos: Vec<DVec3> = mesh
                 .positions
@@ -187,7 +196,7 @@ impl PotentialEdges {
                 let t = tri.map(|v| pos[v as usize]);
                 crossings.extend(light_crossing(t, first_triangle + f as u32));
             }
-            first_triangle += m.mesh.triangles.len() as u32;
+            first_triangle += m.triangles.len() as u32;
         }
         let boxes: Vec<(DVec3, DVec3)> =
             edges.iter().map(|e| (e.a.min(e.b), e.a.max(e.b))).collect();

@@ -91,8 +91,12 @@ pub struct MeshDraws<'a> {
 ///   near plane, 0 at infinity and where nothing was hit). The passes use its stencil as
 ///   scratch.
 /// - `position`: [`POSITION_FORMAT`] (`Rgba32Float`), usage `RENDER_ATTACHMENT |
-///   TEXTURE_BINDING`; the surface point minus the eye (world axes), `w = 1` where a surface
-///   was hit and 0 elsewhere.
+///   TEXTURE_BINDING`; the surface point minus the eye (world axes), `w` 0 where nothing was
+///   hit and non-zero where a surface was. The depth pre-pass stores there the bits of the
+///   triangle's index in the scene plus [`crate::constants::TRIANGLE_BIAS`] (a positive normal
+///   number), which depth-complexity sampling reads to leave the receiver's own triangle out; any
+///   other non-zero `w` (such as 1) names no triangle, and the receiver's triangle is then left
+///   out as every face it lies in is, by its distance.
 /// - `normal`: [`NORMAL_FORMAT`] (`Rgba16Float`), same usage; the surface's normal facing the
 ///   eye, read by the shadow-map techniques only.
 pub struct GBuffer {

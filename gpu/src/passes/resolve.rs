@@ -1,5 +1,6 @@
 //! Resolve of the hard shadow into V: drives `shaders/resolve.wgsl`.
 
+use super::depth::GBuffer;
 use super::{FrameBindings, VISIBILITY_FORMAT};
 
 /// Stencil counts resolved one by one by the additive-wedges resolve; larger counts share the
@@ -13,6 +14,7 @@ pub struct ResolvePass {
     wedges_equal: wgpu::RenderPipeline,
     wedges_at_least: wgpu::RenderPipeline,
     blended: wgpu::RenderPipeline,
+    copied: wgpu::RenderPipeline,
     /// Layout of a single non-filterable float texture (the occlusion, group 2).
     pub texture_layout: wgpu::BindGroupLayout,
     /// Layout of the receivers (group 1 of the resolve and the wedge pass): the positions and
@@ -117,10 +119,31 @@ impl ResolvePass {
                 wgpu::CompareFunction::Always,
                 &blended_layout,
             ),
+            // V computed already, one value per pixel.
+            copied: make(
+                "vs",
+                "fs_copied",
+                wgpu::CompareFunction::Always,
+                &blended_layout,
+            ),
             texture_layout,
             receiver_layout,
             final_layout,
         }
+    }
+
+    /// The receivers of `gbuffer` (its positions and normals) as a group of
+    /// [`ResolvePass::receiver_layout`].
+    pub fn receivers(&self, device: &wgpu::Device, gbuffer: &GBuffer) -> wgpu::BindGroup {
+        super::bind_group(
+            device,
+            "receivers",
+            &self.receiver_layout,
+            &[
+                wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                wgpu::BindingResource::TextureView(&gbuffer.normal_view),
+            ],
+        )
     }
 
     /// Writes V into `visibility` from `input`.
@@ -159,6 +182,11 @@ impl ResolvePass {
                 pass.set_pipeline(&self.blended);
                 pass.draw(0..3, 0..1);
             }
+            ResolveInput::Visibility(o) => {
+                pass.set_bind_group(2, o, &[]);
+                pass.set_pipeline(&self.copied);
+                pass.draw(0..3, 0..1);
+            }
             ResolveInput::Additive(o) => {
                 pass.set_bind_group(2, o, &[]);
                 for n in 0..=MAX_COUNT {
@@ -187,4 +215,7 @@ pub enum ResolveInput<'a> {
     /// The final buffer of the blending, hard shadows included (`n = 0`): a group of
     /// [`ResolvePass::final_layout`].
     Blended(&'a wgpu::BindGroup),
+    /// V itself, one `f32` per pixel row by row (depth-complexity sampling), in a buffer bound
+    /// as a group of [`ResolvePass::final_layout`].
+    Visibility(&'a wgpu::BindGroup),
 }

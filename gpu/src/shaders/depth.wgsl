@@ -1,6 +1,7 @@
 // Depth pre-pass (Forest et al. 2006, section 4: the visibility buffer needs the receivers' depth).
 // Every scene triangle, both sides, into a Depth32FloatStencil8 target with reversed z, and the
-// eye-relative surface position P into an Rgba32Float target (w = 1 where something was hit),
+// eye-relative surface position P into an Rgba32Float target (w, non-zero where something was
+// hit, holds the triangle's index: `passes::depth::GBuffer`),
 // and the surface's geometric normal, turned to face the camera, into an Rgba16Float target (the
 // shadow-map techniques' receiver planes).
 
@@ -16,6 +17,9 @@ struct VertexOut {
     // shadow-map techniques order them so); otherwise the mesh's model matrix carries its sign
     // in column 0's w (`frame::model_matrix`).
     @location(1) @interpolate(flat) outward: f32,
+    // The triangle's index in the scene (`penumbra_geom::Scene::triangles`): the meshes' vertices
+    // lie three per triangle in that order, each mesh drawn from its first.
+    @location(2) @interpolate(flat) triangle: u32,
 }
 
 // `p`: a vertex of mesh `mesh` as stored (`eye_relative` places it).
@@ -30,6 +34,7 @@ fn vs(
     out.clip = frame.view_proj * rel;
     out.rel = rel.xyz;
     out.outward = select(models[mesh][0].w, 1.0, f32(i) < frame.size.z);
+    out.triangle = i / 3u;
     return out;
 }
 
@@ -51,7 +56,7 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> DepthOut {
         n = -n;
     }
     var out: DepthOut;
-    out.position = vec4<f32>(in.rel, 1.0);
+    out.position = vec4<f32>(in.rel, bitcast<f32>(in.triangle + TRIANGLE_BIAS));
     out.normal = vec4<f32>(n, 1.0);
     if (in.outward != 0.0) {
         out.normal = vec4<f32>(select(-n, n, front == (in.outward > 0.0)), 2.0);

@@ -103,3 +103,11 @@ fn fs_blended(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let v = 1.0 - clamp(total, 0.0, 4.0) / 4.0;
     return vec4<f32>(min(v, front_share(pixel)), 0.0, 0.0, 0.0);
 }
+
+// V computed by depth-complexity sampling's counting pass, row by row, in the same buffer binding
+// as the final buffer (a buffer of f32 read as words).
+@fragment
+fn fs_copied(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<u32>(pixel.xy);
+    return vec4<f32>(bitcast<f32>(final_buffer[p.y * u32(frame.size.x) + p.x]), 0.0, 0.0, 0.0);
+}

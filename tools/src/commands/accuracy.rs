@@ -29,9 +29,8 @@ pub(crate) fn accuracy(
     // the truth.
     let mut renderer = Renderer::new(backend.into());
     let mut cpu = Renderer::new(penumbra::Backend::Cpu);
-    let cpu_only = |t: Technique| !t.needs_gpu() && !t.is_volume();
     for &t in techniques {
-        if !cpu_only(t) {
+        if !t.cpu_only() {
             renderer.uses_gpu(t)?;
         }
     }
@@ -77,7 +76,11 @@ pub(crate) fn accuracy(
                 jitter: sampling.jitter && t.takes_samples(),
             };
             let start = std::time::Instant::now();
-            let r = if cpu_only(t) { &mut cpu } else { &mut renderer };
+            let r = if t.cpu_only() {
+                &mut cpu
+            } else {
+                &mut renderer
+            };
             let img = r
                 .render_frame(&scene, t, &options, Some(&volumes), &|_| {})?
                 .image;

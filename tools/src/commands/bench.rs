@@ -31,11 +31,13 @@ pub(crate) struct Timing {
 }
 
 /// The passes `penumbra bench` reports, in order.
-pub(crate) const BENCH_PASSES: [&str; 10] = [
+pub(crate) const BENCH_PASSES: [&str; 12] = [
     "depth",
     "stencil",
     "wedge",
     "blend",
+    "edge_lists",
+    "count",
     "light_map",
     "preprocess",
     "filter",
@@ -140,6 +142,8 @@ pub(crate) fn bench_one(
             "stencil": pass(|p| p.stencil),
             "wedge": pass(|p| p.wedge),
             "blend": pass(|p| p.blend),
+            "edge_lists": pass(|p| p.edge_lists),
+            "count": pass(|p| p.count),
             "resolve": pass(|p| p.resolve),
             "light_map": pass(|p| p.light_map),
             "preprocess": pass(|p| p.preprocess),
@@ -160,10 +164,13 @@ pub(crate) fn print_bench(report: &serde_json::Value, technique: Technique, what
         report["device"].as_str().unwrap_or_default(),
     );
     let volume = technique.is_volume();
+    let counted = technique == Technique::DepthComplexity;
     for k in BENCH_PASSES {
         let relevant = match k {
-            "stencil" | "wedge" | "blend" => volume,
-            "light_map" | "preprocess" | "filter" => !volume,
+            "stencil" => volume || counted,
+            "wedge" | "blend" => volume,
+            "edge_lists" | "count" => counted,
+            "light_map" | "preprocess" | "filter" => technique.needs_gpu(),
             _ => true,
         };
         if let Some(ms) = report["median_ms"][k].as_f64().filter(|_| relevant) {

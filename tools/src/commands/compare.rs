@@ -27,19 +27,20 @@ pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) ->
         println!("{}", serde_json::to_string_pretty(&c)?);
     } else {
         println!(
-            "{:<10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10}",
-            "pixels", "count", "MAE", "RMSE", "p99", "max", ">0.05"
+            "{:<10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+            "pixels", "count", "MAE", "RMSE", "p99", "max", ">0.05", "equal"
         );
         for (name, m) in [("all", c.all), ("penumbra", c.penumbra)] {
             println!(
-                "{:<10} {:>8} {:>10.6} {:>10.6} {:>10.6} {:>10.6} {:>9.3}%",
+                "{:<10} {:>8} {:>10.6} {:>10.6} {:>10.6} {:>10.6} {:>9.3}% {:>9.3}%",
                 name,
                 m.pixels,
                 m.mae,
                 m.rmse,
                 m.p99,
                 m.max,
-                100.0 * m.share_over
+                100.0 * m.share_over,
+                100.0 * m.equal
             );
         }
         println!(

@@ -1,0 +1,283 @@
+//! The two compute passes of depth-complexity sampling, `shaders/edge_lists.wgsl` and
+//! `shaders/count.wgsl` ([`ComplexityPass`] drives either), and what they share
+//! (`shaders/complexity.wgsl`): the potential silhouette edges as the GPU reads them, the
+//! uniforms and the bind group of both ([`inputs_layout`]).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{DVec3, DVec4};
+use penumbra_geom::RectLight;
+use penumbra_volumes::potential::PotentialEdges;
+
+/// WGSL declarations shared by the edge-list and the counting pass.
+pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
+
+/// A potential silhouette edge (`struct Edge`): light-space ends, its faces' range and the
+/// plane through it and the light's centre.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuEdge {
+    /// Light-space start.
+    pub a: [f32; 3],
+    /// First of its faces in the face buffer.
+    pub first_face: u32,
+    /// Light-space end.
+    pub b: [f32; 3],
+    /// Number of faces.
+    pub face_count: u32,
+    /// `(b - a) x (c - a)` for the light's centre `c`.
+    pub toward_centre: [f32; 3],
+    /// Padding.
+    pub pad: u32,
+}
+
+/// One face on an edge (`struct Face`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuFace {
+    /// `(b - a) x (w - a)` for its third vertex `w`.
+    pub normal: [f32; 3],
+    /// Its triangle's index in the scene.
+    pub triangle: u32,
+}
+
+/// A triangle through the light's plane (`struct Crossing`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuCrossing {
+    /// Start of the segment where it crosses the light's plane.
+    pub a: [f32; 2],
+    /// End of that segment.
+    pub b: [f32; 2],
+    /// A point of the triangle just in front of the segment.
+    pub inside: [f32; 3],
+    /// Its triangle's index in the scene.
+    pub triangle: u32,
+}
+
+/// The passes' uniforms (`struct Params`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ComplexityParams {
+    /// Potential silhouette edges.
+    pub edges: u32,
+    /// Triangles through the light's plane.
+    pub crossings: u32,
+    /// Entries the edge list holds.
+    pub capacity: u32,
+    /// Samples per axis, `N`.
+    pub per_axis: u32,
+    /// Tiles per image row.
+    pub tiles_x: u32,
+    /// Scene triangles (planes in the plane buffer).
+    pub triangles: u32,
+    /// Loop iterations an invocation of the counting pass may take before it counts its pixel
+    /// as cut short.
+    pub budget: u32,
+    /// Padding.
+    pub pad: u32,
+    /// The eye in light space (`w` unused).
+    pub eye: [f32; 4],
+    /// The light-space direction of the ray through normalised device coordinates `(x, y)`:
+    /// `x ray_x + y ray_y + ray_1` (`w` unused).
+    pub ray_x: [f32; 4],
+    /// See `ray_x`.
+    pub ray_y: [f32; 4],
+    /// See `ray_x`.
+    pub ray_1: [f32; 4],
+}
+
+impl ComplexityParams {
+    /// The camera's part: the eye and the rays through the pixels, in `light`'s space, from
+    /// the inverse of `camera`'s view-projection composed in `f64` (a direction is the inverse
+    /// image of a point at depth 0, at infinity).
+    pub fn set_camera(&mut self, camera: &crate::frame::FrameCamera, light: &RectLight) {
+        let inv = camera.view_proj.inverse();
+        let h = light.half_size();
+        let dir = |v: DVec4| {
+            let v = v.truncate();
+            let l = DVec3::new(
+                v.dot(light.tangent) / h.x,
+                v.dot(light.bitangent) / h.y,
+                v.dot(light.normal),
+            );
+            l.as_vec3().extend(0.0).to_array()
+        };
+        self.eye = light
+            .to_light_space(camera.eye)
+            .as_vec3()
+            .extend(0.0)
+            .to_array();
+        self.ray_x = dir(inv.x_axis);
+        self.ray_y = dir(inv.y_axis);
+        self.ray_1 = dir(inv.w_axis);
+    }
+}
+
+/// Each triangle's plane in light space, `(n, w)` with `n` a unit normal and `n . x = w`, from
+/// its corners in `f64`; a degenerate triangle's is zero.
+pub fn light_planes(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<[f32; 4]> {
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| light.to_light_space(v));
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            n.extend(n.dot(a)).as_vec4().to_array()
+        })
+        .collect()
+}
+
+const _: () = assert!(std::mem::size_of::<GpuEdge>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuFace>() == 16);
+const _: () = assert!(std::mem::size_of::<GpuCrossing>() == 32);
+const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 96);
+
+/// The edges, their faces and the crossings of `edges` as the GPU reads them.
+pub fn gpu_edges(edges: &PotentialEdges) -> (Vec<GpuEdge>, Vec<GpuFace>, Vec<GpuCrossing>) {
+    let v = |p: glam::DVec3| p.as_vec3().to_array();
+    let e = edges
+        .edges
+        .iter()
+        .map(|e| GpuEdge {
+            a: v(e.a),
+            first_face: e.first_face,
+            b: v(e.b),
+            face_count: e.face_count,
+            toward_centre: v(e.toward_centre),
+            pad: 0,
+        })
+        .collect();
+    let f = edges
+        .faces
+        .iter()
+        .map(|f| GpuFace {
+            normal: v(f.normal),
+            triangle: f.triangle,
+        })
+        .collect();
+    let x = edges
+        .crossings
+        .iter()
+        .map(|x| GpuCrossing {
+            a: x.a.truncate().as_vec2().to_array(),
+            b: x.b.truncate().as_vec2().to_array(),
+            inside: v(x.inside),
+            triangle: x.triangle,
+        })
+        .collect();
+    (e, f, x)
+}
+
+/// Layout of group 1 of both passes, at bindings 0 to 10: the positions and the stencil counts
+/// of the depth pre-pass, the edges, faces and crossings, the tiles' ranges, the edge list, the
+/// demand counter, the [`ComplexityParams`], V and the triangles' planes.
+pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let storage = |read_only| wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    };
+    super::layout(
+        device,
+        "depth-complexity inputs",
+        wgpu::ShaderStages::COMPUTE,
+        &[
+            super::float_texture(),
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Uint,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            storage(true),
+            storage(true),
+            storage(true),
+            storage(false),
+            storage(false),
+            storage(false),
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            storage(false),
+            storage(true),
+        ],
+    )
+}
+
+/// One compute pass of depth-complexity sampling over the frame (group 0) and the inputs
+/// (group 1, [`inputs_layout`]).
+pub struct ComplexityPass {
+    pipeline: wgpu::ComputePipeline,
+    label: &'static str,
+}
+
+impl ComplexityPass {
+    /// The edge-list pass (`edge_lists.wgsl`): one workgroup per tile of
+    /// [`crate::constants::TILE`] x `TILE` pixels lists the potential silhouette edges its
+    /// receivers' views of the light may meet.
+    pub fn edge_lists(
+        device: &wgpu::Device,
+        frame_layout: &wgpu::BindGroupLayout,
+        inputs: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let source = include_str!("../shaders/edge_lists.wgsl");
+        Self::new(
+            device,
+            (frame_layout, inputs),
+            ("edge lists", source, "lists"),
+        )
+    }
+
+    /// The counting pass (`count.wgsl`): one invocation per pixel, in workgroups of
+    /// [`crate::constants::COUNT_GROUP`] x `COUNT_GROUP`, turns the centre's stencil count and
+    /// the tile's edges into V.
+    pub fn count(
+        device: &wgpu::Device,
+        frame_layout: &wgpu::BindGroupLayout,
+        inputs: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let source = include_str!("../shaders/count.wgsl");
+        Self::new(device, (frame_layout, inputs), ("count", source, "count"))
+    }
+
+    /// The pipeline of `entry` in `source`, prepended with [`COMPLEXITY_WGSL`].
+    fn new(
+        device: &wgpu::Device,
+        (frame_layout, inputs): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+        (label, source, entry): (&'static str, &str, &str),
+    ) -> Self {
+        let module = super::shader(device, label, &format!("{COMPLEXITY_WGSL}\n{source}"));
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(frame_layout), Some(inputs)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        ComplexityPass { pipeline, label }
+    }
+
+    /// Records one dispatch over `groups` workgroups.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (frame, inputs): (&wgpu::BindGroup, &wgpu::BindGroup),
+        groups: (u32, u32),
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.label),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame, &[]);
+        pass.set_bind_group(1, inputs, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
+    }
+}

@@ -1,0 +1,160 @@
+// Declarations shared by the two passes of depth-complexity sampling (Forest, Barthe & Paulin
+// 2008): the edge-list pass (`edge_lists.wgsl`) and the counting pass (`count.wgsl`), each
+// prepended with this file. Group 1 is `passes::complexity::ComplexityInputs`.
+//
+// Everything geometric is in light space (`to_light` in frame.wgsl: the light is [-1, 1]^2 at
+// z = 0, its centre the origin), as the CPU oracle (`penumbra_volumes::depth_complexity`) keeps
+// it, in f32 here.
+
+// A potential silhouette edge (`penumbra_volumes::potential::PotentialEdge`).
+struct Edge {
+    a: vec3<f32>,
+    // First of its faces in `faces`.
+    first_face: u32,
+    b: vec3<f32>,
+    face_count: u32,
+    // (b - a) x (c - a) for the light's centre c.
+    toward_centre: vec3<f32>,
+    pad: u32,
+}
+
+// One face on an edge `a b`: (b - a) x (w - a) for its third vertex w, and its triangle's index
+// in the scene (`penumbra_volumes::potential::EdgeFace`).
+struct Face {
+    normal: vec3<f32>,
+    triangle: u32,
+}
+
+// A triangle through the light's plane (`penumbra_volumes::potential::LightCrossing`).
+struct Crossing {
+    a: vec2<f32>,
+    b: vec2<f32>,
+    inside: vec3<f32>,
+    triangle: u32,
+}
+
+struct Params {
+    // Potential silhouette edges, crossings, entries the edge list holds, samples per axis N.
+    edges: u32,
+    crossings: u32,
+    capacity: u32,
+    per_axis: u32,
+    // Tiles per row of the image; triangles in `planes`; the loop iterations an invocation of
+    // the counting pass may take before it counts its pixel as cut short (`demand[1]`).
+    tiles_x: u32,
+    triangles: u32,
+    budget: u32,
+    pad1: u32,
+    // The eye in light space (w unused).
+    eye: vec4<f32>,
+    // The light-space direction of the ray through normalised device coordinates (x, y):
+    // x ray_x + y ray_y + ray_1 (w unused).
+    ray_x: vec4<f32>,
+    ray_y: vec4<f32>,
+    ray_1: vec4<f32>,
+}
+
+@group(1) @binding(0) var position: texture_2d<f32>;
+@group(1) @binding(1) var stencil_count: texture_2d<u32>;
+@group(1) @binding(2) var<storage, read> edges: array<Edge>;
+@group(1) @binding(3) var<storage, read> faces: array<Face>;
+@group(1) @binding(4) var<storage, read> crossings: array<Crossing>;
+// Per tile of TILE x TILE pixels: its first entry in `list` and its number of entries. A tile
+// whose entries run past `params.capacity` lost some: the counting pass reads every edge there.
+@group(1) @binding(5) var<storage, read_write> tile_ranges: array<vec2<u32>>;
+@group(1) @binding(6) var<storage, read_write> list: array<u32>;
+// [0]: the entries the frame's tiles asked for (more than `params.capacity`: an overflow);
+// [1]: the pixels whose counting went past `params.budget` loop iterations.
+@group(1) @binding(7) var<storage, read_write> demand: array<atomic<u32>>;
+@group(1) @binding(8) var<uniform> params: Params;
+// V, one per pixel, row by row.
+@group(1) @binding(9) var<storage, read_write> visibility: array<f32>;
+// Each scene triangle's plane in light space: unit normal n and n . x = w.
+@group(1) @binding(10) var<storage, read> planes: array<vec4<f32>>;
+
+// The receiver's triangle from the depth pre-pass's position w (`passes::depth::GBuffer`).
+fn receiver_triangle(w: f32) -> u32 {
+    return bitcast<u32>(w) - TRIANGLE_BIAS;
+}
+
+// The light's corners, counter-clockwise (`penumbra_volumes::potential::LIGHT_CORNERS`).
+fn light_corner(k: u32) -> vec3<f32> {
+    let c = array<vec3<f32>, 4>(
+        vec3<f32>(-1.0, -1.0, 0.0),
+        vec3<f32>(1.0, -1.0, 0.0),
+        vec3<f32>(1.0, 1.0, 0.0),
+        vec3<f32>(-1.0, 1.0, 0.0),
+    );
+    return c[k];
+}
+
+// The receiver seen through pixel `px` in light space, from the depth pre-pass's position `p`
+// (w non-zero). The rasteriser snaps the triangles' corners to a fraction of a pixel, so the
+// interpolated position lies on the triangle but off the pixel's ray, by up to a few thousandths
+// of a pixel's footprint: enough to move a projected edge across a light sample. As the CPU
+// oracle does, the point is taken where the ray through the pixel's centre meets the receiver's
+// plane instead; the interpolated one where that is ill-conditioned (a ray grazing the plane) or
+// the triangle is unknown.
+fn receiver_point(px: vec2<u32>, p: vec4<f32>) -> vec3<f32> {
+    let raster = to_light(p.xyz);
+    let t = receiver_triangle(p.w);
+    if (t >= params.triangles) {
+        return raster;
+    }
+    let plane = planes[t];
+    let ndc = vec2<f32>(
+        2.0 * (f32(px.x) + 0.5) / frame.size.x - 1.0,
+        1.0 - 2.0 * (f32(px.y) + 0.5) / frame.size.y,
+    );
+    let dir = ndc.x * params.ray_x.xyz + ndc.y * params.ray_y.xyz + params.ray_1.xyz;
+    let eye = params.eye.xyz;
+    let along = dot(plane.xyz, dir);
+    let at = eye + dir * ((plane.w - dot(plane.xyz, eye)) / along);
+    let off = length(at - raster);
+    if (!(off <= 1e-3 * length(raster - eye))) {
+        return raster;
+    }
+    return at;
+}
+
+// The edge lists' test, shared with the counting pass's reading of every edge where a tile's
+// list overflowed (there the tile is the one pixel).
+
+// Distances of p inside each side of the light, over p.z: (y + 1, 1 - x, 1 - y, x + 1) / z.
+fn side_keys(p: vec3<f32>) -> vec4<f32> {
+    return vec4<f32>(p.y + 1.0, 1.0 - p.x, 1.0 - p.y, p.x + 1.0) / p.z;
+}
+
+// The union pyramid's side planes at q: inward_k(q) - key_k q.z, negative outside, with a margin
+// for rounding added.
+fn side_values(q: vec3<f32>, keys: vec4<f32>) -> vec4<f32> {
+    let inward = vec4<f32>(q.y + 1.0, 1.0 - q.x, 1.0 - q.y, q.x + 1.0);
+    let v = inward - keys * q.z;
+    let scale = vec4<f32>(1.0 + abs(q.x) + abs(q.y)) + abs(keys * q.z);
+    return v + 1e-5 * scale;
+}
+
+// Whether the edge may change a count seen from some receiver of the tile: `keys` the union
+// pyramid's, [lo, hi] the receivers' bounding box.
+fn listed(e: Edge, keys: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let sa = side_values(e.a, keys);
+    let sb = side_values(e.b, keys);
+    if (any((sa < vec4<f32>(0.0)) & (sb < vec4<f32>(0.0)))) {
+        return false;
+    }
+    if (e.face_count != 2u) {
+        return true;
+    }
+    let n0 = faces[e.first_face].normal;
+    let n1 = faces[e.first_face + 1u].normal;
+    let centre = 0.5 * (lo + hi) - e.a;
+    let half = 0.5 * (hi - lo);
+    let reach = length(centre) + length(e.a) + length(half);
+    let mid0 = dot(n0, centre);
+    let spread0 = dot(abs(n0), half) * (1.0 + 1e-5) + 1e-5 * length(n0) * reach;
+    let mid1 = dot(n1, centre);
+    let spread1 = dot(abs(n1), half) * (1.0 + 1e-5) + 1e-5 * length(n1) * reach;
+    let apart = (mid0 - spread0 > 0.0 && mid1 + spread1 < 0.0)
+        || (mid0 + spread0 < 0.0 && mid1 - spread1 > 0.0);
+    return !apart;
+}

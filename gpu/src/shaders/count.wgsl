@@ -1,0 +1,424 @@
+// Counting pass of depth-complexity sampling (Forest, Barthe & Paulin 2008): one invocation per
+// pixel starts from the light centre's depth complexity D(P, c) (the stencil count of the
+// volumes built by the open-mesh rule, one per triangle facing either way), adds the change of
+// every edge of its tile's list to the N x N samples it separates from the centre, and writes
+// V = #{ s : D(P, s) = 0 } / N². A port of `penumbra_volumes::region` (the four lines of the
+// segment-triangle test per edge, the light clipped by three of them to find the cells they
+// reach) and of the correlated multi-jittered pattern of `penumbra_volumes::samples`, so that the
+// GPU and the CPU oracle agree sample for sample up to f32 rounding.
+
+// A face is seen edge-on from P when P lies within this share of |P - a| + |P| of its plane:
+// within f32 rounding of a rasterised position (the CPU oracle's f64 uses 1e-10 of |P - a|).
+const EDGE_ON: f32 = 1e-7;
+
+// The loop iterations this invocation has run, each loop's counted (`params.budget`).
+var<private> spent: u32;
+
+// f(u, v) = k.x u + k.y v + k.z on the light's plane: m . (s - o) for s = (u, v, 0).
+fn line_through(m: vec3<f32>, o: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(m.x, m.y, -dot(m, o));
+}
+
+// The line where a plane through the light's centre with normal m meets the light's plane.
+fn through_centre(m: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(m.x, m.y, 0.0);
+}
+
+fn line_at(k: vec3<f32>, s: vec2<f32>) -> f32 {
+    return k.x * s.x + k.y * s.y + k.z;
+}
+
+// The samples an edge changes: those where four lines are positive, in the light clipped by
+// the first three (`lo`, `hi` its bounding box).
+struct Region {
+    delta: i32,
+    l0: vec3<f32>,
+    l1: vec3<f32>,
+    l2: vec3<f32>,
+    l3: vec3<f32>,
+    lo: vec2<f32>,
+    hi: vec2<f32>,
+}
+
+// The light square clipped by l0, l1 and l2 (Sutherland & Hodgman): its bounding box as
+// (lo, hi), empty (lo > hi) when nothing is left.
+fn clipped_bounds(l0: vec3<f32>, l1: vec3<f32>, l2: vec3<f32>) -> vec4<f32> {
+    var poly = array<vec2<f32>, 8>(
+        vec2<f32>(-1.0, -1.0),
+        vec2<f32>(1.0, -1.0),
+        vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, 1.0),
+        vec2<f32>(0.0),
+        vec2<f32>(0.0),
+        vec2<f32>(0.0),
+        vec2<f32>(0.0),
+    );
+    var len = 4u;
+    let lines = array<vec3<f32>, 3>(l0, l1, l2);
+    for (var l = 0u; l < 3u; l++) {
+        spent++;
+        let k = lines[l];
+        var out: array<vec2<f32>, 8>;
+        var n = 0u;
+        for (var i = 0u; i < len; i++) {
+            spent++;
+            let a = poly[i];
+            let b = poly[(i + 1u) % len];
+            let fa = line_at(k, a);
+            let fb = line_at(k, b);
+            if (fa >= 0.0 && n < 8u) {
+                out[n] = a;
+                n++;
+            }
+            if ((fa >= 0.0) != (fb >= 0.0) && n < 8u) {
+                out[n] = a + (b - a) * (fa / (fa - fb));
+                n++;
+            }
+        }
+        poly = out;
+        len = n;
+        if (len == 0u) {
+            return vec4<f32>(1.0, 1.0, -1.0, -1.0);
+        }
+    }
+    var lo = poly[0];
+    var hi = poly[0];
+    for (var i = 1u; i < len; i++) {
+        spent++;
+        lo = min(lo, poly[i]);
+        hi = max(hi, poly[i]);
+    }
+    return vec4<f32>(lo, hi);
+}
+
+// A region of the light where the four lines are positive, changed by `delta`; none where its
+// box is not finite (a degenerate edge's lines, whose indices into the cells would be
+// undefined: the oracle's f64 evaluation finds no sample inside either).
+fn make_region(delta: i32, l0: vec3<f32>, l1: vec3<f32>, l2: vec3<f32>, l3: vec3<f32>) -> Region {
+    let b = clipped_bounds(l0, l1, l2);
+    if (!all(abs(b) <= vec4<f32>(2.0))) {
+        return no_region();
+    }
+    return Region(delta, l0, l1, l2, l3, b.xy, b.zw);
+}
+
+fn no_region() -> Region {
+    let z = vec3<f32>(0.0);
+    return Region(0, z, z, z, z, vec2<f32>(1.0), vec2<f32>(-1.0));
+}
+
+// The part of the segment from depth za to depth zb strictly between depths 0 and zp, as
+// parameters (t0, t1), empty when t0 >= t1.
+fn slab(za: f32, zb: f32, zp: f32) -> vec2<f32> {
+    var t = vec2<f32>(0.0, 1.0);
+    let dz = zb - za;
+    let bounds = array<f32, 2>(0.0, zp);
+    for (var k = 0u; k < 2u; k++) {
+        spent++;
+        let bound = bounds[k];
+        let above = k == 0u;
+        if (dz == 0.0) {
+            if ((za > bound) != above || za == bound) {
+                return vec2<f32>(1.0, 0.0);
+            }
+            continue;
+        }
+        let s = (bound - za) / dz;
+        if ((dz > 0.0) == above) {
+            t.x = max(t.x, s);
+        } else {
+            t.y = min(t.y, s);
+        }
+    }
+    return t;
+}
+
+// The samples edge `ei` separates from the centre as seen from `pl` on triangle `receiver`
+// (`penumbra_volumes::region::edge_region`); delta 0 when it changes none.
+fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u32) -> Region {
+    let e = edges[ei];
+    let a = e.a;
+    let b = e.b;
+    let d = pl - a;
+    let side_c = dot(e.toward_centre, d);
+    if (side_c == 0.0) {
+        return no_region();
+    }
+    let reach = length(d) + length(pl);
+    var delta = 0i;
+    for (var f = e.first_face; f < e.first_face + e.face_count; f++) {
+        spent++;
+        let face = faces[f];
+        if (face.triangle == receiver) {
+            continue;
+        }
+        let s = dot(face.normal, d);
+        if (abs(s) <= EDGE_ON * length(face.normal) * reach) {
+            continue;
+        }
+        if ((s < 0.0) != (side_c < 0.0)) {
+            delta += 1;
+        } else {
+            delta -= 1;
+        }
+    }
+    if (delta == 0) {
+        return no_region();
+    }
+    for (var k = 0u; k < 5u; k++) {
+        spent++;
+        let q = pyramid[k];
+        if (dot(q.xyz, a) + q.w < 0.0 && dot(q.xyz, b) + q.w < 0.0) {
+            return no_region();
+        }
+    }
+    let t = slab(a.z, b.z, pl.z);
+    if (!(t.x < t.y)) {
+        return no_region();
+    }
+    let l = b - a;
+    let o1 = dot(cross(l, pl - a), -a);
+    if (o1 == 0.0) {
+        return no_region();
+    }
+    let flip = sign(o1);
+    // Three of the four planes pass through the light's centre, the origin: their lines meet
+    // the light's plane through it, with no constant term (in exact arithmetic the oracle's
+    // is 0 too; computed in f32 it would be rounding noise). `o2` is the plane of the edge
+    // and the centre, `f0` and `f1` those of P, the centre and each end.
+    let o2 = through_centre(cross(a, b) * flip);
+    let o3 = line_through(-cross(l, pl - a) * flip, a);
+    let f0 = through_centre(cross(pl, a));
+    let f1 = through_centre(cross(pl, b));
+    let mid = a + l * (0.5 * (t.x + t.y));
+    let q = pl + (mid - pl) * (pl.z / (pl.z - mid.z));
+    if (line_at(f0, q.xy) > 0.0) {
+        return make_region(delta, o3, f0, -f1, o2);
+    }
+    return make_region(delta, o3, -f0, f1, o2);
+}
+
+fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
+}
+
+// The samples whose count a triangle through the light's plane changes
+// (`penumbra_volumes::region::crossing_region`).
+fn crossing_region(x: Crossing, pl: vec3<f32>, receiver: u32) -> Region {
+    if (x.triangle == receiver || !(x.inside.z < pl.z)) {
+        return no_region();
+    }
+    let a = x.a;
+    let b = x.b;
+    let side_c = cross2(b - a, -a);
+    let q = pl + (x.inside - pl) * (pl.z / (pl.z - x.inside.z));
+    let side_q = cross2(b - a, q.xy - a);
+    if (side_c == 0.0 || side_q == 0.0) {
+        return no_region();
+    }
+    let delta = select(-1, 1, (side_q < 0.0) != (side_c < 0.0));
+    let beyond = vec3<f32>(-(b - a).y, (b - a).x, cross2(b - a, -a)) * -sign(side_c);
+    let ga = vec3<f32>(-a.y, a.x, 0.0);
+    let gb = -vec3<f32>(-b.y, b.x, 0.0);
+    let mid = 0.5 * (a + b);
+    if (line_at(ga, mid) > 0.0) {
+        return make_region(delta, beyond, ga, gb, beyond);
+    }
+    return make_region(delta, beyond, -ga, -gb, beyond);
+}
+
+// The five planes (n, d) of the pyramid from p to the light (`penumbra_volumes::potential::pyramid_planes`).
+fn pyramid_planes(p: vec3<f32>) -> array<vec4<f32>, 5> {
+    var planes: array<vec4<f32>, 5>;
+    planes[0] = vec4<f32>(0.0, 0.0, 1.0, 0.0);
+    for (var k = 0u; k < 4u; k++) {
+        spent++;
+        let c0 = light_corner(k);
+        let c1 = light_corner((k + 1u) % 4u);
+        var n = cross(c0 - p, c1 - p);
+        if (dot(n, -p) < 0.0) {
+            n = -n;
+        }
+        planes[k + 1u] = vec4<f32>(n, -dot(n, p));
+    }
+    return planes;
+}
+
+// The pattern's permutation of 0..l chosen by p (`penumbra_volumes::samples::permute`,
+// Kensler 2013).
+fn permute(index: u32, l: u32, p: u32) -> u32 {
+    var w = l - 1u;
+    w |= w >> 1u;
+    w |= w >> 2u;
+    w |= w >> 4u;
+    w |= w >> 8u;
+    w |= w >> 16u;
+    var i = index;
+    loop {
+        spent++;
+        i ^= p;
+        i *= 0xe170893du;
+        i ^= p >> 16u;
+        i ^= (i & w) >> 4u;
+        i ^= p >> 8u;
+        i *= 0x0929eb3fu;
+        i ^= p >> 23u;
+        i ^= (i & w) >> 1u;
+        i *= 1u | (p >> 27u);
+        i *= 0x6935fa69u;
+        i ^= (i & w) >> 11u;
+        i *= 0x74dcb303u;
+        i ^= (i & w) >> 2u;
+        i *= 0x9e501cc3u;
+        i ^= (i & w) >> 2u;
+        i *= 0xc860a3dfu;
+        i &= w;
+        i ^= i >> 5u;
+        if (i < l) {
+            return (i + p) % l;
+        }
+    }
+    return 0u;
+}
+
+// `penumbra_volumes::samples::hash` (Kensler 2013).
+fn hash(index: u32, p: u32) -> u32 {
+    var i = index ^ p;
+    i ^= i >> 17u;
+    i ^= i >> 10u;
+    i *= 0xb36534e5u;
+    i ^= i >> 12u;
+    i ^= i >> 21u;
+    i *= 0x93fc4795u;
+    i ^= 0xdf6e307fu;
+    i ^= i >> 17u;
+    return i * (1u | (p >> 18u));
+}
+
+// A coordinate of the pattern: fine column (or row) `fine` of N² and its 16-bit jitter `jitter`,
+// -1 + (fine + jitter / 65536) 2 / N², rounded once to f32 where N² 65536 <= 2^24.
+fn pattern_coordinate(fine: u32, jitter: u32, nn: u32) -> f32 {
+    let units = fine * 65536u + jitter;
+    let total = nn * 65536u;
+    return f32(i32(2u * units) - i32(total)) / f32(total);
+}
+
+// Invocations per workgroup: COUNT_GROUP x COUNT_GROUP pixels (COUNT_GROUP from Rust).
+// Words of counts per invocation: one byte per sample.
+const COUNT_WORDS: u32 = MAX_SAMPLES / 4u;
+
+// Each invocation's sample counts, one byte each, modulo 256 (the stencil's range), in the
+// workgroup's memory (16 KiB): an array this large in each invocation's own memory takes
+// lavapipe half a minute to compile, and spills on GPUs. Zeroed at the workgroup's start.
+var<workgroup> counts: array<u32, COUNT_GROUP * COUNT_GROUP * COUNT_WORDS>;
+// The pattern's fine column per cell row and fine row per cell column.
+var<private> columns: array<u32, MAX_AXIS>;
+var<private> rows: array<u32, MAX_AXIS>;
+var<private> jitter_seed: u32;
+
+// Adds the region's change to the samples inside it, visiting only the cells its box reaches.
+fn apply(r: Region, n: u32, own: u32) {
+    let cell = 2.0 / f32(n);
+    let i0 = u32(clamp(floor((r.lo.x + 1.0) / cell), 0.0, f32(n - 1u)));
+    let i1 = u32(clamp(floor((r.hi.x + 1.0) / cell), 0.0, f32(n - 1u)));
+    let j0 = u32(clamp(floor((r.lo.y + 1.0) / cell), 0.0, f32(n - 1u)));
+    let j1 = u32(clamp(floor((r.hi.y + 1.0) / cell), 0.0, f32(n - 1u)));
+    let nn = n * n;
+    for (var j = j0; j <= j1; j++) {
+        spent++;
+        for (var i = i0; i <= i1; i++) {
+            spent++;
+            let s = j * n + i;
+            let h = hash(s, jitter_seed);
+            let x = pattern_coordinate(i * n + columns[j], h & 0xffffu, nn);
+            let y = pattern_coordinate(j * n + rows[i], h >> 16u, nn);
+            let at = vec2<f32>(x, y);
+            if (line_at(r.l0, at) > 0.0 && line_at(r.l1, at) > 0.0 && line_at(r.l2, at) > 0.0
+                && line_at(r.l3, at) > 0.0) {
+                let w = own + s / 4u;
+                let shift = (s % 4u) * 8u;
+                let b = ((counts[w] >> shift) + bitcast<u32>(r.delta)) & 0xffu;
+                counts[w] = (counts[w] & ~(0xffu << shift)) | (b << shift);
+            }
+        }
+    }
+}
+
+@compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
+fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    // This invocation's counts: the first `own` word of `counts`, zeroed.
+    let own = li * COUNT_WORDS;
+    for (var w = 0u; w < COUNT_WORDS; w++) {
+        spent++;
+        counts[own + w] = 0u;
+    }
+    let size = vec2<u32>(frame.size.xy);
+    if (gid.x >= size.x || gid.y >= size.y) {
+        return;
+    }
+    let pixel = gid.y * size.x + gid.x;
+    let p = textureLoad(position, vec2<i32>(gid.xy), 0);
+    if (p.w == 0.0) {
+        visibility[pixel] = 1.0;
+        return;
+    }
+    let pl = receiver_point(gid.xy, p);
+    if (!(pl.z > 0.0)) {
+        visibility[pixel] = 0.0;
+        return;
+    }
+    let receiver = receiver_triangle(p.w);
+    let base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
+    let n = params.per_axis;
+    // The pattern of this pixel (`SamplePattern::points`).
+    let seed = pixel;
+    for (var k = 0u; k < n; k++) {
+        spent++;
+        columns[k] = permute(k, n, seed * 0x63d83595u);
+        rows[k] = permute(k, n, seed * 0xa511e9b3u);
+    }
+    jitter_seed = seed * 0xa399d265u;
+    let pyramid = pyramid_planes(pl);
+    var changed = false;
+    let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
+    let complete = range.x + range.y <= params.capacity;
+    let entries = select(params.edges, range.y, complete);
+    for (var k = 0u; k < entries; k++) {
+        spent++;
+        var ei = k;
+        if (complete) {
+            ei = list[range.x + k];
+        } else if (!listed(edges[ei], side_keys(pl), pl, pl)) {
+            continue;
+        }
+        let r = edge_region(ei, pl, pyramid, receiver);
+        if (r.delta != 0 && r.lo.x <= r.hi.x) {
+            apply(r, n, own);
+            changed = true;
+        }
+    }
+    for (var k = 0u; k < params.crossings; k++) {
+        spent++;
+        let r = crossing_region(crossings[k], pl, receiver);
+        if (r.delta != 0 && r.lo.x <= r.hi.x) {
+            apply(r, n, own);
+            changed = true;
+        }
+    }
+    // D(P, s) modulo 256, read as a signed byte: zero (or, where rounding made the counts
+    // disagree, negative) is visible, as the oracle's `D <= 0`.
+    var seen = 0u;
+    if (changed) {
+        for (var s = 0u; s < n * n; s++) {
+            spent++;
+            let c = (counts[own + s / 4u] >> ((s % 4u) * 8u)) + base;
+            seen += select(0u, 1u, (c & 0xffu) == 0u || (c & 0x80u) != 0u);
+        }
+    } else {
+        seen = select(0u, n * n, base == 0u);
+    }
+    if (spent > params.budget) {
+        atomicAdd(&demand[1], 1u);
+    }
+    visibility[pixel] = f32(seen) / f32(n * n);
+}

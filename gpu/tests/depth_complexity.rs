@@ -1,0 +1,201 @@
+//! Depth-complexity sampling on the GPU against its CPU oracle (`penumbra_volumes::depth_complexity`):
+//! the same samples, the same counts, so the same V on (nearly) every pixel of every fixture; and
+//! an edge list too small for its frame, which must lose nothing. They need an adapter (lavapipe
+//! in CI), as `gpu.rs` does.
+
+mod common;
+use common::{context, fixtures};
+
+use glam::DMat4;
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::{Scene, Technique};
+use penumbra_gpu::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
+use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
+use penumbra_gpu::passes::depth::visibility_target;
+use penumbra_gpu::passes::view;
+use penumbra_gpu::readback::read_r32f;
+use penumbra_gpu::wgpu;
+use penumbra_gpu::{FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
+use penumbra_volumes::{DepthComplexity, SamplePattern};
+
+/// The share of pixels where `gpu` equals `cpu`, and the largest difference elsewhere.
+fn agreement(cpu: &VisibilityImage, gpu: &VisibilityImage) -> (f64, f32) {
+    let equal = cpu
+        .data
+        .iter()
+        .zip(&gpu.data)
+        .filter(|(a, b)| a == b)
+        .count();
+    let worst = cpu
+        .data
+        .iter()
+        .zip(&gpu.data)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f32::max);
+    (equal as f64 / cpu.data.len() as f64, worst)
+}
+
+/// `scene` at `w x h` pixels, the same view.
+fn at_size(mut scene: Scene, (w, h): (u32, u32)) -> Scene {
+    scene.camera.width = w;
+    scene.camera.height = h;
+    scene
+}
+
+#[test]
+fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let mut report = Vec::new();
+    for (name, scene) in fixtures() {
+        // Half the fixtures' size: lavapipe runs the counting pass on the CPU.
+        let scene = at_size(scene, (160, 120));
+        let oracle = DepthComplexity::new(&scene);
+        for per_axis in [8usize, 16] {
+            let samples = per_axis * per_axis;
+            let pattern = SamplePattern {
+                per_axis,
+                jitter: false,
+            };
+            let cpu = oracle.render(&scene, pattern, &|_| {});
+            let gpu = r
+                .render_depth_complexity(&scene, samples as u32)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
+            let (equal, worst) = agreement(&cpu, &gpu.image);
+            report.push(format!(
+                "{name} {samples}: {:.3}% equal, worst {worst}",
+                100.0 * equal
+            ));
+            // Single samples flip where the GPU's f32 positions put a projected edge on the
+            // other side of one (fandisk's curved strips at 256 samples: 99.85%); whole
+            // pixels where the stencil's count of the centre and the edges' rounding disagree.
+            assert!(equal >= 0.998, "{name} at {samples} samples: {report:#?}");
+        }
+    }
+    println!("{report:#?}");
+}
+
+/// Renders `scene` by depth complexity in a [`GpuScene`] with an edge list of `capacity`
+/// entries (none: as the scene sized it), returning V and the frame's report.
+fn frame(
+    ctx: &GpuContext,
+    gpu_scene: &mut GpuScene,
+    scene: &Scene,
+    capacity: Option<u32>,
+) -> (Vec<f32>, ComplexityReport) {
+    let device = &ctx.device;
+    let size = (scene.camera.width, scene.camera.height);
+    let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
+    let camera = FrameCamera::for_scene(&scene.camera, radius);
+    if let Some(c) = capacity {
+        gpu_scene.set_edge_list_capacity(c);
+    }
+    let gbuffer = GBuffer::new(device, size);
+    let target = visibility_target(device, size);
+    let inputs = FrameInputs {
+        camera,
+        technique: Technique::DepthComplexity,
+    };
+    let mut enc = device.create_command_encoder(&Default::default());
+    gpu_scene
+        .record_depth(&mut enc, &camera, &gbuffer)
+        .expect("depth");
+    gpu_scene
+        .record(&mut enc, &inputs, &gbuffer, &view(&target))
+        .expect("frame");
+    let v = read_r32f(ctx, &mut enc, &target, size.0, size.1).expect("readback");
+    let report = gpu_scene.complexity_report().expect("report");
+    (v, report.expect("a depth-complexity frame"))
+}
+
+/// A fixture's meshes in a [`GpuScene`] (each placed by the identity) with `samples` samples.
+fn gpu_scene(r: &GpuRenderer, scene: &Scene, samples: u32) -> GpuScene {
+    let meshes: Vec<_> = scene
+        .meshes
+        .iter()
+        .map(|m| (&m.mesh, DMat4::IDENTITY))
+        .collect();
+    let mut s = GpuScene::new(r, &meshes, scene.light);
+    s.set_light_samples(samples).unwrap();
+    s
+}
+
+fn fixture(name: &str) -> Scene {
+    fixtures()
+        .into_iter()
+        .find(|(n, _)| n == name)
+        .expect("fixture")
+        .1
+}
+
+#[test]
+fn an_edge_list_too_small_loses_no_edge_and_grows() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    // Few potential silhouette edges, so that reading them all for every pixel stays within
+    // lavapipe's loop limit.
+    let scene = at_size(fixture("sphere-over-plane"), (96, 72));
+    let mut gpu_scene = gpu_scene(&r, &scene, 64);
+    // Ten entries for a frame that needs thousands: every tile but the first reads all edges.
+    let (small, report) = frame(&ctx, &mut gpu_scene, &scene, Some(10));
+    assert!(report.overflowed, "ten entries were enough: {report:?}");
+    assert_eq!(report.cut_short, 0);
+    let grown = gpu_scene.edge_list_capacity();
+    assert!(
+        grown >= report.demand && report.demand > 1000,
+        "{report:?}, grew to {grown}"
+    );
+    let (fitting, report) = frame(&ctx, &mut gpu_scene, &scene, None);
+    assert!(
+        !report.overflowed,
+        "the grown list overflowed again: {report:?}"
+    );
+    assert_eq!(gpu_scene.edge_list_capacity(), grown);
+    let differ = small.iter().zip(&fitting).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "the overflowing frame lost edges");
+    // And both are the oracle's image.
+    let oracle = DepthComplexity::new(&scene).render(
+        &scene,
+        SamplePattern {
+            per_axis: 8,
+            jitter: false,
+        },
+        &|_| {},
+    );
+    let gpu = VisibilityImage {
+        width: scene.camera.width,
+        height: scene.camera.height,
+        data: fitting,
+    };
+    let (equal, _) = agreement(&oracle, &gpu);
+    assert!(equal >= 0.999, "{:.3}% equal", 100.0 * equal);
+    // Light samples the GPU does not take are refused.
+    for bad in [0, 1000, 4096] {
+        assert!(gpu_scene.set_light_samples(bad).is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn pixels_beyond_the_loop_budget_are_reported() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let scene = at_size(fixture("sphere-over-plane"), (48, 36));
+    let mut gpu_scene = gpu_scene(&r, &scene, 256);
+    if ctx.info.device_type == wgpu::DeviceType::Cpu {
+        assert_eq!(gpu_scene.loop_budget(), SOFTWARE_LOOP_BUDGET);
+    }
+    let (_, report) = frame(&ctx, &mut gpu_scene, &scene, None);
+    assert_eq!(report.cut_short, 0, "{report:?}");
+    // A budget below what a lit pixel's 256 samples alone take: every lit pixel is reported.
+    gpu_scene.set_loop_budget(200);
+    let (_, report) = frame(&ctx, &mut gpu_scene, &scene, None);
+    let lit = 48 * 36 / 2;
+    assert!(report.cut_short as usize > lit, "{report:?}");
+}
