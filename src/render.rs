@@ -327,6 +327,18 @@ impl Renderer {
                 });
             }
         }
+        // On a software adapter (lavapipe) depth-complexity sampling takes 18 to 22 times the
+        // CPU renderer's time (docs/benchmarks.md): under `auto` the CPU renders it.
+        let software =
+            on_gpu && self.opened().info.device_type == penumbra_gpu::wgpu::DeviceType::Cpu;
+        let mut cpu_note = None;
+        if software && technique == Technique::DepthComplexity && self.backend == Backend::Auto {
+            on_gpu = false;
+            cpu_note = Some(format!(
+                "{} is a software adapter, on which the CPU renders depth-complexity faster",
+                self.opened().describe()
+            ));
+        }
         if on_gpu {
             let ctx = self.opened();
             let limit = ctx.device.limits().max_texture_dimension_2d;
@@ -434,7 +446,11 @@ impl Renderer {
                 detail: format!("gpu: {}", ctx.describe()),
             });
         }
-        Ok(render_cpu(scene, technique, pattern, progress))
+        let mut frame = render_cpu(scene, technique, pattern, progress);
+        if let Some(note) = cpu_note {
+            frame.detail = format!("{}; {note}", frame.detail);
+        }
+        Ok(frame)
     }
 }
 
