@@ -18,21 +18,16 @@ use penumbra_gpu::wgpu;
 use penumbra_gpu::{FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
-/// The share of pixels where `gpu` equals `cpu`, and the largest difference elsewhere.
-fn agreement(cpu: &VisibilityImage, gpu: &VisibilityImage) -> (f64, f32) {
-    let equal = cpu
-        .data
-        .iter()
-        .zip(&gpu.data)
-        .filter(|(a, b)| a == b)
+/// The share of pixels where `gpu` equals `cpu`, and the share that differ by more than
+/// `step` (one sample's share of V).
+fn agreement(cpu: &VisibilityImage, gpu: &VisibilityImage, step: f32) -> (f64, f64) {
+    let pairs = || cpu.data.iter().zip(&gpu.data);
+    let equal = pairs().filter(|(a, b)| a == b).count();
+    let beyond = pairs()
+        .filter(|(a, b)| (*a - *b).abs() > 1.5 * step)
         .count();
-    let worst = cpu
-        .data
-        .iter()
-        .zip(&gpu.data)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f32::max);
-    (equal as f64 / cpu.data.len() as f64, worst)
+    let n = cpu.data.len() as f64;
+    (equal as f64 / n, beyond as f64 / n)
 }
 
 /// `scene` at `w x h` pixels, the same view.
@@ -64,15 +59,20 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
                 .render_depth_complexity(&scene, samples as u32)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
-            let (equal, worst) = agreement(&cpu, &gpu.image);
+            let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
             report.push(format!(
-                "{name} {samples}: {:.3}% equal, worst {worst}",
-                100.0 * equal
+                "{name} {samples}: {:.3}% equal, {:.3}% beyond one sample",
+                100.0 * equal,
+                100.0 * beyond
             ));
             // Single samples flip where the GPU's f32 positions put a projected edge on the
-            // other side of one (fandisk's curved strips at 256 samples: 99.85%); whole
-            // pixels where the stencil's count of the centre and the edges' rounding disagree.
-            assert!(equal >= 0.998, "{name} at {samples} samples: {report:#?}");
+            // other side of one (fandisk's curved strips at 256 samples: 99.85% equal); a few
+            // pixels differ by more where the stencil's count of the centre is off (at most
+            // 0.031% measured).
+            assert!(
+                equal >= 0.998 && beyond <= 0.0005,
+                "{name} at {samples} samples: {report:#?}"
+            );
         }
     }
     println!("{report:#?}");
@@ -172,7 +172,7 @@ fn an_edge_list_too_small_loses_no_edge_and_grows() {
         height: scene.camera.height,
         data: fitting,
     };
-    let (equal, _) = agreement(&oracle, &gpu);
+    let (equal, _) = agreement(&oracle, &gpu, 1.0 / 64.0);
     assert!(equal >= 0.999, "{:.3}% equal", 100.0 * equal);
     // Light samples the GPU does not take are refused.
     for bad in [0, 1000, 4096] {
