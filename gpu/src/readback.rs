@@ -1,5 +1,5 @@
-//! Reading results back from the GPU: a texture of `f32` values, a buffer of `u64`s, each
-//! after submitting the commands that fill it and waiting for them.
+//! Reading results back from the GPU: a texture's texels (of `f32` values, or any), a buffer of
+//! `u64`s, each after submitting the commands that fill it and waiting for them.
 
 use crate::context::{GpuContext, GpuError};
 
@@ -11,8 +11,23 @@ pub fn read_r32f(
     w: u32,
     h: u32,
 ) -> Result<Vec<f32>, GpuError> {
-    let row =
-        (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let bytes = read_texels(ctx, enc, (texture, wgpu::TextureAspect::All), (w, h), 4)?;
+    Ok(bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect())
+}
+
+/// Copies `w x h` texels of `texel_bytes` bytes each of one aspect of a texture (usage
+/// `COPY_SRC`) into a buffer, submits `enc` and waits for them: their bytes, row after row.
+pub fn read_texels(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    (texture, aspect): (&wgpu::Texture, wgpu::TextureAspect),
+    (w, h): (u32, u32),
+    texel_bytes: u32,
+) -> Result<Vec<u8>, GpuError> {
+    let row = (w * texel_bytes).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: row as u64 * h as u64,
@@ -24,7 +39,7 @@ pub fn read_r32f(
             texture,
             mip_level: 0,
             origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
+            aspect,
         },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
@@ -43,15 +58,14 @@ pub fn read_r32f(
     let encoder = std::mem::replace(enc, ctx.device.create_command_encoder(&Default::default()));
     ctx.queue.submit([encoder.finish()]);
     let bytes = map_read(ctx, &buffer)?;
-    let mut out = Vec::with_capacity((w * h) as usize);
-    for y in 0..h as usize {
-        let r = &bytes[y * row as usize..y * row as usize + w as usize * 4];
-        out.extend(
-            r.chunks_exact(4)
-                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-        );
-    }
-    Ok(out)
+    let used = (w * texel_bytes) as usize;
+    Ok((0..h as usize)
+        .flat_map(|y| {
+            bytes[y * row as usize..y * row as usize + used]
+                .iter()
+                .copied()
+        })
+        .collect())
 }
 
 /// Maps a buffer whose copies were submitted, waits, and returns its bytes.

@@ -13,7 +13,7 @@ use penumbra_gpu::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
 use penumbra_gpu::passes::depth::visibility_target;
 use penumbra_gpu::passes::view;
-use penumbra_gpu::readback::read_r32f;
+use penumbra_gpu::readback::{read_r32f, read_texels};
 use penumbra_gpu::wgpu;
 use penumbra_gpu::{FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
 use penumbra_volumes::{DepthComplexity, SamplePattern};
@@ -228,46 +228,6 @@ fn readable_gbuffer(device: &wgpu::Device, size: (u32, u32)) -> GBuffer {
     }
 }
 
-/// The stencil aspect of `gbuffer`'s depth target after the submitted commands: one count per
-/// pixel, row by row.
-fn read_stencil(ctx: &GpuContext, gbuffer: &GBuffer) -> Vec<u8> {
-    let (w, h) = gbuffer.size();
-    let row = w.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("stencil readback"),
-        size: (row * h) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture: &gbuffer.depth,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::StencilOnly,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
-    ctx.queue.submit([enc.finish()]);
-    let bytes = penumbra_gpu::readback::map_read(ctx, &buffer).expect("stencil");
-    (0..h as usize)
-        .flat_map(|y| bytes[y * row as usize..y * row as usize + w as usize].to_vec())
-        .collect()
-}
-
 #[test]
 fn the_stencil_counts_the_triangles_towards_the_centre_as_the_oracle_does() {
     let Some(ctx) = context() else {
@@ -293,8 +253,14 @@ fn the_stencil_counts_the_triangles_towards_the_centre_as_the_oracle_does() {
         gpu_scene
             .record(&mut enc, &inputs, &gbuffer, &view(&target))
             .unwrap();
-        ctx.queue.submit([enc.finish()]);
-        let stencil = read_stencil(&ctx, &gbuffer);
+        let stencil = read_texels(
+            &ctx,
+            &mut enc,
+            (&gbuffer.depth, wgpu::TextureAspect::StencilOnly),
+            size,
+            1,
+        )
+        .expect("stencil");
         let oracle = DepthComplexity::new(&scene);
         let cam = &scene.camera;
         let (mut lit, mut equal, mut deep) = (0, 0, 0);
