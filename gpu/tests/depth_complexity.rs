@@ -290,3 +290,61 @@ fn the_stencil_counts_the_triangles_towards_the_centre_as_the_oracle_does() {
         );
     }
 }
+
+#[test]
+fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let base = at_size(fixture("sphere-over-plane"), (96, 72));
+    let mut gpu_scene = gpu_scene(&r, &base, 64);
+    let pattern = SamplePattern {
+        per_axis: 8,
+        jitter: false,
+    };
+    // The same meshes moved in code: the sphere by a transform, then the light.
+    let moved =
+        DMat4::from_translation(glam::DVec3::new(0.4, -0.2, 0.3)) * DMat4::from_rotation_y(0.5);
+    let mut light = base.light;
+    light.center += glam::DVec3::new(-0.7, 0.2, 0.5);
+    let world = |transform: DMat4, light| {
+        base.meshes
+            .iter()
+            .enumerate()
+            .fold(Scene::new(base.camera.clone(), light), |s, (i, m)| {
+                s.with_mesh(
+                    &format!("mesh {i}"),
+                    &m.mesh,
+                    if i == 1 { transform } else { DMat4::IDENTITY },
+                )
+            })
+    };
+    for (step, scene) in [
+        (0, world(DMat4::IDENTITY, base.light)),
+        (1, world(moved, base.light)),
+        (2, world(moved, light)),
+    ] {
+        if step == 1 {
+            gpu_scene.set_transform(1, moved);
+        }
+        if step == 2 {
+            gpu_scene.set_light(light);
+        }
+        let (v, report) = frame(&ctx, &mut gpu_scene, &scene, None);
+        assert_eq!(report.cut_short, 0);
+        let oracle = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        let gpu = VisibilityImage {
+            width: scene.camera.width,
+            height: scene.camera.height,
+            data: v,
+        };
+        let (equal, beyond) = agreement(&oracle, &gpu, 1.0 / 64.0);
+        assert!(
+            equal >= 0.998 && beyond <= 0.001,
+            "step {step}: {:.3}% equal, {:.3}% beyond one sample",
+            100.0 * equal,
+            100.0 * beyond
+        );
+    }
+}
