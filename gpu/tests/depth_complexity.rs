@@ -312,7 +312,7 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         base.meshes
             .iter()
             .enumerate()
-            .fold(Scene::new(base.camera.clone(), light), |s, (i, m)| {
+            .fold(Scene::new(base.camera, light), |s, (i, m)| {
                 s.with_mesh(
                     &format!("mesh {i}"),
                     &m.mesh,
