@@ -213,7 +213,7 @@ impl ShadowMapRenderer {
         let light_depth_view = view(&light_depth);
         let map = texture(device, "light map", map_size, LIGHT_MAP_FORMAT, sampled);
         let map_view = view(&map);
-        // Group 1 with `buffer` and up to three input images.
+        // Group 1 with `buffer` and up to four input images.
         let inputs = |buffer: &wgpu::Buffer, images: &[&wgpu::TextureView]| {
             let mut r = vec![
                 buffer.as_entire_binding(),
@@ -262,6 +262,26 @@ impl ShadowMapRenderer {
             (&map_view, &light_depth_view),
             stamp(Kind::LightMap),
         );
+        // Fractional-disk's hard test reads a map of every surface too.
+        let full_view = if self.technique == Technique::FractionalDisk {
+            let full = view(&texture(
+                device,
+                "full light map",
+                map_size,
+                LIGHT_MAP_FORMAT,
+                sampled,
+            ));
+            self.light.record(
+                &mut enc,
+                (&frame, &base_group),
+                (&tri_buf, tris.len() as u32),
+                (&full, &light_depth_view),
+                stamp(Kind::LightMap),
+            );
+            Some(full)
+        } else {
+            None
+        };
         let vis_view = &view(&visibility);
         let rgba = wgpu::TextureFormat::Rgba32Float;
         let mut keep: Vec<wgpu::Buffer> = Vec::new();
@@ -329,7 +349,15 @@ impl ShadowMapRenderer {
                 self.pass("fs_fractional_disk").record(
                     &mut enc,
                     &frame,
-                    &inputs(&base_buf, &[&map_view, &ping[n % 2], &view(&noise)]),
+                    &inputs(
+                        &base_buf,
+                        &[
+                            &map_view,
+                            &ping[n % 2],
+                            &view(&noise),
+                            full_view.as_ref().expect("made above"),
+                        ],
+                    ),
                     vis_view,
                     stamp(Kind::Filter),
                 );
@@ -462,6 +490,7 @@ impl ShadowMapRenderer {
                 wgpu::BindingResource::TextureView(&dummy),
             ];
             r.extend(images.map(wgpu::BindingResource::TextureView));
+            r.resize(3 + INPUT_IMAGES, wgpu::BindingResource::TextureView(&dummy));
             bind_group(device, "probe inputs", &self.shadow_layout, &r)
         };
         let mut enc = device.create_command_encoder(&Default::default());

@@ -19,18 +19,18 @@ const PCSS_PENUMBRA_MAE: f64 = 0.13;
 
 /// The (technique, fixture) pairs above `UMBRA_LIT`, with the share they are held to: thin
 /// creases of beetle's open body, where the maps' depth bias lets light through a sheet that
-/// folds in front of the receiver, for every technique; the contact shadows of the closed meshes
-/// for `fractional-disk`, whose edge search misses them; a crease of spot for `mdsm`. These are
-/// the open part of the work: the bounds keep them from getting worse.
-const KNOWN: [(Technique, &str, f64); 8] = [
+/// folds in front of the receiver, for every technique; parts of a closed mesh shadowing another
+/// part close behind them for `fractional-disk` (7.7% on cheburashka, 3.3% on spot: the midpoint
+/// of its two maps still lies within the bias there); a crease of spot for `mdsm`. These are the
+/// open part of the work: the bounds keep them from getting worse.
+const KNOWN: [(Technique, &str, f64); 7] = [
     (Technique::Pcf, "beetle", 0.07),
     (Technique::Pcss, "beetle", 0.065),
     (Technique::Mdsm, "beetle", 0.13),
     (Technique::Mdsm, "spot", 0.03),
     (Technique::FractionalDisk, "beetle", 0.095),
-    (Technique::FractionalDisk, "cheburashka", 0.125),
-    (Technique::FractionalDisk, "fandisk", 0.045),
-    (Technique::FractionalDisk, "spot", 0.065),
+    (Technique::FractionalDisk, "cheburashka", 0.085),
+    (Technique::FractionalDisk, "spot", 0.04),
 ];
 
 #[test]

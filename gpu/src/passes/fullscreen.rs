@@ -2,7 +2,7 @@
 //! `pcss.wgsl`, `mdsm.wgsl`, `fractional_disk.wgsl`, `gaussian.wgsl`) holds its passes as
 //! fragment entry points drawn over a full-screen triangle, with `shadow.wgsl` prepended. They
 //! share one bind group (group 1): the technique's uniforms, the receivers' positions and
-//! normals, and three input images.
+//! normals, and four input images.
 
 pub use crate::constants::BIG;
 
@@ -24,8 +24,8 @@ pub fn shadow_shader(device: &wgpu::Device, label: &str, source: &str) -> wgpu::
     super::shader(device, label, &format!("{SHADOW_WGSL}\n{source}"))
 }
 
-/// Number of input images of the shared group (`map0`, `map1`, `map2`).
-pub const INPUT_IMAGES: usize = 3;
+/// Number of input images of the shared group (`map0` to `map3`).
+pub const INPUT_IMAGES: usize = 4;
 
 /// Layout of group 1: the uniforms (binding 0), positions, normals and the input images.
 pub fn shadow_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {

@@ -80,7 +80,15 @@ fn fs_fractional_disk(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<
     }
     let zp = r.l.z;
     let c = textureLoad(map1, texel_of(r.uv), 0);
-    let hard = select(1.0, 0.0, c.r < occlusion_threshold(r, r.uv));
+    // The hard test: the back faces alone (map1's R) put a closed occluder's far side within
+    // the bias of a receiver in contact with it. A receiver on an open surface (a ground) is
+    // tested against the nearest surface (map3, both faces); one on a closed mesh against the
+    // midpoint of the nearest surface and the nearest back face (Woo 1992), which lies beyond
+    // the receiver's own lit side but in front of it where another part of a solid is near.
+    let nearest = textureLoad(map3, texel_of(r.uv), 0).r;
+    let midpoint = select(nearest, 0.5 * (nearest + c.r), c.r < BIG);
+    let first = select(nearest, midpoint, r.closed);
+    let hard = select(1.0, 0.0, first < occlusion_threshold(r, r.uv));
     var zo = c.r;
     if (hard == 1.0) {
         if (c.g >= BIG) {

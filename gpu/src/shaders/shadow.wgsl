@@ -32,6 +32,7 @@ struct Shadow {
 @group(1) @binding(3) var map0: texture_2d<f32>;
 @group(1) @binding(4) var map1: texture_2d<f32>;
 @group(1) @binding(5) var map2: texture_2d<f32>;
+@group(1) @binding(6) var map3: texture_2d<f32>;
 
 const PI: f32 = 3.14159265358979;
 
