@@ -411,9 +411,11 @@ impl Renderer {
                     .volumes
                     .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
                 let out = match r.render_depth_complexity(scene, options.samples as u32) {
-                    // A software device that would cut pixels short: under `auto`, the
-                    // CPU renders it.
-                    Err(GpuError::CutShort(why)) if self.backend == Backend::Auto => {
+                    // A software device that would cut pixels short, or buffers beyond the
+                    // device's: under `auto`, the CPU renders it.
+                    Err(GpuError::CutShort(why) | GpuError::TooLarge(why))
+                        if self.backend == Backend::Auto =>
+                    {
                         let mut frame = render_cpu(scene, technique, pattern, progress);
                         frame.detail = format!("{} ({why})", frame.detail);
                         return Ok(frame);

@@ -327,6 +327,16 @@ impl GpuScene {
             self.list_capacity = (tx * ty).saturating_mul(FIRST_ENTRIES_PER_TILE);
         }
         let device = &self.ctx.device;
+        // V and the list are storage buffers: each must fit one binding.
+        let limit = device.limits().max_storage_buffer_binding_size as u64;
+        let largest = (4 * size.0 as u64 * size.1 as u64).max(4 * self.list_capacity as u64);
+        if largest > limit {
+            return Err(GpuError::TooLarge(format!(
+                "depth-complexity at {} x {} pixels needs a storage buffer of {largest} bytes \
+                 (V, or an edge list of {} entries), more than the device binds ({limit})",
+                size.0, size.1, self.list_capacity
+            )));
+        }
         if self
             .complexity_frame
             .as_ref()

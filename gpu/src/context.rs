@@ -40,6 +40,9 @@ pub enum GpuError {
     /// `complexity::SOFTWARE_LOOP_BUDGET`).
     #[error("{0}")]
     CutShort(String),
+    /// A frame whose buffers would exceed the device's limits.
+    #[error("{0}")]
+    TooLarge(String),
     /// A readback failed.
     #[error("reading back from the GPU failed: {0}")]
     Readback(String),

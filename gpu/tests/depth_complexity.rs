@@ -348,3 +348,31 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         );
     }
 }
+
+#[test]
+fn an_edge_list_beyond_the_device_is_refused() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let scene = at_size(fixture("quad-over-plane"), (32, 24));
+    let mut gpu_scene = gpu_scene(&r, &scene, 64);
+    // Sixteen gigabytes of entries: no device binds that much.
+    gpu_scene.set_edge_list_capacity(u32::MAX);
+    let size = (scene.camera.width, scene.camera.height);
+    let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
+    let camera = FrameCamera::for_scene(&scene.camera, radius);
+    let gbuffer = GBuffer::new(&ctx.device, size);
+    let target = visibility_target(&ctx.device, size);
+    let inputs = FrameInputs {
+        camera,
+        technique: Technique::DepthComplexity,
+    };
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    gpu_scene.record_depth(&mut enc, &camera, &gbuffer).unwrap();
+    let Err(err) = gpu_scene.record(&mut enc, &inputs, &gbuffer, &view(&target)) else {
+        panic!("a 16 GB edge list was recorded");
+    };
+    assert!(matches!(err, penumbra_gpu::GpuError::TooLarge(_)), "{err}");
+    assert!(err.to_string().contains("4294967295 entries"), "{err}");
+}
