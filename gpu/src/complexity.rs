@@ -328,7 +328,7 @@ impl GpuScene {
         }
         let device = &self.ctx.device;
         // V and the list are storage buffers: each must fit one binding.
-        let limit = device.limits().max_storage_buffer_binding_size as u64;
+        let limit = device.limits().max_storage_buffer_binding_size;
         let largest = (4 * size.0 as u64 * size.1 as u64).max(4 * self.list_capacity as u64);
         if largest > limit {
             return Err(GpuError::TooLarge(format!(
