@@ -132,12 +132,12 @@ impl ComplexityScene {
         let c = scene.light.center;
         let mut vol: Vec<[f32; 4]> = Vec::new();
         let mut volume_ranges = Vec::with_capacity(meshes.len());
-        for (mi, (m, stored)) in meshes.iter().zip(&scene.meshes).enumerate() {
-            let mesh = HalfEdgeMesh::build(m);
+        let half_edge: Vec<HalfEdgeMesh> = meshes.iter().map(HalfEdgeMesh::build).collect();
+        for (mi, (mesh, stored)) in half_edge.iter().zip(&scene.meshes).enumerate() {
             // Every triangle casts, facing the centre either way: the stencil then counts each
             // triangle the segment to the centre crosses.
-            let sil = Silhouette::build_as(&mesh, c, false);
-            let volume = ShadowVolume::build(&mesh, &sil, c);
+            let sil = Silhouette::build_as(mesh, c, false);
+            let volume = ShadowVolume::build(mesh, &sil, c);
             let start = vol.len() as u32;
             for (t, _) in &volume.triangles {
                 vol.extend(t.iter().map(|&v| {
@@ -155,7 +155,7 @@ impl ComplexityScene {
             }
             volume_ranges.push((mi as u32, start..vol.len() as u32));
         }
-        let potential = PotentialEdges::build_meshes(&meshes, &scene.light);
+        let potential = PotentialEdges::build_half_edge(&half_edge, &scene.light);
         let (edges, faces, crossings) = gpu_edges(&potential);
         let storage = wgpu::BufferUsages::STORAGE;
         let bytes = std::mem::size_of_val(vol.as_slice())

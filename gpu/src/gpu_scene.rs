@@ -312,17 +312,27 @@ impl GpuScene {
     /// The meshes of `scene` (world space, stored relative to the eye: the one-shot renderer's
     /// exact layout) with the silhouettes' products of `volumes`, built for `scene`.
     pub(crate) fn for_scene(renderer: &GpuRenderer, scene: &Scene, volumes: &Volumes) -> Self {
+        let mut s = Self::of_scene(renderer, scene, |i| volumes.occluders[i].outward);
+        let world = scene.triangles();
+        s.shadows = Some(s.build_shadows(volumes, &world));
+        s
+    }
+
+    /// The meshes of `scene` in the one-shot renderer's layout (world space, stored relative to
+    /// the eye), mesh `i` with the outward sign `outward(i)`; nothing built for the light yet.
+    pub(crate) fn of_scene(
+        renderer: &GpuRenderer,
+        scene: &Scene,
+        outward: impl Fn(usize) -> f64,
+    ) -> Self {
         let eye = scene.camera.eye;
         let meshes: Vec<(&TriangleMesh, DMat4, DVec3, f64)> = scene
             .meshes
             .iter()
-            .zip(&volumes.occluders)
-            .map(|(m, o)| (&m.mesh, DMat4::IDENTITY, eye, o.outward))
+            .enumerate()
+            .map(|(i, m)| (&m.mesh, DMat4::IDENTITY, eye, outward(i)))
             .collect();
-        let mut s = Self::with_origins(renderer, &meshes, scene.light);
-        let world = scene.triangles();
-        s.shadows = Some(s.build_shadows(volumes, &world));
-        s
+        Self::with_origins(renderer, &meshes, scene.light)
     }
 
     /// How many meshes it holds.

@@ -37,13 +37,8 @@ impl GpuRenderer {
     ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
         check_technique(technique)?;
         let device = &self.ctx.device;
-        let size = (scene.camera.width, scene.camera.height);
-        let world = scene.triangles();
-        let radius = scene_radius(&eye_relative(scene.camera.eye, &world));
-        let camera = FrameCamera::for_scene(&scene.camera, radius);
+        let (camera, gbuffer, visibility) = self.targets(scene);
         let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
-        let gbuffer = GBuffer::new(device, size);
-        let visibility = visibility_target(device, size);
         // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
         let timer = Timer::new(
             &self.ctx,
@@ -71,19 +66,10 @@ impl GpuRenderer {
         samples: u32,
     ) -> Result<ComplexityImage, GpuError> {
         let device = &self.ctx.device;
-        let size = (scene.camera.width, scene.camera.height);
-        let world = scene.triangles();
-        let radius = scene_radius(&eye_relative(scene.camera.eye, &world));
-        let camera = FrameCamera::for_scene(&scene.camera, radius);
-        let meshes: Vec<(&penumbra_geom::TriangleMesh, glam::DMat4, glam::DVec3, f64)> = scene
-            .meshes
-            .iter()
-            .map(|m| (&m.mesh, glam::DMat4::IDENTITY, scene.camera.eye, 0.0))
-            .collect();
-        let mut gpu_scene = GpuScene::with_origins(self, &meshes, scene.light);
+        let (camera, gbuffer, visibility) = self.targets(scene);
+        // No outward signs: they serve the wedges' terminator and the shadow maps only.
+        let mut gpu_scene = GpuScene::of_scene(self, scene, |_| 0.0);
         gpu_scene.set_light_samples(samples)?;
-        let gbuffer = GBuffer::new(device, size);
-        let visibility = visibility_target(device, size);
         let inputs = FrameInputs {
             camera,
             technique: Technique::DepthComplexity,
@@ -124,5 +110,19 @@ impl GpuRenderer {
                 });
             }
         }
+    }
+
+    /// The camera of a one-shot frame of `scene` (near plane from the scene's extent around the
+    /// eye), its G-buffer and its V target.
+    fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
+        let device = &self.ctx.device;
+        let size = (scene.camera.width, scene.camera.height);
+        let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
+        let camera = FrameCamera::for_scene(&scene.camera, radius);
+        (
+            camera,
+            GBuffer::new(device, size),
+            visibility_target(device, size),
+        )
     }
 }

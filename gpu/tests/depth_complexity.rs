@@ -86,29 +86,37 @@ fn frame(
     scene: &Scene,
     capacity: Option<u32>,
 ) -> (Vec<f32>, ComplexityReport) {
-    let device = &ctx.device;
-    let size = (scene.camera.width, scene.camera.height);
-    let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
-    let camera = FrameCamera::for_scene(&scene.camera, radius);
     if let Some(c) = capacity {
         gpu_scene.set_edge_list_capacity(c);
     }
-    let gbuffer = GBuffer::new(device, size);
-    let target = visibility_target(device, size);
+    let size = (scene.camera.width, scene.camera.height);
+    let gbuffer = GBuffer::new(&ctx.device, size);
+    let (mut enc, target) = record_frame(ctx, gpu_scene, scene, &gbuffer).expect("frame");
+    let v = read_r32f(ctx, &mut enc, &target, size.0, size.1).expect("readback");
+    let report = gpu_scene.complexity_report().expect("report");
+    (v, report.expect("a depth-complexity frame"))
+}
+
+/// Records the depth pre-pass and a depth-complexity frame of `scene` into `gbuffer` and a new
+/// V target, in an encoder not yet submitted.
+fn record_frame(
+    ctx: &GpuContext,
+    gpu_scene: &mut GpuScene,
+    scene: &Scene,
+    gbuffer: &GBuffer,
+) -> Result<(wgpu::CommandEncoder, wgpu::Texture), penumbra_gpu::GpuError> {
+    let device = &ctx.device;
+    let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
+    let camera = FrameCamera::for_scene(&scene.camera, radius);
+    let target = visibility_target(device, gbuffer.size());
     let inputs = FrameInputs {
         camera,
         technique: Technique::DepthComplexity,
     };
     let mut enc = device.create_command_encoder(&Default::default());
-    gpu_scene
-        .record_depth(&mut enc, &camera, &gbuffer)
-        .expect("depth");
-    gpu_scene
-        .record(&mut enc, &inputs, &gbuffer, &view(&target))
-        .expect("frame");
-    let v = read_r32f(ctx, &mut enc, &target, size.0, size.1).expect("readback");
-    let report = gpu_scene.complexity_report().expect("report");
-    (v, report.expect("a depth-complexity frame"))
+    gpu_scene.record_depth(&mut enc, &camera, gbuffer)?;
+    gpu_scene.record(&mut enc, &inputs, gbuffer, &view(&target))?;
+    Ok((enc, target))
 }
 
 /// A fixture's meshes in a [`GpuScene`] (each placed by the identity) with `samples` samples.
@@ -238,21 +246,9 @@ fn the_stencil_counts_the_triangles_towards_the_centre_as_the_oracle_does() {
     for name in ["nonmanifold", "fence", "spheres-9x9", "beetle"] {
         let scene = at_size(fixture(name), (96, 72));
         let mut gpu_scene = gpu_scene(&r, &scene, 64);
-        let device = &ctx.device;
         let size = (scene.camera.width, scene.camera.height);
-        let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
-        let camera = FrameCamera::for_scene(&scene.camera, radius);
-        let gbuffer = readable_gbuffer(device, size);
-        let target = visibility_target(device, size);
-        let inputs = FrameInputs {
-            camera,
-            technique: Technique::DepthComplexity,
-        };
-        let mut enc = device.create_command_encoder(&Default::default());
-        gpu_scene.record_depth(&mut enc, &camera, &gbuffer).unwrap();
-        gpu_scene
-            .record(&mut enc, &inputs, &gbuffer, &view(&target))
-            .unwrap();
+        let gbuffer = readable_gbuffer(&ctx.device, size);
+        let (mut enc, _) = record_frame(&ctx, &mut gpu_scene, &scene, &gbuffer).unwrap();
         let stencil = read_texels(
             &ctx,
             &mut enc,
@@ -359,18 +355,8 @@ fn an_edge_list_beyond_the_device_is_refused() {
     let mut gpu_scene = gpu_scene(&r, &scene, 64);
     // Sixteen gigabytes of entries: no device binds that much.
     gpu_scene.set_edge_list_capacity(u32::MAX);
-    let size = (scene.camera.width, scene.camera.height);
-    let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
-    let camera = FrameCamera::for_scene(&scene.camera, radius);
-    let gbuffer = GBuffer::new(&ctx.device, size);
-    let target = visibility_target(&ctx.device, size);
-    let inputs = FrameInputs {
-        camera,
-        technique: Technique::DepthComplexity,
-    };
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    gpu_scene.record_depth(&mut enc, &camera, &gbuffer).unwrap();
-    let Err(err) = gpu_scene.record(&mut enc, &inputs, &gbuffer, &view(&target)) else {
+    let gbuffer = GBuffer::new(&ctx.device, (scene.camera.width, scene.camera.height));
+    let Err(err) = record_frame(&ctx, &mut gpu_scene, &scene, &gbuffer) else {
         panic!("a 16 GB edge list was recorded");
     };
     assert!(matches!(err, penumbra_gpu::GpuError::TooLarge(_)), "{err}");

@@ -147,6 +147,15 @@ impl PotentialEdges {
         meshes: impl IntoIterator<Item = &'a TriangleMesh>,
         light: &RectLight,
     ) -> Self {
+        Self::build_half_edge(meshes.into_iter().map(HalfEdgeMesh::build), light)
+    }
+
+    /// [`PotentialEdges::build_meshes`] of meshes whose half-edge structures the caller has
+    /// built already (world space, in the scene's order).
+    pub fn build_half_edge(
+        meshes: impl IntoIterator<Item = impl std::borrow::Borrow<HalfEdgeMesh>>,
+        light: &RectLight,
+    ) -> Self {
         let light = *light;
         let mut edges = Vec::new();
         let mut faces = Vec::new();
@@ -154,7 +163,7 @@ impl PotentialEdges {
         let mut first_triangle = 0u32;
         let mut crossings = Vec::new();
         for m in meshes {
-            let mesh = HalfEdgeMesh::build(m);
+            let mesh = m.borrow();
             all_edges += mesh.edges.len();
             let pos: Vec<DVec3> = mesh
                 .positions
@@ -196,7 +205,7 @@ impl PotentialEdges {
                 let t = tri.map(|v| pos[v as usize]);
                 crossings.extend(light_crossing(t, first_triangle + f as u32));
             }
-            first_triangle += m.triangles.len() as u32;
+            first_triangle += mesh.faces.len() as u32;
         }
         let boxes: Vec<(DVec3, DVec3)> =
             edges.iter().map(|e| (e.a.min(e.b), e.a.max(e.b))).collect();
