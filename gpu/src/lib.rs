@@ -16,6 +16,7 @@ pub mod constants;
 pub mod context;
 pub mod frame;
 pub mod gpu_scene;
+pub mod light_frustum;
 pub mod passes;
 pub mod readback;
 mod record;

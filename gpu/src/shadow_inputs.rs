@@ -1,14 +1,15 @@
 //! What a shadow-map frame uploads, computed on the CPU: the passes' uniforms, the light map's
-//! frustum, the casters (closed meshes first, and the back faces `fractional-disk` draws), the
+//! frustum (`light_frustum`), the casters (closed meshes first, and the back faces `fractional-disk` draws), the
 //! noise map and the Poisson taps.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
-use penumbra_geom::{HalfEdgeMesh, RectLight, Rng, Scene, Technique};
+use penumbra_geom::{HalfEdgeMesh, Rng, Scene, Technique};
 use penumbra_params::{MdsmExtra, TechniqueParams, equal_area_radius};
 use penumbra_volumes::terminator::outward_sign;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
+pub use crate::light_frustum::{LightFrustum, MAX_SLOPE};
 
 /// The uniforms of every shadow-map pass (`struct Shadow` in `shadow.wgsl`).
 #[repr(C)]
@@ -16,7 +17,8 @@ pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 pub struct ShadowUniforms {
     /// The light frustum in slopes: min x/z, min y/z, max x/z, max y/z.
     pub frustum: [f32; 4],
-    /// Map width and height in texels.
+    /// Map width and height in texels; texels per side of a `fractional-disk` preprocessing cell
+    /// ([`fd_block`]).
     pub map: [f32; 4],
     /// Projection near depth, nearest and farthest light depth of the scene, constant bias.
     pub depth: [f32; 4],
@@ -31,81 +33,6 @@ pub struct ShadowUniforms {
 }
 
 const _: () = assert!(std::mem::size_of::<ShadowUniforms>() == 96 + 16 * MAX_TAPS);
-
-/// The light map's frustum: a perspective from the light's centre along its normal, in light
-/// space (world units along the tangent, the bitangent and the normal), fitted to the scene.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightFrustum {
-    /// Smallest slopes (x/z, y/z).
-    pub lo: DVec2,
-    /// Largest slopes.
-    pub hi: DVec2,
-    /// Projection near plane: geometry nearer to the light's plane is not in the map.
-    pub near: f64,
-    /// Nearest light depth of the scene in front of the near plane.
-    pub z_min: f64,
-    /// Farthest light depth of the scene.
-    pub z_max: f64,
-}
-
-/// Largest slope of the frustum, |x/z| and |y/z| (about 83 degrees off the normal): beyond, a
-/// map of finite resolution would spend its texels on grazing geometry.
-pub const MAX_SLOPE: f64 = 8.0;
-
-impl LightFrustum {
-    /// The frustum that holds every part of `triangles` (world space) at least `near` in front
-    /// of the light's plane, `near` being 1e-3 of the scene's depth, slopes capped at
-    /// [`MAX_SLOPE`]. `None` when nothing lies in front of the light.
-    pub fn fit(light: &RectLight, triangles: &[[DVec3; 3]]) -> Option<LightFrustum> {
-        let to_light = |p: DVec3| {
-            let d = p - light.center;
-            DVec3::new(
-                d.dot(light.tangent),
-                d.dot(light.bitangent),
-                d.dot(light.normal),
-            )
-        };
-        let z_max = triangles
-            .iter()
-            .flatten()
-            .map(|&p| to_light(p).z)
-            .fold(f64::NEG_INFINITY, f64::max);
-        if !(z_max > 0.0) {
-            return None;
-        }
-        let near = z_max * 1e-3;
-        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-        let mut z_min = f64::INFINITY;
-        let mut add = |l: DVec3| {
-            let s = (l.truncate() / l.z).clamp(DVec2::splat(-MAX_SLOPE), DVec2::splat(MAX_SLOPE));
-            lo = lo.min(s);
-            hi = hi.max(s);
-            z_min = z_min.min(l.z);
-        };
-        for t in triangles {
-            let l = t.map(to_light);
-            for i in 0..3 {
-                let (a, b) = (l[i], l[(i + 1) % 3]);
-                if a.z >= near {
-                    add(a);
-                }
-                // Where the edge crosses the near plane.
-                if (a.z - near) * (b.z - near) < 0.0 {
-                    add(a + (b - a) * ((near - a.z) / (b.z - a.z)));
-                }
-            }
-        }
-        // Half a percent of margin, so that nothing falls on the border texels' far edge.
-        let pad = (hi - lo).max(DVec2::splat(1e-6)) * 0.005;
-        Some(LightFrustum {
-            lo: lo - pad,
-            hi: hi + pad,
-            near,
-            z_min,
-            z_max,
-        })
-    }
-}
 
 /// The triangles of `scene`, those of closed and consistently oriented meshes first and wound
 /// outwards (counter-clockwise seen from outside; the signed volume says which way is out), then
@@ -231,6 +158,17 @@ pub fn multi_pass_taps(pass: u32, max_kernel: u32, taps: usize) -> Vec<[f32; 4]>
         .collect()
 }
 
+/// Cells per side of `fractional-disk`'s preprocessing grid: the paper's 256² light maps
+/// (Valient & de Boer 2004). Its texel parameters (the largest disk radius, the propagation
+/// passes, Eq. 2's q) count cells of this grid, so they keep the paper's scale on a finer map.
+pub const FD_GRID: u32 = 256;
+
+/// Light-map texels per side of one `fractional-disk` preprocessing cell on a `resolution`²
+/// map: 1 up to [`FD_GRID`]², then `ceil(resolution / FD_GRID)`.
+pub fn fd_block(resolution: u32) -> u32 {
+    resolution.div_ceil(FD_GRID).max(1)
+}
+
 /// The uniforms of `technique` for `scene` (before per-pass taps).
 pub fn uniforms(
     scene: &Scene,
@@ -247,7 +185,8 @@ pub fn uniforms(
             frustum.hi.x as f32,
             frustum.hi.y as f32,
         ],
-        map: [res, res, 0.0, 0.0],
+        // The third lane: texels per side of a fractional-disk preprocessing cell.
+        map: [res, res, 1.0, 0.0],
         depth: [
             frustum.near as f32,
             frustum.z_min as f32,
@@ -279,6 +218,7 @@ pub fn uniforms(
                 p.retest as u32 as f32,
             ];
             u.iparams = [p.max_samples, p.passes, 0, 0];
+            u.map[2] = fd_block(params.shadow_map.resolution) as f32;
         }
         Technique::Mdsm => {
             let p = &params.mdsm;
@@ -368,50 +308,6 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn light_frustum_holds_every_point_in_front_of_the_light() {
-        let light = RectLight::new(
-            DVec3::new(0.0, 5.0, 0.0),
-            DVec3::NEG_Y,
-            DVec3::X,
-            DVec2::new(2.0, 1.0),
-        );
-        let tris = [
-            [
-                DVec3::new(-3.0, 0.0, -2.0),
-                DVec3::new(4.0, 0.0, -2.0),
-                DVec3::new(0.0, 0.0, 6.0),
-            ],
-            // Crosses the light's plane: clipped at the near plane.
-            [
-                DVec3::new(0.5, 4.0, 0.0),
-                DVec3::new(1.0, 6.0, 0.0),
-                DVec3::new(0.0, 4.0, 0.5),
-            ],
-        ];
-        let f = LightFrustum::fit(&light, &tris).unwrap();
-        assert!((f.z_max - 5.0).abs() < 1e-12);
-        assert!(f.near > 0.0 && f.z_min >= f.near * (1.0 - 1e-9) && f.z_min < 1.0 + 1e-9);
-        for p in tris.iter().flatten() {
-            let d = *p - light.center;
-            let l = DVec3::new(
-                d.dot(light.tangent),
-                d.dot(light.bitangent),
-                d.dot(light.normal),
-            );
-            if l.z >= f.near {
-                let s = l.truncate() / l.z;
-                if s.abs().max_element() < MAX_SLOPE {
-                    assert!(
-                        s.cmpge(f.lo).all() && s.cmple(f.hi).all(),
-                        "{p} at slope {s}"
-                    );
-                }
-            }
-        }
-        assert!(LightFrustum::fit(&light, &[[DVec3::new(0.0, 9.0, 0.0); 3]]).is_none());
     }
 
     #[test]

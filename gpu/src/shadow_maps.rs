@@ -25,8 +25,8 @@ use crate::passes::{
 };
 use crate::readback::read_r32f;
 pub use crate::shadow_inputs::{
-    LightFrustum, MAX_SLOPE, ShadowUniforms, back_faces, closed_first, multi_pass_kernel,
-    multi_pass_taps, noise_map, poisson_taps, uniforms,
+    FD_GRID, LightFrustum, MAX_SLOPE, ShadowUniforms, back_faces, closed_first, fd_block,
+    multi_pass_kernel, multi_pass_taps, noise_map, poisson_taps, uniforms,
 };
 use crate::timing::read_frame;
 use crate::timing::{Pass as Kind, PassTimes, Timer};
@@ -174,13 +174,14 @@ impl ShadowMapRenderer {
         );
         // Nothing in front of the light: a frustum that no receiver falls in (every receiver is
         // then behind the light's plane, V = 0, or lit).
-        let frustum = LightFrustum::fit(&scene.light, &world).unwrap_or(LightFrustum {
-            lo: DVec2::splat(-1.0),
-            hi: DVec2::splat(1.0),
-            near: 1.0,
-            z_min: 1.0,
-            z_max: 2.0,
-        });
+        let frustum =
+            LightFrustum::fit_view(&scene.light, &world, &scene.camera).unwrap_or(LightFrustum {
+                lo: DVec2::splat(-1.0),
+                hi: DVec2::splat(1.0),
+                near: 1.0,
+                z_min: 1.0,
+                z_max: 2.0,
+            });
         let base = uniforms(scene, &frustum, self.technique, params);
         let uniform = |u: &ShadowUniforms| {
             buffer(
@@ -318,9 +319,11 @@ impl ShadowMapRenderer {
                 );
             }
             Technique::FractionalDisk => {
+                let cells = res.div_ceil(fd_block(res));
+                let grid = (cells, cells);
                 let ping = [
-                    view(&texture(device, "fd ping", map_size, rgba, sampled)),
-                    view(&texture(device, "fd pong", map_size, rgba, sampled)),
+                    view(&texture(device, "fd ping", grid, rgba, sampled)),
+                    view(&texture(device, "fd pong", grid, rgba, sampled)),
                 ];
                 self.pass("fs_edges").record(
                     &mut enc,

@@ -333,8 +333,8 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
         (Pcf, "kernel 4", |p| p.pcf.kernel = 4),
         (Pcf, "kernel 5", |p| p.pcf.kernel = 5),
         (Pcss, "dithered 4 of 16", |p| p.pcss.dither = true),
-        (FractionalDisk, "no re-test", |p| {
-            p.fractional_disk.retest = false
+        (FractionalDisk, "the re-test", |p| {
+            p.fractional_disk.retest = true
         }),
         (Mdsm, "n = 1", |p| p.mdsm.depths = 1),
         (Mdsm, "2-SM max, k = 16", |p| {
@@ -408,7 +408,7 @@ fn probe_uniforms(t: Technique, size: u32) -> ShadowUniforms {
     let frustum =
         penumbra_gpu::shadow_maps::LightFrustum::fit(&scene.light, &scene.triangles()).unwrap();
     let mut u = uniforms(&scene, &frustum, t, &scene.params);
-    u.map = [size as f32, size as f32, 0.0, 0.0];
+    u.map = [size as f32, size as f32, 1.0, 0.0];
     u
 }
 

@@ -61,13 +61,14 @@ pub struct PcssParams {
 /// `fractional-disk`: Valient & de Boer (2004).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FractionalDiskParams {
-    /// Eq. 2's ratio `a` between the disk's area in texels and the sample count.
+    /// Eq. 2's ratio `a` between the disk's area in grid cells and the sample count.
     pub a: f64,
     /// Most PCF samples per pixel.
     pub max_samples: u32,
-    /// Largest disk radius, in shadow-map texels.
+    /// Largest disk radius, in cells of the 256² preprocessing grid (the paper's map size).
     pub max_radius: f64,
-    /// Distance-propagation passes after the edge pass (at least `max_radius`).
+    /// Distance-propagation passes over the preprocessing grid after the edge pass (at least
+    /// `max_radius`).
     pub passes: u32,
     /// Edge detection: relative depth jump between neighbouring texels.
     pub edge_threshold: f64,

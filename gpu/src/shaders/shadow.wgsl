@@ -8,7 +8,8 @@
 struct Shadow {
     // The frustum in slopes (x/z, y/z) of light space: (min a, min b, max a, max b).
     frustum: vec4<f32>,
-    // Map width and height in texels, then two unused lanes.
+    // Map width and height in texels, texels per side of a fractional-disk preprocessing cell,
+    // one unused lane.
     map: vec4<f32>,
     // Projection near depth, nearest and farthest light depth of the scene, constant depth bias
     // (fraction of the receiver's depth).

@@ -1,0 +1,382 @@
+//! The light map's frustum of the shadow-map techniques: a perspective from the light's centre
+//! along its normal, fitted to the part of the scene that can shadow what the camera sees.
+
+use glam::{DVec2, DVec3};
+use penumbra_geom::{Camera, RectLight};
+
+/// The light map's frustum: a perspective from the light's centre along its normal, in light
+/// space (world units along the tangent, the bitangent and the normal).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightFrustum {
+    /// Smallest slopes (x/z, y/z).
+    pub lo: DVec2,
+    /// Largest slopes.
+    pub hi: DVec2,
+    /// Projection near plane: geometry nearer to the light's plane is not in the map.
+    pub near: f64,
+    /// Nearest light depth of the scene in front of the near plane.
+    pub z_min: f64,
+    /// Farthest light depth of the scene.
+    pub z_max: f64,
+}
+
+/// Largest slope of the frustum, |x/z| and |y/z| (about 83 degrees off the normal): beyond, a
+/// map of finite resolution would spend its texels on grazing geometry.
+pub const MAX_SLOPE: f64 = 8.0;
+
+/// Light-space coordinates of world point `p`: along the tangent, the bitangent and the normal,
+/// in world units.
+fn light_coords(light: &RectLight, p: DVec3) -> DVec3 {
+    let d = p - light.center;
+    DVec3::new(
+        d.dot(light.tangent),
+        d.dot(light.bitangent),
+        d.dot(light.normal),
+    )
+}
+
+/// Slope bounds of points being gathered.
+#[derive(Clone, Copy)]
+struct Slopes {
+    lo: DVec2,
+    hi: DVec2,
+}
+
+impl Slopes {
+    const EMPTY: Slopes = Slopes {
+        lo: DVec2::INFINITY,
+        hi: DVec2::NEG_INFINITY,
+    };
+
+    /// Takes in light-space point `l` (in front of the light), its slopes capped at
+    /// [`MAX_SLOPE`].
+    fn add(&mut self, l: DVec3) {
+        let s = (l.truncate() / l.z).clamp(DVec2::splat(-MAX_SLOPE), DVec2::splat(MAX_SLOPE));
+        self.lo = self.lo.min(s);
+        self.hi = self.hi.max(s);
+    }
+
+    fn is_empty(&self) -> bool {
+        !self.hi.cmpge(self.lo).all()
+    }
+}
+
+impl LightFrustum {
+    /// The frustum that holds every part of `triangles` (world space) at least `near` in front
+    /// of the light's plane, `near` being 1e-3 of the scene's depth, slopes capped at
+    /// [`MAX_SLOPE`]. `None` when nothing lies in front of the light.
+    pub fn fit(light: &RectLight, triangles: &[[DVec3; 3]]) -> Option<LightFrustum> {
+        let z_max = triangles
+            .iter()
+            .flatten()
+            .map(|&p| light_coords(light, p).z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if !(z_max > 0.0) {
+            return None;
+        }
+        let near = z_max * 1e-3;
+        let mut slopes = Slopes::EMPTY;
+        let mut z_min = f64::INFINITY;
+        for t in triangles {
+            let l = t.map(|p| light_coords(light, p));
+            for i in 0..3 {
+                let (a, b) = (l[i], l[(i + 1) % 3]);
+                if a.z >= near {
+                    slopes.add(a);
+                    z_min = z_min.min(a.z);
+                }
+                // Where the edge crosses the near plane.
+                if (a.z - near) * (b.z - near) < 0.0 {
+                    slopes.add(a + (b - a) * ((near - a.z) / (b.z - a.z)));
+                    z_min = z_min.min(near);
+                }
+            }
+        }
+        Some(LightFrustum {
+            near,
+            z_min,
+            z_max,
+            ..padded(slopes)
+        })
+    }
+
+    /// [`LightFrustum::fit`] narrowed to the part of the scene that can shadow what the camera
+    /// sees, so that the texels are spent there and not on a ground reaching far beyond the
+    /// shadows. A receiver outside the map is lit, so the map must hold every visible receiver
+    /// that something can shadow, and what can shadow it.
+    ///
+    /// In light space (slopes `s = xy / z`, light half sides `h`), a point B at depth `d` on the
+    /// way from a receiver P at slope `s_P` and depth `z_P` to a point of the light lies at a
+    /// slope within `h (1/d - 1/z_P) < h / d` of `s_P`. So:
+    /// - the visible receivers are the parts of `triangles` inside the camera's view pyramid:
+    ///   slopes `[lo, hi]`, depths up to `z_far`;
+    /// - whatever shadows them lies where `lo z - h <= xy <= hi z + h` and `z <= z_far`: each
+    ///   triangle is clipped to that region (and to the near plane);
+    /// - a triangle shadows only points on the far side of its plane from part of the light,
+    ///   so one with no corner of the visible receivers' bounding box there (a ground under
+    ///   everything, for one) shadows nothing in view and is left out;
+    /// - each remaining part, of slopes `S` and nearest depth `d`, shadows receivers only within
+    ///   `S` widened by `h / d`.
+    ///
+    /// The frustum holds those parts and their widened reach within the visible slopes, within
+    /// the scene's fit. It is the scene's fit where the camera sees nothing of the scene or
+    /// nothing in view can be shadowed.
+    pub fn fit_view(
+        light: &RectLight,
+        triangles: &[[DVec3; 3]],
+        camera: &Camera,
+    ) -> Option<LightFrustum> {
+        let scene = LightFrustum::fit(light, triangles)?;
+        let near = scene.near;
+        let l = |p: DVec3| light_coords(light, p);
+        let eye = camera.eye;
+        let in_view = view_planes(camera).map(|n| move |p: DVec3| n.dot(p - eye));
+        let in_front = |p: DVec3| l(p).z - near;
+        let mut seen = Slopes::EMPTY;
+        let (mut z_far, mut box_lo, mut box_hi) = (0.0f64, DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for t in triangles {
+            let mut part = clip(t, &in_view);
+            if part.is_empty() {
+                continue;
+            }
+            for &p in &part {
+                (box_lo, box_hi) = (box_lo.min(p), box_hi.max(p));
+            }
+            part = clip_polygon(&part, in_front);
+            for &p in &part {
+                seen.add(l(p));
+                z_far = z_far.max(l(p).z);
+            }
+        }
+        if seen.is_empty() {
+            return Some(scene);
+        }
+        let corners = (0..8).map(|i| {
+            DVec3::select(
+                glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
+                box_hi,
+                box_lo,
+            )
+        });
+        let corners: Vec<DVec3> = corners.collect();
+        let lights = light.corners();
+        let tolerance = 1e-9 * (box_hi - box_lo).max_element().max(scene.z_max);
+        let h = light.half_size();
+        let (lo, hi) = (seen.lo, seen.hi);
+        let on_the_way: [&dyn Fn(DVec3) -> f64; 6] = [
+            &|p| l(p).x - (lo.x * l(p).z - h.x),
+            &|p| hi.x * l(p).z + h.x - l(p).x,
+            &|p| l(p).y - (lo.y * l(p).z - h.y),
+            &|p| hi.y * l(p).z + h.y - l(p).y,
+            &|p| z_far - l(p).z,
+            &in_front,
+        ];
+        let mut fit = Slopes::EMPTY;
+        for t in triangles {
+            let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+            let side = |p: DVec3| normal.dot(p - t[0]);
+            let margin = tolerance * normal.length();
+            let beyond = |sign: f64| corners.iter().any(|&q| sign * side(q) > margin);
+            let lit_above = lights.iter().any(|&q| side(q) > 0.0);
+            let lit_below = lights.iter().any(|&q| side(q) < 0.0);
+            if !((lit_above && beyond(-1.0)) || (lit_below && beyond(1.0))) {
+                continue;
+            }
+            let part = clip(t, &on_the_way);
+            if part.is_empty() {
+                continue;
+            }
+            let mut s = Slopes::EMPTY;
+            let mut d = f64::INFINITY;
+            for &p in &part {
+                s.add(l(p));
+                d = d.min(l(p).z);
+            }
+            let reach = h / d;
+            fit.lo = fit.lo.min(s.lo.min((s.lo - reach).max(lo)));
+            fit.hi = fit.hi.max(s.hi.max((s.hi + reach).min(hi)));
+        }
+        if fit.is_empty() {
+            return Some(scene);
+        }
+        let fit = padded(Slopes {
+            lo: fit.lo.max(scene.lo),
+            hi: fit.hi.min(scene.hi),
+        });
+        Some(LightFrustum {
+            lo: fit.lo,
+            hi: fit.hi,
+            ..scene
+        })
+    }
+}
+
+/// `slopes` with half a percent of margin, so that nothing falls on the border texels' far edge.
+fn padded(slopes: Slopes) -> LightFrustum {
+    let pad = (slopes.hi - slopes.lo).max(DVec2::splat(1e-6)) * 0.005;
+    LightFrustum {
+        lo: slopes.lo - pad,
+        hi: slopes.hi + pad,
+        near: 0.0,
+        z_min: 0.0,
+        z_max: 0.0,
+    }
+}
+
+/// The camera's view pyramid: the inward normals of its four side planes, which pass through
+/// the eye. A point X is in view where `n . (X - eye) >= 0` for all four.
+fn view_planes(camera: &Camera) -> [DVec3; 4] {
+    let ty = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let tx = ty * camera.width as f64 / camera.height as f64;
+    let (f, r, u) = (camera.forward, camera.right, camera.true_up);
+    let inward = |a: DVec3, b: DVec3| {
+        let n = a.cross(b);
+        if n.dot(f) < 0.0 { -n } else { n }
+    };
+    [
+        inward(f + r * tx, u),
+        inward(f - r * tx, u),
+        inward(f + u * ty, r),
+        inward(f - u * ty, r),
+    ]
+}
+
+/// The part of triangle `t` where every one of `sides` is at least 0 (a convex polygon).
+fn clip<F: Fn(DVec3) -> f64>(t: &[DVec3; 3], sides: &[F]) -> Vec<DVec3> {
+    let mut poly = t.to_vec();
+    for side in sides {
+        if poly.is_empty() {
+            break;
+        }
+        poly = clip_polygon(&poly, side);
+    }
+    poly
+}
+
+/// The part of the convex polygon `poly` where `side >= 0` (Sutherland and Hodgman).
+fn clip_polygon(poly: &[DVec3], side: impl Fn(DVec3) -> f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for (i, &a) in poly.iter().enumerate() {
+        let b = poly[(i + 1) % poly.len()];
+        let (sa, sb) = (side(a), side(b));
+        if sa >= 0.0 {
+            out.push(a);
+        }
+        if (sa >= 0.0) != (sb >= 0.0) {
+            out.push(a + (b - a) * (sa / (sa - sb)));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn light_frustum_holds_every_point_in_front_of_the_light() {
+        let light = RectLight::new(
+            DVec3::new(0.0, 5.0, 0.0),
+            DVec3::NEG_Y,
+            DVec3::X,
+            DVec2::new(2.0, 1.0),
+        );
+        let tris = [
+            [
+                DVec3::new(-3.0, 0.0, -2.0),
+                DVec3::new(4.0, 0.0, -2.0),
+                DVec3::new(0.0, 0.0, 6.0),
+            ],
+            // Crosses the light's plane: clipped at the near plane.
+            [
+                DVec3::new(0.5, 4.0, 0.0),
+                DVec3::new(1.0, 6.0, 0.0),
+                DVec3::new(0.0, 4.0, 0.5),
+            ],
+        ];
+        let f = LightFrustum::fit(&light, &tris).unwrap();
+        assert!((f.z_max - 5.0).abs() < 1e-12);
+        assert!(f.near > 0.0 && f.z_min >= f.near * (1.0 - 1e-9) && f.z_min < 1.0 + 1e-9);
+        for p in tris.iter().flatten() {
+            let d = *p - light.center;
+            let l = DVec3::new(
+                d.dot(light.tangent),
+                d.dot(light.bitangent),
+                d.dot(light.normal),
+            );
+            if l.z >= f.near {
+                let s = l.truncate() / l.z;
+                if s.abs().max_element() < MAX_SLOPE {
+                    assert!(
+                        s.cmpge(f.lo).all() && s.cmple(f.hi).all(),
+                        "{p} at slope {s}"
+                    );
+                }
+            }
+        }
+        assert!(LightFrustum::fit(&light, &[[DVec3::new(0.0, 9.0, 0.0); 3]]).is_none());
+    }
+
+    /// On `beetle` (a ground far larger than the view, a light near its plane at the far end)
+    /// and `camera-in-shadow`: every visible receiver in shadow of some part of the light, and
+    /// every point that shadows it, lies inside the view's frustum; and the view's frustum is
+    /// several times narrower than the scene's.
+    #[test]
+    fn the_view_s_frustum_holds_every_shadowed_receiver_and_its_occluders() {
+        use penumbra_geom::Scene;
+        use penumbra_geom::raycast::SceneBvh;
+        for (name, narrower) in [("beetle", 50.0), ("camera-in-shadow", 1.0)] {
+            let path = format!(
+                "{}/../fixtures/scenes/{name}.toml",
+                env!("CARGO_MANIFEST_DIR")
+            );
+            let scene = Scene::load(std::path::Path::new(&path)).unwrap();
+            let tris = scene.triangles();
+            let bvh = SceneBvh::build(&tris);
+            let light = &scene.light;
+            let whole = LightFrustum::fit(light, &tris).unwrap();
+            let view = LightFrustum::fit_view(light, &tris, &scene.camera).unwrap();
+            let area = |f: &LightFrustum| (f.hi - f.lo).x * (f.hi - f.lo).y;
+            assert!(
+                area(&whole) >= narrower * area(&view),
+                "{name}: {whole:?} against {view:?}"
+            );
+            let inside = |p: DVec3| {
+                let l = light_coords(light, p);
+                let s = l.truncate() / l.z;
+                s.cmpge(view.lo).all() && s.cmple(view.hi).all()
+            };
+            let cam = &scene.camera;
+            let (mut rays, mut occluders) = (0, 0);
+            for j in (0..cam.height).step_by(4) {
+                for i in (0..cam.width).step_by(4) {
+                    let d = cam.ray_dir(i, j);
+                    let Some(hit) = bvh.closest_hit(cam.eye, d, 1e30) else {
+                        continue;
+                    };
+                    let p = cam.eye + d * hit.t;
+                    for k in 0..25 {
+                        let uv = DVec2::new((k % 5) as f64, (k / 5) as f64) / 2.0 - 1.0;
+                        let x = light.point(uv);
+                        let to = x - p;
+                        let len = to.length();
+                        let dir = (to / len).as_vec3().into();
+                        bvh.for_each_hit(p, dir, 1e-4, len as f32, hit.triangle, |t| {
+                            let [a, b, c] = tris[t as usize];
+                            let n = (b - a).cross(c - a);
+                            let b_point = p + to * (n.dot(a - p) / n.dot(to));
+                            assert!(inside(p), "{name}: receiver {p} (pixel {i},{j}) outside");
+                            assert!(inside(b_point), "{name}: occluder {b_point} of {p} outside");
+                            occluders += 1;
+                        });
+                        rays += 1;
+                    }
+                }
+            }
+            assert!(
+                rays > 1000 && occluders > 1000,
+                "{name}: {rays} {occluders}"
+            );
+        }
+    }
+}
