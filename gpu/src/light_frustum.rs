@@ -127,49 +127,69 @@ impl LightFrustum {
         camera: &Camera,
     ) -> Option<LightFrustum> {
         let scene = LightFrustum::fit(light, triangles)?;
-        let near = scene.near;
-        let l = |p: DVec3| light_coords(light, p);
-        let eye = camera.eye;
-        let in_view = view_planes(camera).map(|n| move |p: DVec3| n.dot(p - eye));
-        let in_front = |p: DVec3| l(p).z - near;
+        let in_front = Plane {
+            n: DVec3::Z,
+            d: -scene.near,
+        };
+        let in_view = view_planes(camera).map(|n| Plane::of_world(light, n, camera.eye));
         let mut seen = Slopes::EMPTY;
         let (mut z_far, mut box_lo, mut box_hi) = (0.0f64, DVec3::INFINITY, DVec3::NEG_INFINITY);
         for t in triangles {
-            let mut part = clip(t, &in_view);
-            if part.is_empty() {
+            let mut part = Polygon::of(t.map(|p| light_coords(light, p)));
+            part.clip(&in_view);
+            if part.len == 0 {
                 continue;
             }
-            for &p in &part {
+            for &l in part.points() {
+                let p =
+                    light.center + light.tangent * l.x + light.bitangent * l.y + light.normal * l.z;
                 (box_lo, box_hi) = (box_lo.min(p), box_hi.max(p));
             }
-            part = clip_polygon(&part, in_front);
-            for &p in &part {
-                seen.add(l(p));
-                z_far = z_far.max(l(p).z);
+            part.clip(&[in_front]);
+            for &l in part.points() {
+                seen.add(l);
+                z_far = z_far.max(l.z);
             }
         }
         if seen.is_empty() {
             return Some(scene);
         }
-        let corners = (0..8).map(|i| {
-            DVec3::select(
-                glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
-                box_hi,
-                box_lo,
-            )
-        });
-        let corners: Vec<DVec3> = corners.collect();
+        let corners: Vec<DVec3> = (0..8)
+            .map(|i| {
+                DVec3::select(
+                    glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
+                    box_hi,
+                    box_lo,
+                )
+            })
+            .collect();
         let lights = light.corners();
         let tolerance = 1e-9 * (box_hi - box_lo).max_element().max(scene.z_max);
         let h = light.half_size();
         let (lo, hi) = (seen.lo, seen.hi);
-        let on_the_way: [&dyn Fn(DVec3) -> f64; 6] = [
-            &|p| l(p).x - (lo.x * l(p).z - h.x),
-            &|p| hi.x * l(p).z + h.x - l(p).x,
-            &|p| l(p).y - (lo.y * l(p).z - h.y),
-            &|p| hi.y * l(p).z + h.y - l(p).y,
-            &|p| z_far - l(p).z,
-            &in_front,
+        // lo z - h <= xy <= hi z + h, z <= z_far, z >= near.
+        let on_the_way = [
+            Plane {
+                n: DVec3::new(1.0, 0.0, -lo.x),
+                d: h.x,
+            },
+            Plane {
+                n: DVec3::new(-1.0, 0.0, hi.x),
+                d: h.x,
+            },
+            Plane {
+                n: DVec3::new(0.0, 1.0, -lo.y),
+                d: h.y,
+            },
+            Plane {
+                n: DVec3::new(0.0, -1.0, hi.y),
+                d: h.y,
+            },
+            Plane {
+                n: DVec3::NEG_Z,
+                d: z_far,
+            },
+            in_front,
         ];
         let mut fit = Slopes::EMPTY;
         for t in triangles {
@@ -182,15 +202,16 @@ impl LightFrustum {
             if !((lit_above && beyond(-1.0)) || (lit_below && beyond(1.0))) {
                 continue;
             }
-            let part = clip(t, &on_the_way);
-            if part.is_empty() {
+            let mut part = Polygon::of(t.map(|p| light_coords(light, p)));
+            part.clip(&on_the_way);
+            if part.len == 0 {
                 continue;
             }
             let mut s = Slopes::EMPTY;
             let mut d = f64::INFINITY;
-            for &p in &part {
-                s.add(l(p));
-                d = d.min(l(p).z);
+            for &l in part.points() {
+                s.add(l);
+                d = d.min(l.z);
             }
             let reach = h / d;
             fit.lo = fit.lo.min(s.lo.min((s.lo - reach).max(lo)));
@@ -208,6 +229,80 @@ impl LightFrustum {
             hi: fit.hi,
             ..scene
         })
+    }
+}
+
+/// A plane of light space: `n . l + d`, at least 0 on the kept side.
+#[derive(Clone, Copy)]
+struct Plane {
+    n: DVec3,
+    d: f64,
+}
+
+impl Plane {
+    /// The plane of world space through `point` with normal `normal`, in light coordinates.
+    fn of_world(light: &RectLight, normal: DVec3, point: DVec3) -> Plane {
+        Plane {
+            n: DVec3::new(
+                normal.dot(light.tangent),
+                normal.dot(light.bitangent),
+                normal.dot(light.normal),
+            ),
+            d: normal.dot(light.center - point),
+        }
+    }
+
+    fn at(&self, l: DVec3) -> f64 {
+        self.n.dot(l) + self.d
+    }
+}
+
+/// A convex polygon of at most `MAX_CORNERS` corners: a triangle clipped by at most ten planes
+/// gains at most one corner per plane.
+struct Polygon {
+    corners: [DVec3; MAX_CORNERS],
+    len: usize,
+}
+
+const MAX_CORNERS: usize = 16;
+
+impl Polygon {
+    fn of(t: [DVec3; 3]) -> Polygon {
+        let mut corners = [DVec3::ZERO; MAX_CORNERS];
+        corners[..3].copy_from_slice(&t);
+        Polygon { corners, len: 3 }
+    }
+
+    fn points(&self) -> &[DVec3] {
+        &self.corners[..self.len]
+    }
+
+    /// Keeps the part where every plane is at least 0 (Sutherland and Hodgman).
+    fn clip(&mut self, planes: &[Plane]) {
+        for plane in planes {
+            if self.len == 0 {
+                return;
+            }
+            if self.points().iter().all(|&l| plane.at(l) >= 0.0) {
+                continue;
+            }
+            let mut out = [DVec3::ZERO; MAX_CORNERS];
+            let mut n = 0;
+            for i in 0..self.len {
+                let (a, b) = (self.corners[i], self.corners[(i + 1) % self.len]);
+                let (sa, sb) = (plane.at(a), plane.at(b));
+                if sa >= 0.0 {
+                    out[n] = a;
+                    n += 1;
+                }
+                if (sa >= 0.0) != (sb >= 0.0) {
+                    out[n] = a + (b - a) * (sa / (sa - sb));
+                    n += 1;
+                }
+            }
+            debug_assert!(n <= MAX_CORNERS);
+            (self.corners, self.len) = (out, n);
+        }
     }
 }
 
@@ -239,34 +334,6 @@ fn view_planes(camera: &Camera) -> [DVec3; 4] {
         inward(f + u * ty, r),
         inward(f - u * ty, r),
     ]
-}
-
-/// The part of triangle `t` where every one of `sides` is at least 0 (a convex polygon).
-fn clip<F: Fn(DVec3) -> f64>(t: &[DVec3; 3], sides: &[F]) -> Vec<DVec3> {
-    let mut poly = t.to_vec();
-    for side in sides {
-        if poly.is_empty() {
-            break;
-        }
-        poly = clip_polygon(&poly, side);
-    }
-    poly
-}
-
-/// The part of the convex polygon `poly` where `side >= 0` (Sutherland and Hodgman).
-fn clip_polygon(poly: &[DVec3], side: impl Fn(DVec3) -> f64) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(poly.len() + 1);
-    for (i, &a) in poly.iter().enumerate() {
-        let b = poly[(i + 1) % poly.len()];
-        let (sa, sb) = (side(a), side(b));
-        if sa >= 0.0 {
-            out.push(a);
-        }
-        if (sa >= 0.0) != (sb >= 0.0) {
-            out.push(a + (b - a) * (sa / (sa - sb)));
-        }
-    }
-    out
 }
 
 #[cfg(test)]
