@@ -66,11 +66,12 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
                 100.0 * beyond
             ));
             // Single samples flip where the GPU's f32 positions put a projected edge on the
-            // other side of one (fandisk's curved strips at 256 samples: 99.85% equal); a few
-            // pixels differ by more where the stencil's count of the centre is off (at most
-            // 0.031% measured).
+            // other side of one (fandisk's curved strips at 256 samples: 99.93% equal, 99.85%
+            // before the edges of the receiver's own triangle took its plane); a few pixels
+            // differ by more where the stencil's count of the centre is off or the pixel's
+            // centre lies on the edge between two faces (at most 2 pixels measured).
             assert!(
-                equal >= 0.998 && beyond <= 0.0005,
+                equal >= 0.999 && beyond <= 0.0002,
                 "{name} at {samples} samples: {report:#?}"
             );
         }

@@ -146,10 +146,12 @@ fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u
     }
     let reach = length(d) + length(pl);
     var delta = 0i;
+    var on_receiver = false;
     for (var f = e.first_face; f < e.first_face + e.face_count; f++) {
         spent++;
         let face = faces[f];
         if (face.triangle == receiver) {
+            on_receiver = true;
             continue;
         }
         let s = dot(face.normal, d);
@@ -177,7 +179,16 @@ fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u
         return no_region();
     }
     let l = b - a;
-    let o1 = dot(cross(l, pl - a), -a);
+    // The plane of P and the edge. When the edge is one of the receiver's own triangle's, it
+    // is that triangle's plane, which P lies on: its normal is taken from the plane itself,
+    // since the cross product of the edge and P - a turns by P's f32 rounding over P's
+    // distance to the edge, wide near an edge at the terminator.
+    var m = cross(l, pl - a);
+    if (on_receiver && receiver < params.triangles) {
+        let n = planes[receiver].xyz;
+        m = n * (sign(dot(n, m)) * length(m));
+    }
+    let o1 = dot(m, -a);
     if (o1 == 0.0) {
         return no_region();
     }
@@ -187,7 +198,7 @@ fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u
     // is 0 too; computed in f32 it would be rounding noise). `o2` is the plane of the edge
     // and the centre, `f0` and `f1` those of P, the centre and each end.
     let o2 = through_centre(cross(a, b) * flip);
-    let o3 = line_through(-cross(l, pl - a) * flip, a);
+    let o3 = line_through(-m * flip, a);
     let f0 = through_centre(cross(pl, a));
     let f1 = through_centre(cross(pl, b));
     let mid = a + l * (0.5 * (t.x + t.y));
