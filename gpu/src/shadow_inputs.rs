@@ -1,6 +1,6 @@
 //! What a shadow-map frame uploads, computed on the CPU: the passes' uniforms, the light map's
-//! frustum (`light_frustum`), the casters (closed meshes first, and the back faces `fractional-disk` draws), the
-//! noise map and the Poisson taps.
+//! frustum (`light_frustum`), the casters (closed meshes first, and the back faces
+//! `fractional-disk` draws), the noise map and the Poisson taps.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
@@ -307,6 +307,25 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn fractional_disk_cells_keep_the_paper_s_256_squared_grid() {
+        for (resolution, block, cells) in [
+            (16, 1, 16),
+            (256, 1, 256),
+            (257, 2, 129),
+            (1000, 4, 250),
+            (2048, 8, 256),
+            (8192, 32, 256),
+        ] {
+            assert_eq!(fd_block(resolution), block, "{resolution}");
+            assert_eq!(
+                resolution.div_ceil(fd_block(resolution)),
+                cells,
+                "{resolution}"
+            );
         }
     }
 

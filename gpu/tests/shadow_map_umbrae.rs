@@ -1,7 +1,8 @@
 //! The shadow-map techniques on every fixture, real meshes included, at their default
 //! parameters, against the exact depth-complexity image at 256 light samples (the reference's
 //! accuracy, several times faster): how much of the umbra (V <= 0.02) each leaves lit (V > 0.5),
-//! and `pcss`'s penumbra error. They need an adapter (lavapipe in CI), as `gpu.rs` does.
+//! and the penumbra errors of `pcss` and `fractional-disk`. They need an adapter (lavapipe in
+//! CI), as `gpu.rs` does.
 
 mod common;
 use common::{context, fixtures};
@@ -17,8 +18,13 @@ const UMBRA_LIT: f64 = 0.02;
 /// `pcss`'s largest penumbra mean absolute error.
 const PCSS_PENUMBRA_MAE: f64 = 0.13;
 
+/// `fractional-disk`'s largest penumbra mean absolute error (0.134 measured, on `fandisk`): its
+/// radius counts cells of the paper's 256² grid. Counted in texels of the 2048² map, the
+/// paper's 16 capped the penumbrae at a tenth of their width, 0.15 to 0.23 on every fixture.
+const FD_PENUMBRA_MAE: f64 = 0.15;
+
 #[test]
-fn shadow_maps_keep_their_umbrae_and_pcss_its_penumbrae_on_every_fixture() {
+fn shadow_maps_keep_their_umbrae_and_pcss_and_fractional_disk_their_penumbrae() {
     let Some(ctx) = context() else { return };
     let techniques = [
         Technique::Pcf,
@@ -55,6 +61,12 @@ fn shadow_maps_keep_their_umbrae_and_pcss_its_penumbrae_on_every_fixture() {
             }
             if t == Technique::Pcss && c.penumbra.mae > PCSS_PENUMBRA_MAE {
                 failures.push(format!("{name} pcss: penumbra MAE {:.4}", c.penumbra.mae));
+            }
+            if t == Technique::FractionalDisk && c.penumbra.mae > FD_PENUMBRA_MAE {
+                failures.push(format!(
+                    "{name} fractional-disk: penumbra MAE {:.4}",
+                    c.penumbra.mae
+                ));
             }
         }
     }
