@@ -113,8 +113,9 @@ impl LightFrustum {
     /// - whatever shadows them lies where `lo z - h <= xy <= hi z + h` and `z <= z_far`: each
     ///   triangle is clipped to that region (and to the near plane);
     /// - a triangle shadows only points on the far side of its plane from part of the light,
-    ///   so one with no corner of the visible receivers' bounding box there (a ground under
-    ///   everything, for one) shadows nothing in view and is left out;
+    ///   so one with no visible receiver there shadows nothing in view and is left out: tested
+    ///   against every corner of the visible parts for the largest triangles (a ground under
+    ///   everything, for one), against their bounding box in light space for the others;
     /// - each remaining part, of slopes `S` and nearest depth `d`, shadows receivers only within
     ///   `S` widened by `h / d`.
     ///
@@ -133,7 +134,8 @@ impl LightFrustum {
         };
         let in_view = view_planes(camera).map(|n| Plane::of_world(light, n, camera.eye));
         let mut seen = Slopes::EMPTY;
-        let (mut z_far, mut box_lo, mut box_hi) = (0.0f64, DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let mut z_far = 0.0f64;
+        let mut receivers = Receivers::new(triangles, light);
         for t in triangles {
             let mut part = Polygon::of(t.map(|p| light_coords(light, p)));
             part.clip(&in_view);
@@ -141,9 +143,7 @@ impl LightFrustum {
                 continue;
             }
             for &l in part.points() {
-                let p =
-                    light.center + light.tangent * l.x + light.bitangent * l.y + light.normal * l.z;
-                (box_lo, box_hi) = (box_lo.min(p), box_hi.max(p));
+                receivers.add(l);
             }
             part.clip(&[in_front]);
             for &l in part.points() {
@@ -154,18 +154,9 @@ impl LightFrustum {
         if seen.is_empty() {
             return Some(scene);
         }
-        let corners: Vec<DVec3> = (0..8)
-            .map(|i| {
-                DVec3::select(
-                    glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
-                    box_hi,
-                    box_lo,
-                )
-            })
-            .collect();
-        let lights = light.corners();
-        let tolerance = 1e-9 * (box_hi - box_lo).max_element().max(scene.z_max);
         let h = light.half_size();
+        let lights = [-1.0, 1.0].map(|u| [-1.0, 1.0].map(|v| DVec3::new(u * h.x, v * h.y, 0.0)));
+        let tolerance = 1e-9 * receivers.extent().max(scene.z_max);
         let (lo, hi) = (seen.lo, seen.hi);
         // lo z - h <= xy <= hi z + h, z <= z_far, z >= near.
         let on_the_way = [
@@ -192,17 +183,20 @@ impl LightFrustum {
             in_front,
         ];
         let mut fit = Slopes::EMPTY;
-        for t in triangles {
+        for (i, t) in triangles.iter().enumerate() {
+            let t = t.map(|p| light_coords(light, p));
             let normal = (t[1] - t[0]).cross(t[2] - t[0]);
             let side = |p: DVec3| normal.dot(p - t[0]);
             let margin = tolerance * normal.length();
-            let beyond = |sign: f64| corners.iter().any(|&q| sign * side(q) > margin);
-            let lit_above = lights.iter().any(|&q| side(q) > 0.0);
-            let lit_below = lights.iter().any(|&q| side(q) < 0.0);
-            if !((lit_above && beyond(-1.0)) || (lit_below && beyond(1.0))) {
+            // The visible receivers' extent along the normal, relative to the plane.
+            let (below, above) = receivers.span(i, normal);
+            let (below, above) = (below - normal.dot(t[0]), above - normal.dot(t[0]));
+            let lit_above = lights.iter().flatten().any(|&q| side(q) > 0.0);
+            let lit_below = lights.iter().flatten().any(|&q| side(q) < 0.0);
+            if !((lit_above && below < -margin) || (lit_below && above > margin)) {
                 continue;
             }
-            let mut part = Polygon::of(t.map(|p| light_coords(light, p)));
+            let mut part = Polygon::of(t);
             part.clip(&on_the_way);
             if part.len == 0 {
                 continue;
@@ -229,6 +223,76 @@ impl LightFrustum {
             hi: fit.hi,
             ..scene
         })
+    }
+}
+
+/// Where the visible receivers lie (light space), for the test of which side of a triangle's
+/// plane they reach: exactly, over every corner of the visible parts, for the largest
+/// triangles (a ground under everything is one), and by their bounding box for the others. Both
+/// are unchanged when the scene and its light move, turn and scale together.
+struct Receivers {
+    lo: DVec3,
+    hi: DVec3,
+    /// The largest triangles, their light-space normals and the least and greatest
+    /// `normal . p` over the corners seen so far.
+    exact: Vec<(usize, DVec3, f64, f64)>,
+}
+
+/// How many of the largest triangles are tested against every visible corner.
+const EXACT_TRIANGLES: usize = 16;
+
+impl Receivers {
+    fn new(triangles: &[[DVec3; 3]], light: &RectLight) -> Receivers {
+        let area = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).length_squared();
+        let mut order: Vec<usize> = (0..triangles.len()).collect();
+        let k = EXACT_TRIANGLES.min(order.len());
+        if k > 0 && k < order.len() {
+            order.select_nth_unstable_by(k - 1, |&a, &b| {
+                area(&triangles[b]).total_cmp(&area(&triangles[a]))
+            });
+        }
+        let exact = order[..k]
+            .iter()
+            .map(|&i| {
+                let t = triangles[i].map(|p| light_coords(light, p));
+                let n = (t[1] - t[0]).cross(t[2] - t[0]);
+                (i, n, f64::INFINITY, f64::NEG_INFINITY)
+            })
+            .collect();
+        Receivers {
+            lo: DVec3::INFINITY,
+            hi: DVec3::NEG_INFINITY,
+            exact,
+        }
+    }
+
+    /// Takes in a corner of a visible part.
+    fn add(&mut self, p: DVec3) {
+        (self.lo, self.hi) = (self.lo.min(p), self.hi.max(p));
+        for (_, n, lo, hi) in &mut self.exact {
+            let v = n.dot(p);
+            (*lo, *hi) = (lo.min(v), hi.max(v));
+        }
+    }
+
+    /// The largest side of the corners' bounding box.
+    fn extent(&self) -> f64 {
+        (self.hi - self.lo).max_element()
+    }
+
+    /// The least and greatest `normal . p` over the visible receivers, for triangle `i` of
+    /// light-space normal `normal`: exact for the largest triangles, else over the bounding box
+    /// (wider).
+    fn span(&self, i: usize, normal: DVec3) -> (f64, f64) {
+        if let Some(&(_, n, lo, hi)) = self.exact.iter().find(|e| e.0 == i) {
+            // The same normal, computed once: the scale is the same as `normal`'s.
+            debug_assert!((n - normal).length() <= 1e-9 * n.length());
+            return (lo, hi);
+        }
+        let centre = (self.lo + self.hi) * 0.5;
+        let reach = normal.abs().dot((self.hi - self.lo) * 0.5);
+        let mid = normal.dot(centre);
+        (mid - reach, mid + reach)
     }
 }
 
@@ -444,6 +508,48 @@ mod tests {
                 rays > 1000 && occluders > 1000,
                 "{name}: {rays} {occluders}"
             );
+        }
+    }
+
+    /// Moved, turned and scaled with its light, a scene keeps its frustum: the slopes are
+    /// those of light space, and neither test of which triangles can shadow the view depends on
+    /// the world's axes (a box in world space did: turned, its corners reached under the ground
+    /// and took the ground in, widening `overlapping-quads`' frustum twice along each axis).
+    #[test]
+    fn the_view_s_frustum_moves_with_the_scene() {
+        use penumbra_geom::Scene;
+        let mut rng = penumbra_geom::Rng::new(5);
+        for name in ["overlapping-quads", "beetle"] {
+            let path = format!(
+                "{}/../fixtures/scenes/{name}.toml",
+                env!("CARGO_MANIFEST_DIR")
+            );
+            let scene = Scene::load(std::path::Path::new(&path)).unwrap();
+            let fit = |s: &Scene| LightFrustum::fit_view(&s.light, &s.triangles(), &s.camera);
+            let base = fit(&scene).unwrap();
+            for _ in 0..4 {
+                let axis = DVec3::new(rng.range(-1., 1.), rng.range(-1., 1.), rng.range(-1., 1.));
+                let scale = 10f64.powf(rng.range(-2.0, 2.0));
+                let m = glam::DMat4::from_scale_rotation_translation(
+                    DVec3::splat(scale),
+                    glam::DQuat::from_axis_angle(
+                        axis.normalize(),
+                        rng.range(0.0, std::f64::consts::TAU),
+                    ),
+                    DVec3::new(
+                        rng.range(-1e3, 1e3),
+                        rng.range(-1e3, 1e3),
+                        rng.range(-1e3, 1e3),
+                    ),
+                );
+                let moved = fit(&scene.transformed(&m)).unwrap();
+                let off = (moved.lo - base.lo).abs().max((moved.hi - base.hi).abs());
+                assert!(
+                    off.max_element() < 1e-9,
+                    "{name}: {base:?} against {moved:?}"
+                );
+                assert!((moved.z_max / scale - base.z_max).abs() < 1e-9 * base.z_max);
+            }
         }
     }
 }
