@@ -35,6 +35,14 @@ fn light_coords(light: &RectLight, p: DVec3) -> DVec3 {
     )
 }
 
+/// `triangles` (world space) in light coordinates.
+fn in_light_space(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<[DVec3; 3]> {
+    triangles
+        .iter()
+        .map(|t| t.map(|p| light_coords(light, p)))
+        .collect()
+}
+
 /// Slope bounds of points being gathered.
 #[derive(Clone, Copy)]
 struct Slopes {
@@ -66,10 +74,15 @@ impl LightFrustum {
     /// of the light's plane, `near` being 1e-3 of the scene's depth, slopes capped at
     /// [`MAX_SLOPE`]. `None` when nothing lies in front of the light.
     pub fn fit(light: &RectLight, triangles: &[[DVec3; 3]]) -> Option<LightFrustum> {
+        LightFrustum::fit_light_space(&in_light_space(light, triangles))
+    }
+
+    /// [`LightFrustum::fit`] of triangles already in light coordinates.
+    fn fit_light_space(triangles: &[[DVec3; 3]]) -> Option<LightFrustum> {
         let z_max = triangles
             .iter()
             .flatten()
-            .map(|&p| light_coords(light, p).z)
+            .map(|p| p.z)
             .fold(f64::NEG_INFINITY, f64::max);
         if !(z_max > 0.0) {
             return None;
@@ -77,8 +90,7 @@ impl LightFrustum {
         let near = z_max * 1e-3;
         let mut slopes = Slopes::EMPTY;
         let mut z_min = f64::INFINITY;
-        for t in triangles {
-            let l = t.map(|p| light_coords(light, p));
+        for l in triangles {
             for i in 0..3 {
                 let (a, b) = (l[i], l[(i + 1) % 3]);
                 if a.z >= near {
@@ -127,7 +139,8 @@ impl LightFrustum {
         triangles: &[[DVec3; 3]],
         camera: &Camera,
     ) -> Option<LightFrustum> {
-        let scene = LightFrustum::fit(light, triangles)?;
+        let triangles = in_light_space(light, triangles);
+        let scene = LightFrustum::fit_light_space(&triangles)?;
         let in_front = Plane {
             n: DVec3::Z,
             d: -scene.near,
@@ -135,9 +148,9 @@ impl LightFrustum {
         let in_view = view_planes(camera).map(|n| Plane::of_world(light, n, camera.eye));
         let mut seen = Slopes::EMPTY;
         let mut z_far = 0.0f64;
-        let mut receivers = Receivers::new(triangles, light);
-        for t in triangles {
-            let mut part = Polygon::of(t.map(|p| light_coords(light, p)));
+        let mut receivers = Receivers::new(&triangles);
+        for &t in &triangles {
+            let mut part = Polygon::of(t);
             part.clip(&in_view);
             if part.len == 0 {
                 continue;
@@ -183,8 +196,7 @@ impl LightFrustum {
             in_front,
         ];
         let mut fit = Slopes::EMPTY;
-        for (i, t) in triangles.iter().enumerate() {
-            let t = t.map(|p| light_coords(light, p));
+        for (i, &t) in triangles.iter().enumerate() {
             let normal = (t[1] - t[0]).cross(t[2] - t[0]);
             let side = |p: DVec3| normal.dot(p - t[0]);
             let margin = tolerance * normal.length();
@@ -242,7 +254,8 @@ struct Receivers {
 const EXACT_TRIANGLES: usize = 16;
 
 impl Receivers {
-    fn new(triangles: &[[DVec3; 3]], light: &RectLight) -> Receivers {
+    /// `triangles` in light coordinates.
+    fn new(triangles: &[[DVec3; 3]]) -> Receivers {
         let area = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).length_squared();
         let mut order: Vec<usize> = (0..triangles.len()).collect();
         let k = EXACT_TRIANGLES.min(order.len());
@@ -254,7 +267,7 @@ impl Receivers {
         let exact = order[..k]
             .iter()
             .map(|&i| {
-                let t = triangles[i].map(|p| light_coords(light, p));
+                let t = triangles[i];
                 let n = (t[1] - t[0]).cross(t[2] - t[0]);
                 (i, n, f64::INFINITY, f64::NEG_INFINITY)
             })
@@ -285,7 +298,7 @@ impl Receivers {
     /// (wider).
     fn span(&self, i: usize, normal: DVec3) -> (f64, f64) {
         if let Some(&(_, n, lo, hi)) = self.exact.iter().find(|e| e.0 == i) {
-            // The same normal, computed once: the scale is the same as `normal`'s.
+            // The same corners give the same normal.
             debug_assert!((n - normal).length() <= 1e-9 * n.length());
             return (lo, hi);
         }
@@ -429,12 +442,7 @@ mod tests {
         assert!((f.z_max - 5.0).abs() < 1e-12);
         assert!(f.near > 0.0 && f.z_min >= f.near * (1.0 - 1e-9) && f.z_min < 1.0 + 1e-9);
         for p in tris.iter().flatten() {
-            let d = *p - light.center;
-            let l = DVec3::new(
-                d.dot(light.tangent),
-                d.dot(light.bitangent),
-                d.dot(light.normal),
-            );
+            let l = light_coords(&light, *p);
             if l.z >= f.near {
                 let s = l.truncate() / l.z;
                 if s.abs().max_element() < MAX_SLOPE {
