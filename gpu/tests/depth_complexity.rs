@@ -86,7 +86,7 @@ fn frame(
     gpu_scene: &mut GpuScene,
     scene: &Scene,
     capacity: Option<u32>,
-) -> (Vec<f32>, ComplexityReport) {
+) -> (VisibilityImage, ComplexityReport) {
     if let Some(c) = capacity {
         gpu_scene.set_edge_list_capacity(c);
     }
@@ -95,7 +95,12 @@ fn frame(
     let (mut enc, target) = record_frame(ctx, gpu_scene, scene, &gbuffer).expect("frame");
     let v = read_r32f(ctx, &mut enc, &target, size.0, size.1).expect("readback");
     let report = gpu_scene.complexity_report().expect("report");
-    (v, report.expect("a depth-complexity frame"))
+    let image = VisibilityImage {
+        width: size.0,
+        height: size.1,
+        data: v,
+    };
+    (image, report.expect("a depth-complexity frame"))
 }
 
 /// Records the depth pre-pass and a depth-complexity frame of `scene` into `gbuffer` and a new
@@ -165,7 +170,12 @@ fn an_edge_list_too_small_loses_no_edge_and_grows() {
         "the grown list overflowed again: {report:?}"
     );
     assert_eq!(gpu_scene.edge_list_capacity(), grown);
-    let differ = small.iter().zip(&fitting).filter(|(a, b)| a != b).count();
+    let differ = small
+        .data
+        .iter()
+        .zip(&fitting.data)
+        .filter(|(a, b)| a != b)
+        .count();
     assert_eq!(differ, 0, "the overflowing frame lost edges");
     // And both are the oracle's image.
     let oracle = DepthComplexity::new(&scene).render(
@@ -176,12 +186,7 @@ fn an_edge_list_too_small_loses_no_edge_and_grows() {
         },
         &|_| {},
     );
-    let gpu = VisibilityImage {
-        width: scene.camera.width,
-        height: scene.camera.height,
-        data: fitting,
-    };
-    let (equal, _) = agreement(&oracle, &gpu, 1.0 / 64.0);
+    let (equal, _) = agreement(&oracle, &fitting, 1.0 / 64.0);
     assert!(equal >= 0.999, "{:.3}% equal", 100.0 * equal);
     // Light samples the GPU does not take are refused.
     for bad in [0, 1000, 4096] {
@@ -328,14 +333,9 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         if step == 2 {
             gpu_scene.set_light(light);
         }
-        let (v, report) = frame(&ctx, &mut gpu_scene, &scene, None);
+        let (gpu, report) = frame(&ctx, &mut gpu_scene, &scene, None);
         assert_eq!(report.cut_short, 0);
         let oracle = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
-        let gpu = VisibilityImage {
-            width: scene.camera.width,
-            height: scene.camera.height,
-            data: v,
-        };
         let (equal, beyond) = agreement(&oracle, &gpu, 1.0 / 64.0);
         assert!(
             equal >= 0.998 && beyond <= 0.001,
