@@ -29,7 +29,7 @@ use penumbra_volumes::silhouette::Silhouette;
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::GpuError;
 use crate::gpu_scene::{FrameInputs, GpuScene};
-use crate::passes::complexity::{ComplexityParams, gpu_edges, light_planes};
+use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
@@ -51,7 +51,7 @@ pub(crate) struct ComplexityScene {
     edges: wgpu::Buffer,
     faces: wgpu::Buffer,
     crossings: wgpu::Buffer,
-    planes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
     edge_count: u32,
     crossing_count: u32,
     triangle_count: u32,
@@ -128,7 +128,7 @@ impl ComplexityScene {
     fn build(scene: &GpuScene) -> (Self, u64) {
         let device = &scene.ctx.device;
         let (meshes, world) = scene.world();
-        let planes = light_planes(&scene.light, &world);
+        let triangles = light_triangles(&scene.light, &world);
         let c = scene.light.center;
         let mut vol: Vec<[f32; 4]> = Vec::new();
         let mut volume_ranges = Vec::with_capacity(meshes.len());
@@ -162,17 +162,17 @@ impl ComplexityScene {
             + std::mem::size_of_val(edges.as_slice())
             + std::mem::size_of_val(faces.as_slice())
             + std::mem::size_of_val(crossings.as_slice())
-            + std::mem::size_of_val(planes.as_slice());
+            + std::mem::size_of_val(triangles.as_slice());
         let data = ComplexityScene {
             volume: buffer(device, "open volumes", &vol, wgpu::BufferUsages::VERTEX),
             volume_ranges,
             edges: buffer(device, "potential edges", &edges, storage),
             faces: buffer(device, "edge faces", &faces, storage),
             crossings: buffer(device, "light crossings", &crossings, storage),
-            planes: buffer(device, "triangle planes", &planes, storage),
+            triangles: buffer(device, "light-space triangles", &triangles, storage),
             edge_count: edges.len() as u32,
             crossing_count: crossings.len() as u32,
-            triangle_count: planes.len() as u32,
+            triangle_count: triangles.len() as u32,
             potential: potential.edges.len(),
             all_edges: potential.all_edges,
         };
@@ -392,7 +392,7 @@ impl GpuScene {
                 frame.demand.as_entire_binding(),
                 frame.params.as_entire_binding(),
                 frame.visibility.as_entire_binding(),
-                data.planes.as_entire_binding(),
+                data.triangles.as_entire_binding(),
             ],
         );
         encoder.clear_buffer(&frame.demand, 0, None);

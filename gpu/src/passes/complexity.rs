@@ -28,6 +28,14 @@ pub struct GpuEdge {
     pub toward_centre: [f32; 3],
     /// Padding.
     pub pad: u32,
+    /// What `a` rounded off ([`split`]).
+    pub a_low: [f32; 3],
+    /// Padding.
+    pub pad1: u32,
+    /// What `toward_centre` rounded off.
+    pub toward_centre_low: [f32; 3],
+    /// Padding.
+    pub pad2: u32,
 }
 
 /// One face on an edge (`struct Face`).
@@ -38,6 +46,10 @@ pub struct GpuFace {
     pub normal: [f32; 3],
     /// Its triangle's index in the scene.
     pub triangle: u32,
+    /// What `normal` rounded off.
+    pub normal_low: [f32; 3],
+    /// Padding.
+    pub pad: u32,
 }
 
 /// A triangle through the light's plane (`struct Crossing`).
@@ -68,13 +80,16 @@ pub struct ComplexityParams {
     pub per_axis: u32,
     /// Tiles per image row.
     pub tiles_x: u32,
-    /// Scene triangles (planes in the plane buffer).
+    /// Scene triangles (in the triangle buffer).
     pub triangles: u32,
     /// Loop iterations an invocation of the counting pass may take before it counts its pixel
     /// as cut short.
     pub budget: u32,
-    /// Padding.
-    pub pad: u32,
+    /// 0, which the shader compiler cannot see: the counting pass passes the steps of its
+    /// error-free transformations through an integer operation with it (`count.wgsl`,
+    /// `opaque`), so that no algebraic rewrite (`(a + b) - a` to `b`) loses the rounding error
+    /// they measure.
+    pub zero: u32,
     /// The eye in light space (`w` unused).
     pub eye: [f32; 4],
     /// The light-space direction of the ray through normalised device coordinates `(x, y)`:
@@ -113,21 +128,53 @@ impl ComplexityParams {
     }
 }
 
-/// Each triangle's plane in light space, `(n, w)` with `n` a unit normal and `n . x = w`, from
-/// its corners in `f64`; a degenerate triangle's is zero.
-pub fn light_planes(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<[f32; 4]> {
+/// A scene triangle as the counting pass reads it, in light space (`struct Triangle`): its plane
+/// `(n, w)` with `n` a unit normal and `n . x = w` (zero for a degenerate triangle), and its
+/// corners, each as the `f32` nearest the `f64` light-space position and what that rounded off,
+/// as the potential edges' ends (a corner the receiver shares with an edge is the same pair).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuTriangle {
+    /// `(n, w)`.
+    pub plane: [f32; 4],
+    /// The corners (`w` unused).
+    pub corners: [[f32; 4]; 3],
+    /// What the corners rounded off (`w` unused).
+    pub corners_low: [[f32; 4]; 3],
+}
+
+/// A light-space vector as the `f32` nearest it and what that rounds off: the pair is the `f64`
+/// vector to about 1e-14 of it, and the counting pass takes differences and dot products of
+/// such pairs where `f32` alone cannot tell a side (`count.wgsl`, `side_of_p`).
+pub fn split(p: DVec3) -> ([f32; 3], [f32; 3]) {
+    let high = p.as_vec3();
+    (high.to_array(), (p - high.as_dvec3()).as_vec3().to_array())
+}
+
+/// Each of `triangles` (world space) as a [`GpuTriangle`], from its corners in `f64`.
+pub fn light_triangles(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<GpuTriangle> {
     triangles
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|v| light.to_light_space(v));
             let n = (b - a).cross(c - a).normalize_or_zero();
-            n.extend(n.dot(a)).as_vec4().to_array()
+            let corner = |v: DVec3| {
+                let (high, low) = split(v);
+                ([high[0], high[1], high[2], 0.0], [low[0], low[1], low[2], 0.0])
+            };
+            let [ca, cb, cc] = [a, b, c].map(corner);
+            GpuTriangle {
+                plane: n.extend(n.dot(a)).as_vec4().to_array(),
+                corners: [ca.0, cb.0, cc.0],
+                corners_low: [ca.1, cb.1, cc.1],
+            }
         })
         .collect()
 }
 
-const _: () = assert!(std::mem::size_of::<GpuEdge>() == 48);
-const _: () = assert!(std::mem::size_of::<GpuFace>() == 16);
+const _: () = assert!(std::mem::size_of::<GpuEdge>() == 80);
+const _: () = assert!(std::mem::size_of::<GpuFace>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 112);
 const _: () = assert!(std::mem::size_of::<GpuCrossing>() == 32);
 const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 96);
 
@@ -144,6 +191,10 @@ pub fn gpu_edges(edges: &PotentialEdges) -> (Vec<GpuEdge>, Vec<GpuFace>, Vec<Gpu
             face_count: e.face_count,
             toward_centre: v(e.toward_centre),
             pad: 0,
+            a_low: split(e.a).1,
+            pad1: 0,
+            toward_centre_low: split(e.toward_centre).1,
+            pad2: 0,
         })
         .collect();
     let f = edges
@@ -152,6 +203,8 @@ pub fn gpu_edges(edges: &PotentialEdges) -> (Vec<GpuEdge>, Vec<GpuFace>, Vec<Gpu
         .map(|f| GpuFace {
             normal: v(f.normal),
             triangle: f.triangle,
+            normal_low: split(f.normal).1,
+            pad: 0,
         })
         .collect();
     let x = edges
@@ -169,7 +222,7 @@ pub fn gpu_edges(edges: &PotentialEdges) -> (Vec<GpuEdge>, Vec<GpuFace>, Vec<Gpu
 
 /// Layout of group 1 of both passes, at bindings 0 to 10: the positions and the stencil counts
 /// of the depth pre-pass, the edges, faces and crossings, the tiles' ranges, the edge list, the
-/// demand counter, the [`ComplexityParams`], V and the triangles' planes.
+/// demand counter, the [`ComplexityParams`], V and the triangles ([`GpuTriangle`]).
 pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let storage = |read_only| wgpu::BindingType::Buffer {
         ty: wgpu::BufferBindingType::Storage { read_only },

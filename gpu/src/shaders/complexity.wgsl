@@ -16,6 +16,11 @@ struct Edge {
     // (b - a) x (c - a) for the light's centre c.
     toward_centre: vec3<f32>,
     pad: u32,
+    // What `a` and `toward_centre` rounded off (`passes::complexity::split`).
+    a_low: vec3<f32>,
+    pad1: u32,
+    toward_centre_low: vec3<f32>,
+    pad2: u32,
 }
 
 // One face on an edge `a b`: (b - a) x (w - a) for its third vertex w, and its triangle's index
@@ -23,6 +28,9 @@ struct Edge {
 struct Face {
     normal: vec3<f32>,
     triangle: u32,
+    // What `normal` rounded off.
+    normal_low: vec3<f32>,
+    pad: u32,
 }
 
 // A triangle through the light's plane (`penumbra_volumes::potential::LightCrossing`).
@@ -39,12 +47,13 @@ struct Params {
     crossings: u32,
     capacity: u32,
     per_axis: u32,
-    // Tiles per row of the image; triangles in `planes`; the loop iterations an invocation of
+    // Tiles per row of the image; triangles in `triangles`; the loop iterations an invocation of
     // the counting pass may take before it counts its pixel as cut short (`demand[1]`).
     tiles_x: u32,
     triangles: u32,
     budget: u32,
-    pad1: u32,
+    // 0, unknown to the compiler (`passes::complexity::ComplexityParams::zero`).
+    zero: u32,
     // The eye in light space (w unused).
     eye: vec4<f32>,
     // The light-space direction of the ray through normalised device coordinates (x, y):
@@ -69,8 +78,17 @@ struct Params {
 @group(1) @binding(8) var<uniform> params: Params;
 // V, one per pixel, row by row.
 @group(1) @binding(9) var<storage, read_write> visibility: array<f32>;
-// Each scene triangle's plane in light space: unit normal n and n . x = w.
-@group(1) @binding(10) var<storage, read> planes: array<vec4<f32>>;
+// A scene triangle in light space (`passes::complexity::GpuTriangle`): its plane, unit normal n
+// and n . x = w, and its corners (w unused), the same f32 points as the edges' ends they share.
+struct Triangle {
+    plane: vec4<f32>,
+    corners: array<vec4<f32>, 3>,
+    // What the corners rounded off, as `Edge::a_low`.
+    corners_low: array<vec4<f32>, 3>,
+}
+
+// Each scene triangle.
+@group(1) @binding(10) var<storage, read> triangles: array<Triangle>;
 
 // The receiver's triangle from the depth pre-pass's position w (`passes::depth::GBuffer`).
 fn receiver_triangle(w: f32) -> u32 {
@@ -101,7 +119,7 @@ fn receiver_point(px: vec2<u32>, p: vec4<f32>) -> vec3<f32> {
     if (t >= params.triangles) {
         return raster;
     }
-    let plane = planes[t];
+    let plane = triangles[t].plane;
     let ndc = vec2<f32>(
         2.0 * (f32(px.x) + 0.5) / frame.size.x - 1.0,
         1.0 - 2.0 * (f32(px.y) + 0.5) / frame.size.y,

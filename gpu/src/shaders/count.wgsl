@@ -7,9 +7,13 @@
 // reach) and of the correlated multi-jittered pattern of `penumbra_volumes::samples`, so that the
 // GPU and the CPU oracle agree sample for sample up to f32 rounding.
 
-// A face is seen edge-on from P when P lies within this share of |P - a| + |P| of its plane:
-// within f32 rounding of a rasterised position (the CPU oracle's f64 uses 1e-10 of |P - a|).
-const EDGE_ON: f32 = 1e-7;
+// A corner of the receiver lies on a plane through an edge's end (a face's, or the edge's and
+// the light's centre) when it is within this share of its distance to that end, weighted by the
+// normal: within the rounding of the normal and of the f32 arithmetic (the CPU oracle's f64
+// uses 1e-10).
+const EDGE_ON: f32 = 2e-7;
+// Within this share, the oracle's: on the plane.
+const TIE: f32 = 1e-10;
 
 // The loop iterations this invocation has run, each loop's counted (`params.budget`).
 var<private> spent: u32;
@@ -133,29 +137,164 @@ fn slab(za: f32, zb: f32, zp: f32) -> vec2<f32> {
     return t;
 }
 
+// The receiver's triangle, for the side tests: its corners and P's barycentric weights on it.
+// The side of P of a plane through an edge's end `a` is the weighted sum of its corners' sides
+// (`side_of_p`), each zero where the corner lies on the plane within rounding. A corner the
+// receiver shares with the edge or a face lies on that plane, so a face next to the receiver, or
+// the plane of an edge of its own and the light's centre, takes its side from the receiver's
+// other corners: P's f32 rounding, which can move P across a plane that passes within a fraction
+// of a pixel of it, does not enter. Each corner and each edge's end carries what its f32 rounded
+// off, so that corner - end is as precise as in the oracle's f64. Where the triangle is unknown
+// or degenerate, P stands for all three corners.
+var<private> corners: array<vec3<f32>, 3>;
+var<private> corners_low: array<vec3<f32>, 3>;
+var<private> weights: vec3<f32>;
+
+fn set_receiver(pl: vec3<f32>, receiver: u32) {
+    corners = array<vec3<f32>, 3>(pl, pl, pl);
+    corners_low = array<vec3<f32>, 3>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+    weights = vec3<f32>(1.0, 0.0, 0.0);
+    if (receiver >= params.triangles) {
+        return;
+    }
+    let t = triangles[receiver];
+    let c0 = t.corners[0].xyz;
+    let c1 = t.corners[1].xyz;
+    let c2 = t.corners[2].xyz;
+    let n = cross(c1 - c0, c2 - c0);
+    let w = vec3<f32>(
+        dot(n, cross(c1 - pl, c2 - pl)),
+        dot(n, cross(c2 - pl, c0 - pl)),
+        dot(n, cross(c0 - pl, c1 - pl)),
+    );
+    let sum = w.x + w.y + w.z;
+    if (!(sum > 0.0) || !(sum < BIG)) {
+        return;
+    }
+    corners = array<vec3<f32>, 3>(c0, c1, c2);
+    corners_low = array<vec3<f32>, 3>(t.corners_low[0].xyz, t.corners_low[1].xyz, t.corners_low[2].xyz);
+    weights = w / sum;
+}
+
+// Corner i minus the point (a, a_low): the difference of the f32 parts is exact for points
+// within a factor of two of each other (Sterbenz), so the result is within f32 rounding of the
+// f64 difference.
+fn corner_minus(i: u32, a: vec3<f32>, a_low: vec3<f32>) -> vec3<f32> {
+    return (corners[i] - a) + (corners_low[i] - a_low);
+}
+
+// Error-free transformations (Knuth's two-sum; Dekker's product with Veltkamp's split): a
+// result and its rounding error, exactly. Shader compilers may fold `(a + b) - a` to `b`,
+// reassociate sums and lower `fma` to a rounded product and sum (lavapipe does all three), so
+// each step's result passes through `opaque`, which no floating-point rewrite crosses, and
+// products are split instead of using `fma`.
+fn opaque(x: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(x) ^ params.zero);
+}
+
+fn two_sum(a: f32, b: f32) -> vec2<f32> {
+    let s = opaque(a + b);
+    let bb = opaque(s - a);
+    let av = opaque(s - bb);
+    return vec2<f32>(s, opaque(a - av) + opaque(b - bb));
+}
+
+// a as hi + lo, each of at most 12 significant bits.
+fn veltkamp(a: f32) -> vec2<f32> {
+    let c = opaque(a * 4097.0);
+    let t = opaque(c - a);
+    let hi = opaque(c - t);
+    return vec2<f32>(hi, opaque(a - hi));
+}
+
+fn two_product(a: f32, b: f32) -> vec2<f32> {
+    let p = opaque(a * b);
+    let x = veltkamp(a);
+    let y = veltkamp(b);
+    let e1 = opaque(x.x * y.x - p);
+    let e2 = opaque(e1 + x.x * y.y);
+    let e3 = opaque(e2 + x.y * y.x);
+    return vec2<f32>(p, e3 + x.y * y.y);
+}
+
+// (k + k_low) . (corner i - (a + a_low)) in about twice f32's precision: for a corner that f32
+// finds on the plane.
+fn precise_side(k: vec3<f32>, k_low: vec3<f32>, i: u32, a: vec3<f32>, a_low: vec3<f32>) -> f32 {
+    // Written out rather than looped: lavapipe counts a loop's iterations against its limit.
+    let d = vec3<f32>(
+        two_sum(corners[i].x, -a.x).x,
+        two_sum(corners[i].y, -a.y).x,
+        two_sum(corners[i].z, -a.z).x,
+    );
+    let d_low = vec3<f32>(
+        two_sum(corners[i].x, -a.x).y,
+        two_sum(corners[i].y, -a.y).y,
+        two_sum(corners[i].z, -a.z).y,
+    ) + (corners_low[i] - a_low);
+    let px = two_product(k.x, d.x);
+    let py = two_product(k.y, d.y);
+    let pz = two_product(k.z, d.z);
+    let t1 = two_sum(px.x, py.x);
+    let t2 = two_sum(t1.x, pz.x);
+    let lo = t1.y + t2.y + px.y + py.y + pz.y + dot(k, d_low) + dot(k_low, d);
+    return t2.x + lo;
+}
+
+// k . (P - a) up to a positive factor, from the receiver's corners (`set_receiver`), for the
+// plane through `a` with normal `k` (`k_low`, `a_low`: what they rounded off); zero when P lies
+// on the plane. A corner within f32 rounding of the plane takes its side in about twice f32's
+// precision, and lies on the plane within the oracle's 1e-10.
+fn side_of_p(k: vec3<f32>, k_low: vec3<f32>, a: vec3<f32>, a_low: vec3<f32>) -> f32 {
+    var s = 0.0;
+    for (var i = 0u; i < 3u; i++) {
+        spent++;
+        let d = corner_minus(i, a, a_low);
+        var g = dot(k, d);
+        if (abs(g) <= EDGE_ON * dot(abs(k), abs(d))) {
+            g = precise_side(k, k_low, i, a, a_low);
+            if (abs(g) <= TIE * length(k) * length(d)) {
+                g = 0.0;
+            }
+        }
+        s += weights[i] * g;
+    }
+    return s;
+}
+
+// P - a up to a positive factor and to a multiple of b - a, from the receiver's corners: the
+// corners it shares with the edge `a b` drop out exactly.
+fn from_edge(a: vec3<f32>, a_low: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    var q = vec3<f32>(0.0);
+    for (var i = 0u; i < 3u; i++) {
+        spent++;
+        let c = corners[i];
+        if (!all(c == a) && !all(c == b)) {
+            q += weights[i] * corner_minus(i, a, a_low);
+        }
+    }
+    return q;
+}
+
 // The samples edge `ei` separates from the centre as seen from `pl` on triangle `receiver`
 // (`penumbra_volumes::region::edge_region`); delta 0 when it changes none.
 fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u32) -> Region {
     let e = edges[ei];
     let a = e.a;
     let b = e.b;
-    let d = pl - a;
-    let side_c = dot(e.toward_centre, d);
+    let side_c = side_of_p(e.toward_centre, e.toward_centre_low, a, e.a_low);
     if (side_c == 0.0) {
         return no_region();
     }
-    let reach = length(d) + length(pl);
     var delta = 0i;
-    var on_receiver = false;
     for (var f = e.first_face; f < e.first_face + e.face_count; f++) {
         spent++;
         let face = faces[f];
         if (face.triangle == receiver) {
-            on_receiver = true;
             continue;
         }
-        let s = dot(face.normal, d);
-        if (abs(s) <= EDGE_ON * length(face.normal) * reach) {
+        // P on a face's plane sees it edge-on: it covers no sample.
+        let s = side_of_p(face.normal, face.normal_low, a, e.a_low);
+        if (s == 0.0) {
             continue;
         }
         if ((s < 0.0) != (side_c < 0.0)) {
@@ -179,15 +318,9 @@ fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u
         return no_region();
     }
     let l = b - a;
-    // The plane of P and the edge. When the edge is one of the receiver's own triangle's, it
-    // is that triangle's plane, which P lies on: its normal is taken from the plane itself,
-    // since the cross product of the edge and P - a turns by P's f32 rounding over P's
-    // distance to the edge, wide near an edge at the terminator.
-    var m = cross(l, pl - a);
-    if (on_receiver && receiver < params.triangles) {
-        let n = planes[receiver].xyz;
-        m = n * (sign(dot(n, m)) * length(m));
-    }
+    // The plane of P and the edge, from the receiver's corners: for an edge of the receiver's
+    // own triangle, that triangle's plane exactly.
+    let m = cross(l, from_edge(a, e.a_low, b));
     let o1 = dot(m, -a);
     if (o1 == 0.0) {
         return no_region();
@@ -379,6 +512,7 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         return;
     }
     let receiver = receiver_triangle(p.w);
+    set_receiver(pl, receiver);
     let base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
     let n = params.per_axis;
     // The pattern of this pixel (`SamplePattern::points`).
