@@ -119,7 +119,17 @@ fn receiver_point(px: vec2<u32>, p: vec4<f32>) -> vec3<f32> {
     if (t >= params.triangles) {
         return raster;
     }
-    let plane = triangles[t].plane;
+    let at = on_plane(px, triangles[t].plane);
+    let off = length(at - raster);
+    if (!(off <= 1e-3 * length(raster - params.eye.xyz))) {
+        return raster;
+    }
+    return at;
+}
+
+// Where the ray through the centre of pixel `px` meets `plane` (unit normal n, n . x = w), in
+// light space; not finite where the ray runs along the plane.
+fn on_plane(px: vec2<u32>, plane: vec4<f32>) -> vec3<f32> {
     let ndc = vec2<f32>(
         2.0 * (f32(px.x) + 0.5) / frame.size.x - 1.0,
         1.0 - 2.0 * (f32(px.y) + 0.5) / frame.size.y,
@@ -127,12 +137,7 @@ fn receiver_point(px: vec2<u32>, p: vec4<f32>) -> vec3<f32> {
     let dir = ndc.x * params.ray_x.xyz + ndc.y * params.ray_y.xyz + params.ray_1.xyz;
     let eye = params.eye.xyz;
     let along = dot(plane.xyz, dir);
-    let at = eye + dir * ((plane.w - dot(plane.xyz, eye)) / along);
-    let off = length(at - raster);
-    if (!(off <= 1e-3 * length(raster - eye))) {
-        return raster;
-    }
-    return at;
+    return eye + dir * ((plane.w - dot(plane.xyz, eye)) / along);
 }
 
 // The edge lists' test, shared with the counting pass's reading of every edge where a tile's

@@ -158,22 +158,59 @@ fn set_receiver(pl: vec3<f32>, receiver: u32) {
         return;
     }
     let t = triangles[receiver];
-    let c0 = t.corners[0].xyz;
-    let c1 = t.corners[1].xyz;
-    let c2 = t.corners[2].xyz;
-    let n = cross(c1 - c0, c2 - c0);
-    let w = vec3<f32>(
-        dot(n, cross(c1 - pl, c2 - pl)),
-        dot(n, cross(c2 - pl, c0 - pl)),
-        dot(n, cross(c0 - pl, c1 - pl)),
-    );
+    let w = barycentric(t, pl);
     let sum = w.x + w.y + w.z;
     if (!(sum > 0.0) || !(sum < BIG)) {
         return;
     }
-    corners = array<vec3<f32>, 3>(c0, c1, c2);
+    corners = array<vec3<f32>, 3>(t.corners[0].xyz, t.corners[1].xyz, t.corners[2].xyz);
     corners_low = array<vec3<f32>, 3>(t.corners_low[0].xyz, t.corners_low[1].xyz, t.corners_low[2].xyz);
     weights = w / sum;
+}
+
+// The barycentric weights of q, a point of triangle t's plane, times twice its area squared.
+fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
+    let c0 = t.corners[0].xyz;
+    let c1 = t.corners[1].xyz;
+    let c2 = t.corners[2].xyz;
+    let n = cross(c1 - c0, c2 - c0);
+    return vec3<f32>(
+        dot(n, cross(c1 - q, c2 - q)),
+        dot(n, cross(c2 - q, c0 - q)),
+        dot(n, cross(c0 - q, c1 - q)),
+    );
+}
+
+// The receiver through pixel `px` when the rasteriser's, `receiver` (P at `pl`), does not hold
+// the pixel's ray: it snaps the triangles' corners to a fraction of a pixel, so a pixel centre
+// that close to an edge between two faces can land on the wrong one. The triangle of a
+// neighbouring pixel that holds the ray, where it meets it within a thousandth of the distance
+// of P (the same surface, so the stencil's count still holds): (its index, P on it); `receiver`
+// and `pl` where there is none.
+fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>) -> vec4<f32> {
+    var best = vec4<f32>(pl, bitcast<f32>(receiver));
+    var best_off = 1e-3 * length(pl - params.eye.xyz);
+    let size = vec2<i32>(frame.size.xy);
+    for (var k = 0u; k < 9u; k++) {
+        spent++;
+        let q = vec2<i32>(px) + vec2<i32>(i32(k % 3u) - 1, i32(k / 3u) - 1);
+        if (k == 4u || any(q < vec2<i32>(0)) || any(q >= size)) {
+            continue;
+        }
+        let w = textureLoad(position, q, 0).w;
+        let c = receiver_triangle(w);
+        if (w == 0.0 || c == receiver || c >= params.triangles) {
+            continue;
+        }
+        let t = triangles[c];
+        let at = on_plane(px, t.plane);
+        let off = length(at - pl);
+        if (off <= best_off && all(barycentric(t, at) >= vec3<f32>(0.0))) {
+            best = vec4<f32>(at, bitcast<f32>(c));
+            best_off = off;
+        }
+    }
+    return best;
 }
 
 // Corner i minus the point (a, a_low): the difference of the f32 parts is exact for points
@@ -506,13 +543,21 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         visibility[pixel] = 1.0;
         return;
     }
-    let pl = receiver_point(gid.xy, p);
+    var pl = receiver_point(gid.xy, p);
+    var receiver = receiver_triangle(p.w);
+    set_receiver(pl, receiver);
+    if (any(weights < vec3<f32>(0.0))) {
+        let better = ray_receiver(gid.xy, receiver, pl);
+        if (bitcast<u32>(better.w) != receiver) {
+            pl = better.xyz;
+            receiver = bitcast<u32>(better.w);
+            set_receiver(pl, receiver);
+        }
+    }
     if (!(pl.z > 0.0)) {
         visibility[pixel] = 0.0;
         return;
     }
-    let receiver = receiver_triangle(p.w);
-    set_receiver(pl, receiver);
     let base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
     let n = params.per_axis;
     // The pattern of this pixel (`SamplePattern::points`).
