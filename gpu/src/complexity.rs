@@ -29,7 +29,7 @@ use penumbra_volumes::silhouette::Silhouette;
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::GpuError;
 use crate::gpu_scene::{FrameInputs, GpuScene};
-use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles};
+use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
@@ -128,11 +128,12 @@ impl ComplexityScene {
     fn build(scene: &GpuScene) -> (Self, u64) {
         let device = &scene.ctx.device;
         let (meshes, world) = scene.world();
-        let triangles = light_triangles(&scene.light, &world);
+
         let c = scene.light.center;
         let mut vol: Vec<[f32; 4]> = Vec::new();
         let mut volume_ranges = Vec::with_capacity(meshes.len());
         let half_edge: Vec<HalfEdgeMesh> = meshes.iter().map(HalfEdgeMesh::build).collect();
+        let triangles = light_triangles(&scene.light, &world, &neighbours(&half_edge));
         for (mi, (mesh, stored)) in half_edge.iter().zip(&scene.meshes).enumerate() {
             // Every triangle casts, facing the centre either way: the stencil then counts each
             // triangle the segment to the centre crosses.

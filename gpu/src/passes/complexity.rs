@@ -6,6 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, DVec4};
 use penumbra_geom::RectLight;
+use penumbra_geom::halfedge::HalfEdgeMesh;
 use penumbra_volumes::potential::PotentialEdges;
 
 /// WGSL declarations shared by the edge-list and the counting pass.
@@ -141,6 +142,34 @@ pub struct GpuTriangle {
     pub corners: [[f32; 4]; 3],
     /// What the corners rounded off (`w` unused).
     pub corners_low: [[f32; 4]; 3],
+    /// Across the side opposite each corner, a triangle sharing it ([`NO_NEIGHBOUR`] for none;
+    /// one of them where three or more faces meet).
+    pub neighbours: [u32; 3],
+    /// Padding.
+    pub pad: u32,
+}
+
+/// [`GpuTriangle::neighbours`] where a side has no other face.
+pub const NO_NEIGHBOUR: u32 = u32::MAX;
+
+/// For each triangle of `meshes` (numbered through them in order), a triangle across the side
+/// opposite each corner ([`GpuTriangle::neighbours`]).
+pub fn neighbours(meshes: &[HalfEdgeMesh]) -> Vec<[u32; 3]> {
+    let mut out = Vec::new();
+    for mesh in meshes {
+        let first = out.len() as u32;
+        out.extend((0..mesh.faces.len() as u32).map(|f| {
+            [0u32, 1, 2].map(|corner| {
+                let h = 3 * f + (corner + 1) % 3;
+                let edge = &mesh.edges[mesh.half_edges[h as usize].edge as usize];
+                edge.half_edges
+                    .iter()
+                    .find(|&&other| other != h)
+                    .map_or(NO_NEIGHBOUR, |&other| first + HalfEdgeMesh::face(other))
+            })
+        }));
+    }
+    out
 }
 
 /// A light-space vector as the `f32` nearest it and what that rounds off: the pair is the `f64`
@@ -151,11 +180,17 @@ pub fn split(p: DVec3) -> ([f32; 3], [f32; 3]) {
     (high.to_array(), (p - high.as_dvec3()).as_vec3().to_array())
 }
 
-/// Each of `triangles` (world space) as a [`GpuTriangle`], from its corners in `f64`.
-pub fn light_triangles(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<GpuTriangle> {
+/// Each of `triangles` (world space) as a [`GpuTriangle`], from its corners in `f64`, with its
+/// `neighbours`.
+pub fn light_triangles(
+    light: &RectLight,
+    triangles: &[[DVec3; 3]],
+    neighbours: &[[u32; 3]],
+) -> Vec<GpuTriangle> {
     triangles
         .iter()
-        .map(|t| {
+        .zip(neighbours)
+        .map(|(t, &neighbours)| {
             let [a, b, c] = t.map(|v| light.to_light_space(v));
             let n = (b - a).cross(c - a).normalize_or_zero();
             let corner = |v: DVec3| {
@@ -167,6 +202,8 @@ pub fn light_triangles(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<GpuTr
                 plane: n.extend(n.dot(a)).as_vec4().to_array(),
                 corners: [ca.0, cb.0, cc.0],
                 corners_low: [ca.1, cb.1, cc.1],
+                neighbours,
+                pad: 0,
             }
         })
         .collect()
@@ -174,7 +211,7 @@ pub fn light_triangles(light: &RectLight, triangles: &[[DVec3; 3]]) -> Vec<GpuTr
 
 const _: () = assert!(std::mem::size_of::<GpuEdge>() == 80);
 const _: () = assert!(std::mem::size_of::<GpuFace>() == 32);
-const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 112);
+const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuCrossing>() == 32);
 const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 96);
 

@@ -85,6 +85,9 @@ struct Triangle {
     corners: array<vec4<f32>, 3>,
     // What the corners rounded off, as `Edge::a_low`.
     corners_low: array<vec4<f32>, 3>,
+    // A triangle across the side opposite each corner (none: 0xffffffff).
+    neighbours: array<u32, 3>,
+    pad: u32,
 }
 
 // Each scene triangle.

@@ -183,23 +183,32 @@ fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
 
 // The receiver through pixel `px` when the rasteriser's, `receiver` (P at `pl`), does not hold
 // the pixel's ray: it snaps the triangles' corners to a fraction of a pixel, so a pixel centre
-// that close to an edge between two faces can land on the wrong one. The triangle of a
-// neighbouring pixel that holds the ray, where it meets it within a thousandth of the distance
+// that close to an edge between two faces can land on the wrong one. The triangle across one of
+// the receiver's sides or of a neighbouring pixel that holds the ray, where it meets it within a thousandth of the distance
 // of P (the same surface, so the stencil's count still holds): (its index, P on it); `receiver`
 // and `pl` where there is none.
 fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>) -> vec4<f32> {
     var best = vec4<f32>(pl, bitcast<f32>(receiver));
     var best_off = 1e-3 * length(pl - params.eye.xyz);
     let size = vec2<i32>(frame.size.xy);
-    for (var k = 0u; k < 9u; k++) {
+    let across = triangles[receiver].neighbours;
+    for (var k = 0u; k < 12u; k++) {
         spent++;
-        let q = vec2<i32>(px) + vec2<i32>(i32(k % 3u) - 1, i32(k / 3u) - 1);
-        if (k == 4u || any(q < vec2<i32>(0)) || any(q >= size)) {
-            continue;
+        var c = receiver;
+        if (k < 3u) {
+            c = across[k];
+        } else {
+            let q = vec2<i32>(px) + vec2<i32>(i32(k % 3u) - 1, i32(k / 3u) - 2);
+            if (k == 7u || any(q < vec2<i32>(0)) || any(q >= size)) {
+                continue;
+            }
+            let w = textureLoad(position, q, 0).w;
+            if (w == 0.0) {
+                continue;
+            }
+            c = receiver_triangle(w);
         }
-        let w = textureLoad(position, q, 0).w;
-        let c = receiver_triangle(w);
-        if (w == 0.0 || c == receiver || c >= params.triangles) {
+        if (c == receiver || c >= params.triangles) {
             continue;
         }
         let t = triangles[c];
@@ -605,7 +614,7 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
             seen += select(0u, 1u, (c & 0xffu) == 0u || (c & 0x80u) != 0u);
         }
     } else {
-        seen = select(0u, n * n, base == 0u);
+        seen = select(0u, n * n, base == 0u || (base & 0x80u) != 0u);
     }
     if (spent > params.budget) {
         atomicAdd(&demand[1], 1u);
