@@ -380,9 +380,12 @@ fn edge_region(ei: u32, pl: vec3<f32>, pyramid: array<vec4<f32>, 5>, receiver: u
     let o3 = line_through(-m * flip, a);
     let f0 = through_centre(cross(pl, a));
     let f1 = through_centre(cross(pl, b));
-    let mid = a + l * (0.5 * (t.x + t.y));
-    let q = pl + (mid - pl) * (pl.z / (pl.z - mid.z));
-    if (line_at(f0, q.xy) > 0.0) {
+    // `f0 f1 < 0` holds on two opposite cones at the centre; the samples lie in the one that
+    // holds the edge's projection from P. The oracle tests the projection q of a point of the
+    // edge between depths 0 and P's against f0: f0(q) = det(P, a, q), a positive multiple of
+    // det(P, a, b) = side_c, whose sign is taken here from the precise side test (the
+    // projection runs within rounding of the centre where side_c is that small).
+    if (side_c > 0.0) {
         return make_region(delta, o3, f0, -f1, o2);
     }
     return make_region(delta, o3, -f0, f1, o2);
