@@ -183,14 +183,15 @@ fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
 
 // The receiver through pixel `px` when the rasteriser's, `receiver` (P at `pl`), does not hold
 // the pixel's ray: it snaps the triangles' corners to a fraction of a pixel, so a pixel centre
-// that close to an edge between two faces can land on the wrong one. The triangle across one of
-// the receiver's sides or of a neighbouring pixel that holds the ray, where it meets it within a thousandth of the distance
-// of P (the same surface, so the stencil's count still holds): (its index, P on it); `receiver`
-// and `pl` where there is none.
+// that close to an edge can land on the wrong triangle, or on the wrong surface at an outline.
+// Of the triangles across the receiver's sides and those of the neighbouring pixels, the
+// nearest to the eye that holds the ray, as the oracle's first hit: (P on it, its index);
+// `receiver` and `pl` where none does.
 fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>) -> vec4<f32> {
     var best = vec4<f32>(pl, bitcast<f32>(receiver));
-    var best_off = 1e-3 * length(pl - params.eye.xyz);
+    var best_depth = BIG;
     let size = vec2<i32>(frame.size.xy);
+    let eye = params.eye.xyz;
     let across = triangles[receiver].neighbours;
     for (var k = 0u; k < 12u; k++) {
         spent++;
@@ -213,13 +214,55 @@ fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>) -> vec4<f32> {
         }
         let t = triangles[c];
         let at = on_plane(px, t.plane);
-        let off = length(at - pl);
-        if (off <= best_off && all(barycentric(t, at) >= vec3<f32>(0.0))) {
+        let depth = length(at - eye);
+        if (depth < best_depth && dot(at - eye, pl - eye) > 0.0
+            && all(barycentric(t, at) >= vec3<f32>(0.0))) {
             best = vec4<f32>(at, bitcast<f32>(c));
-            best_off = off;
+            best_depth = depth;
         }
     }
     return best;
+}
+
+// Whether the open segment from p to the light's centre crosses triangle t (Moller & Trumbore,
+// edges included), farther than a millionth of its length from either end: the oracle's
+// `Tracer::crosses`.
+fn crosses_to_centre(t: Triangle, p: vec3<f32>) -> bool {
+    let c0 = t.corners[0].xyz;
+    let e1 = t.corners[1].xyz - c0;
+    let e2 = t.corners[2].xyz - c0;
+    let d = -p;
+    let h = cross(d, e2);
+    let det = dot(e1, h);
+    if (det == 0.0) {
+        return false;
+    }
+    let sp = p - c0;
+    let u = dot(sp, h) / det;
+    let q = cross(sp, e1);
+    let v = dot(d, q) / det;
+    let at = dot(e2, q) / det;
+    return u >= 0.0 && v >= 0.0 && u + v <= 1.0 && at > 1e-6 && at < 1.0 - 1e-6;
+}
+
+// Whether `centre_count` fits in this invocation's loop budget with half of it left for the
+// rest of its work (always, on a hardware GPU).
+fn can_count_centre() -> bool {
+    return params.triangles <= (params.budget - min(spent, params.budget)) / 2u;
+}
+
+// D(P, c) for P at `pl` on triangle `receiver`: every other triangle the segment to the centre
+// crosses, counted one by one (the stencil holds the count of the rasterised receiver's point
+// only).
+fn centre_count(pl: vec3<f32>, receiver: u32) -> u32 {
+    var n = 0u;
+    for (var t = 0u; t < params.triangles; t++) {
+        spent++;
+        if (t != receiver && crosses_to_centre(triangles[t], pl)) {
+            n++;
+        }
+    }
+    return n & 0xffu;
 }
 
 // Corner i minus the point (a, a_low): the difference of the f32 parts is exact for points
@@ -558,9 +601,14 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     var pl = receiver_point(gid.xy, p);
     var receiver = receiver_triangle(p.w);
     set_receiver(pl, receiver);
+    var base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
     if (any(weights < vec3<f32>(0.0))) {
         let better = ray_receiver(gid.xy, receiver, pl);
-        if (bitcast<u32>(better.w) != receiver) {
+        let same_surface = length(better.xyz - pl) <= 1e-3 * length(pl - params.eye.xyz);
+        if (bitcast<u32>(better.w) != receiver && (same_surface || can_count_centre())) {
+            if (can_count_centre()) {
+                base = centre_count(better.xyz, bitcast<u32>(better.w));
+            }
             pl = better.xyz;
             receiver = bitcast<u32>(better.w);
             set_receiver(pl, receiver);
@@ -570,7 +618,6 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         visibility[pixel] = 0.0;
         return;
     }
-    let base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
     let n = params.per_axis;
     // The pattern of this pixel (`SamplePattern::points`).
     let seed = pixel;
