@@ -65,18 +65,53 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
                 100.0 * equal,
                 100.0 * beyond
             ));
-            // Single samples flip where the GPU's f32 positions put a projected edge on the
-            // other side of one (fandisk's curved strips at 256 samples: 99.93% equal, 99.85%
-            // before the edges of the receiver's own triangle took its plane); a few pixels
-            // differ by more where the stencil's count of the centre is off or the pixel's
-            // centre lies on the edge between two faces (at most 2 pixels measured).
+            // Single samples flip where a sample lies within the f32 rounding of a projected
+            // edge. At most one pixel of a fixture differs by more (measured: one on `beetle`,
+            // `cheburashka` and `spot`, a receiver within the rounding of another triangle's
+            // edge or a stencil count off by two): the side tests in twice f32's precision, the
+            // receiver taken where the pixel's ray lands and its centre count recounted there
+            // hold this (without the first, `fandisk` and `spheres-9x9` have several).
+            let pixels = cpu.data.len() as f64;
             assert!(
-                equal >= 0.999 && beyond <= 0.0002,
+                equal >= 0.9998 && beyond * pixels <= 1.0,
                 "{name} at {samples} samples: {report:#?}"
             );
         }
     }
     println!("{report:#?}");
+}
+
+/// Where the receiver's corners lie within f32 rounding of a face's plane (nearly coplanar
+/// neighbours: `fandisk`'s flat strips, the quads of `spheres-9x9`, `beetle`'s panels), the side
+/// tests take twice f32's precision. At the fixtures' own size and 256 samples no pixel differs
+/// by more than one sample; computed in plain f32 (the shader compiler free to fold the
+/// error-free transformations), 3, 8 and 2 do.
+#[test]
+fn nearly_coplanar_faces_take_the_oracle_s_side_at_full_size() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let pattern = SamplePattern {
+        per_axis: 16,
+        jitter: false,
+    };
+    for (name, scene) in fixtures() {
+        if !["beetle", "fandisk", "spheres-9x9"].contains(&name.as_str()) {
+            continue;
+        }
+        let cpu = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        let gpu = r
+            .render_depth_complexity(&scene, 256)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / 256.0);
+        assert!(
+            equal >= 0.9995 && beyond == 0.0,
+            "{name}: {:.3}% equal, {} pixels beyond one sample",
+            100.0 * equal,
+            beyond * cpu.data.len() as f64
+        );
+    }
 }
 
 /// Renders `scene` by depth complexity in a [`GpuScene`] with an edge list of `capacity`
