@@ -283,7 +283,6 @@ impl DepthComplexity {
         for (k, &ei) in candidates.ids.iter().enumerate() {
             if candidates.keep[k] {
                 if let Some(region) = edge_region(&self.edges, pl, &pyramid, p.triangle, ei) {
-                    if std::env::var("DC_DEBUG").is_ok() { let e = &self.edges.edges[ei as usize]; eprintln!("cpu edge {ei} {:?} faces {:?} a {:?} b {:?} pl {:?}", region.dbg(), self.edges.faces_of(e).iter().map(|f| f.triangle).collect::<Vec<_>>(), e.a, e.b, pl); }
                     add(region, scratch);
                 }
             }

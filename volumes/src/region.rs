@@ -124,7 +124,6 @@ impl Region {
     ///
     /// The lines are evaluated in `f32`, eight samples to a step: their rounding (about 1e-7 of
     /// the light's half side) is that of the reference's `f32` shadow rays.
-    pub(crate) fn dbg(&self) -> (i32, [DVec3; 4]) { (self.delta, self.lines.map(|l| l.k)) }
     pub(crate) fn apply(&self, n: usize, xs: &[f32], ys: &[f32], counts: &mut [i32]) -> bool {
         let cell = 2.0 / n as f64;
         let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
@@ -231,7 +230,6 @@ pub(crate) fn edge_region(
         // P within rounding of a face's plane (a neighbour coplanar with the receiver, say)
         // sees it edge-on: it covers no sample.
         let s = f.normal.dot(d);
-        if std::env::var("DC_EDGE").map_or(false, |v| v.split(',').any(|x| x == ei.to_string())) { eprintln!("edge {ei} face {} s {s:e} side_c {side_c:e} thr {:e} a {:?} b {:?} n {:?}", f.triangle, (EDGE_ON * EDGE_ON * f.normal_length2 * d2).sqrt(), a, b, f.normal); }
         if s * s <= EDGE_ON * EDGE_ON * f.normal_length2 * d2 {
             continue;
         }
