@@ -195,7 +195,10 @@ pub fn light_triangles(
             let n = (b - a).cross(c - a).normalize_or_zero();
             let corner = |v: DVec3| {
                 let (high, low) = split(v);
-                ([high[0], high[1], high[2], 0.0], [low[0], low[1], low[2], 0.0])
+                (
+                    [high[0], high[1], high[2], 0.0],
+                    [low[0], low[1], low[2], 0.0],
+                )
             };
             let [ca, cb, cc] = [a, b, c].map(corner);
             GpuTriangle {
