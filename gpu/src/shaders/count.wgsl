@@ -224,25 +224,45 @@ fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>) -> vec4<f32> {
     return best;
 }
 
-// Whether the open segment from p to the light's centre crosses triangle t (Moller & Trumbore,
-// edges included), farther than a millionth of its length from either end: the oracle's
-// `Tracer::crosses`.
-fn crosses_to_centre(t: Triangle, p: vec3<f32>) -> bool {
-    let c0 = t.corners[0].xyz;
-    let e1 = t.corners[1].xyz - c0;
-    let e2 = t.corners[2].xyz - c0;
-    let d = -p;
-    let h = cross(d, e2);
-    let det = dot(e1, h);
-    if (det == 0.0) {
-        return false;
-    }
-    let sp = p - c0;
-    let u = dot(sp, h) / det;
-    let q = cross(sp, e1);
-    let v = dot(d, q) / det;
-    let at = dot(e2, q) / det;
-    return u >= 0.0 && v >= 0.0 && u + v <= 1.0 && at > 1e-6 && at < 1.0 - 1e-6;
+// Σ w_k f(corner k) for f(x) = k . x, the receiver's corners on the plane (`set_receiver`)
+// dropping out exactly: the side of P of the plane through the light's centre with normal k,
+// up to a positive factor.
+fn centre_side_of_p(k: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> f32 {
+    // Written out rather than looped: this runs once per triangle of the scene.
+    return corner_term(0u, k, a, b) + corner_term(1u, k, a, b) + corner_term(2u, k, a, b);
+}
+
+// w_i k . corner i, zero where the corner is a or b.
+fn corner_term(i: u32, k: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> f32 {
+    let c = corners[i];
+    return select(weights[i] * dot(k, c), 0.0, all(c == a) || all(c == b));
+}
+
+// w_i n . (corner i - v0), zero where the corner is one of v0, v1, v2.
+fn plane_term(i: u32, n: vec3<f32>, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>) -> f32 {
+    let c = corners[i];
+    let on_t = all(c == v0) || all(c == v1) || all(c == v2);
+    return select(weights[i] * dot(n, c - v0), 0.0, on_t);
+}
+
+// Whether the segment from P (the receiver's corners weighted, `set_receiver`) to the light's
+// centre crosses triangle t, edges included (the oracle's `Tracer::crosses`): P lies within the
+// three planes through the centre and t's sides, and P and the centre lie strictly on opposite
+// sides of t's plane. A corner of the receiver that t shares lies on those planes exactly, so
+// a triangle folded against the receiver along a shared side is crossed or not by that fold's
+// shape, not by P's rounding.
+fn crosses_to_centre(t: Triangle) -> bool {
+    let v0 = t.corners[0].xyz;
+    let v1 = t.corners[1].xyz;
+    let v2 = t.corners[2].xyz;
+    let s0 = centre_side_of_p(cross(v0, v1), v0, v1);
+    let s1 = centre_side_of_p(cross(v1, v2), v1, v2);
+    let s2 = centre_side_of_p(cross(v2, v0), v2, v0);
+    let inside = (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0);
+    let n = cross(v1 - v0, v2 - v0);
+    let at_p = plane_term(0u, n, v0, v1, v2) + plane_term(1u, n, v0, v1, v2)
+        + plane_term(2u, n, v0, v1, v2);
+    return inside && at_p * dot(n, -v0) < 0.0;
 }
 
 // Whether `centre_count` fits in this invocation's loop budget with half of it left for the
@@ -251,14 +271,14 @@ fn can_count_centre() -> bool {
     return params.triangles <= (params.budget - min(spent, params.budget)) / 2u;
 }
 
-// D(P, c) for P at `pl` on triangle `receiver`: every other triangle the segment to the centre
-// crosses, counted one by one (the stencil holds the count of the rasterised receiver's point
-// only).
-fn centre_count(pl: vec3<f32>, receiver: u32) -> u32 {
+// D(P, c) for P on triangle `receiver` (`set_receiver`): every other triangle the segment to the
+// centre crosses, counted one by one (the stencil holds the count of the rasterised receiver's
+// point only).
+fn centre_count(receiver: u32) -> u32 {
     var n = 0u;
     for (var t = 0u; t < params.triangles; t++) {
         spent++;
-        if (t != receiver && crosses_to_centre(triangles[t], pl)) {
+        if (t != receiver && crosses_to_centre(triangles[t])) {
             n++;
         }
     }
@@ -606,12 +626,12 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         let better = ray_receiver(gid.xy, receiver, pl);
         let same_surface = length(better.xyz - pl) <= 1e-3 * length(pl - params.eye.xyz);
         if (bitcast<u32>(better.w) != receiver && (same_surface || can_count_centre())) {
-            if (can_count_centre()) {
-                base = centre_count(better.xyz, bitcast<u32>(better.w));
-            }
             pl = better.xyz;
             receiver = bitcast<u32>(better.w);
             set_receiver(pl, receiver);
+            if (can_count_centre()) {
+                base = centre_count(receiver);
+            }
         }
     }
     if (!(pl.z > 0.0)) {
