@@ -181,47 +181,67 @@ fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
     );
 }
 
-// The receiver through pixel `px` when the rasteriser's, `receiver` (P at `pl`), does not hold
-// the pixel's ray: it snaps the triangles' corners to a fraction of a pixel, so a pixel centre
-// that close to an edge can land on the wrong triangle, or on the wrong surface at an outline.
-// Of the triangles across the receiver's sides and those of the neighbouring pixels, the
-// nearest to the eye that holds the ray, as the oracle's first hit: (P on it, its index);
+// The receiver through pixel `px` as the oracle's first hit finds it. The rasteriser snaps the
+// triangles' corners to a fraction of a pixel, so a pixel centre that close to an edge can land
+// on the wrong triangle, or on the wrong surface at an outline: where the rasteriser's,
+// `receiver` (P at `pl`), does not hold the pixel's ray, or (`holds`) where another triangle
+// nearer the eye does, of the triangles across the receiver's sides and those of the
+// neighbouring pixels, the nearest to the eye that holds the ray: (P on it, its index);
 // `receiver` and `pl` where none does.
-fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>) -> vec4<f32> {
-    var best = vec4<f32>(pl, bitcast<f32>(receiver));
-    var best_depth = BIG;
+fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>, holds: bool) -> vec4<f32> {
+    best_hit = vec4<f32>(pl, bitcast<f32>(receiver));
+    best_depth = select(BIG, length(pl - params.eye.xyz) * (1.0 - 1e-5), holds);
     let size = vec2<i32>(frame.size.xy);
-    let eye = params.eye.xyz;
     let across = triangles[receiver].neighbours;
-    for (var k = 0u; k < 12u; k++) {
+    for (var k = 0u; k < 3u; k++) {
         spent++;
-        var c = receiver;
-        if (k < 3u) {
-            c = across[k];
-        } else {
-            let q = vec2<i32>(px) + vec2<i32>(i32(k % 3u) - 1, i32(k / 3u) - 2);
-            if (k == 7u || any(q < vec2<i32>(0)) || any(q >= size)) {
-                continue;
-            }
-            let w = textureLoad(position, q, 0).w;
-            if (w == 0.0) {
-                continue;
-            }
-            c = receiver_triangle(w);
-        }
-        if (c == receiver || c >= params.triangles) {
+        consider(px, across[k], receiver, pl);
+    }
+    // A neighbouring pixel's triangle, and those across its sides: a triangle smaller than a
+    // pixel may be no pixel's.
+    for (var k = 0u; k < 9u; k++) {
+        spent++;
+        let q = vec2<i32>(px) + vec2<i32>(i32(k % 3u) - 1, i32(k / 3u) - 1);
+        if (k == 4u || any(q < vec2<i32>(0)) || any(q >= size)) {
             continue;
         }
-        let t = triangles[c];
-        let at = on_plane(px, t.plane);
-        let depth = length(at - eye);
-        if (depth < best_depth && dot(at - eye, pl - eye) > 0.0
-            && all(barycentric(t, at) >= vec3<f32>(0.0))) {
-            best = vec4<f32>(at, bitcast<f32>(c));
-            best_depth = depth;
+        let w = textureLoad(position, q, 0).w;
+        let c = receiver_triangle(w);
+        if (w == 0.0 || c == receiver || c >= params.triangles) {
+            continue;
+        }
+        if (!consider(px, c, receiver, pl)) {
+            let next = triangles[c].neighbours;
+            consider(px, next[0], receiver, pl);
+            consider(px, next[1], receiver, pl);
+            consider(px, next[2], receiver, pl);
         }
     }
-    return best;
+    return best_hit;
+}
+
+// `ray_receiver`'s best candidate so far and its distance from the eye.
+var<private> best_hit: vec4<f32>;
+var<private> best_depth: f32;
+
+// Takes triangle c as `ray_receiver`'s best candidate where it holds the pixel's ray nearer the
+// eye than the best so far; whether it holds the ray at all.
+fn consider(px: vec2<u32>, c: u32, receiver: u32, pl: vec3<f32>) -> bool {
+    if (c == receiver || c >= params.triangles) {
+        return false;
+    }
+    let t = triangles[c];
+    let at = on_plane(px, t.plane);
+    let eye = params.eye.xyz;
+    if (!(dot(at - eye, pl - eye) > 0.0) || !all(barycentric(t, at) >= vec3<f32>(0.0))) {
+        return false;
+    }
+    let depth = length(at - eye);
+    if (depth < best_depth) {
+        best_hit = vec4<f32>(at, bitcast<f32>(c));
+        best_depth = depth;
+    }
+    return true;
 }
 
 // Σ w_k f(corner k) for f(x) = k . x, the receiver's corners on the plane (`set_receiver`)
@@ -622,16 +642,14 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     var receiver = receiver_triangle(p.w);
     set_receiver(pl, receiver);
     var base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
-    if (any(weights < vec3<f32>(0.0))) {
-        let better = ray_receiver(gid.xy, receiver, pl);
-        let same_surface = length(better.xyz - pl) <= 1e-3 * length(pl - params.eye.xyz);
-        if (bitcast<u32>(better.w) != receiver && (same_surface || can_count_centre())) {
-            pl = better.xyz;
-            receiver = bitcast<u32>(better.w);
-            set_receiver(pl, receiver);
-            if (can_count_centre()) {
-                base = centre_count(receiver);
-            }
+    let better = ray_receiver(gid.xy, receiver, pl, all(weights >= vec3<f32>(0.0)));
+    let same_surface = length(better.xyz - pl) <= 1e-3 * length(pl - params.eye.xyz);
+    if (bitcast<u32>(better.w) != receiver && (same_surface || can_count_centre())) {
+        pl = better.xyz;
+        receiver = bitcast<u32>(better.w);
+        set_receiver(pl, receiver);
+        if (can_count_centre()) {
+            base = centre_count(receiver);
         }
     }
     if (!(pl.z > 0.0)) {
