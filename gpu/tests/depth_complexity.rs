@@ -37,16 +37,19 @@ fn at_size(mut scene: Scene, (w, h): (u32, u32)) -> Scene {
     scene
 }
 
-#[test]
-fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
+/// Renders every fixture at `size` (its own where `None`) on the GPU and by the oracle, at 64 and
+/// 256 samples, and checks the share of equal pixels and the number beyond one sample.
+fn check_every_fixture(size: Option<(u32, u32)>, min_equal: f64, max_beyond: usize) {
     let Some(ctx) = context() else {
         return;
     };
     let r = GpuRenderer::with_context(&ctx);
     let mut report = Vec::new();
     for (name, scene) in fixtures() {
-        // Half the fixtures' size: lavapipe runs the counting pass on the CPU.
-        let scene = at_size(scene, (160, 120));
+        let scene = match size {
+            Some(size) => at_size(scene, size),
+            None => scene,
+        };
         let oracle = DepthComplexity::new(&scene);
         for per_axis in [8usize, 16] {
             let samples = per_axis * per_axis;
@@ -60,20 +63,13 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
             let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
+            let beyond = (beyond * cpu.data.len() as f64).round() as usize;
             report.push(format!(
-                "{name} {samples}: {:.3}% equal, {:.3}% beyond one sample",
-                100.0 * equal,
-                100.0 * beyond
+                "{name} {samples}: {:.3}% equal, {beyond} pixels beyond one sample",
+                100.0 * equal
             ));
-            // Single samples flip where a sample lies within the f32 rounding of a projected
-            // edge. At most one pixel of a fixture differs by more (measured: one on `beetle`,
-            // `cheburashka` and `spot`, a receiver within the rounding of another triangle's
-            // edge or a stencil count off by two): the side tests in twice f32's precision, the
-            // receiver taken where the pixel's ray lands and its centre count recounted there
-            // hold this (without the first, `fandisk` and `spheres-9x9` have several).
-            let pixels = cpu.data.len() as f64;
             assert!(
-                equal >= 0.9998 && beyond * pixels <= 1.0,
+                equal >= min_equal && beyond <= max_beyond,
                 "{name} at {samples} samples: {report:#?}"
             );
         }
@@ -81,37 +77,27 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
     println!("{report:#?}");
 }
 
-/// Where the receiver's corners lie within f32 rounding of a face's plane (nearly coplanar
-/// neighbours: `fandisk`'s flat strips, the quads of `spheres-9x9`, `beetle`'s panels), the side
-/// tests take twice f32's precision. At the fixtures' own size and 256 samples no pixel differs
-/// by more than one sample; computed in plain f32 (the shader compiler free to fold the
-/// error-free transformations), 3, 8 and 2 do.
+/// The acceptance of GPU depth complexity: every fixture at its own 320x240, 64 and 256
+/// samples, equal to the oracle on at least 99.95% of its pixels (99.979% measured, on
+/// `spheres-9x9`) and nowhere more than one sample apart. A single sample flips where it lies
+/// within the f32 rounding of a projected edge. What holds the rest: P taken where the pixel's
+/// ray lands (the receiver and its centre count again where the rasteriser's snapping put the
+/// pixel's centre on another face), and the side tests from the receiver's corners in twice
+/// f32's precision near a plane. Without that precision (the shader compiler free to fold the
+/// error-free transformations), 3, 8 and 2 pixels of `fandisk`, `spheres-9x9` and `beetle` are
+/// more than a sample apart.
 #[test]
-fn nearly_coplanar_faces_take_the_oracle_s_side_at_full_size() {
-    let Some(ctx) = context() else {
-        return;
-    };
-    let r = GpuRenderer::with_context(&ctx);
-    let pattern = SamplePattern {
-        per_axis: 16,
-        jitter: false,
-    };
-    for (name, scene) in fixtures() {
-        if !["beetle", "fandisk", "spheres-9x9"].contains(&name.as_str()) {
-            continue;
-        }
-        let cpu = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
-        let gpu = r
-            .render_depth_complexity(&scene, 256)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / 256.0);
-        assert!(
-            equal >= 0.9995 && beyond == 0.0,
-            "{name}: {:.3}% equal, {} pixels beyond one sample",
-            100.0 * equal,
-            beyond * cpu.data.len() as f64
-        );
-    }
+fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
+    check_every_fixture(None, 0.9995, 0);
+}
+
+/// At half the fixtures' size a pixel of `cheburashka` and one of `spot` are more than a sample
+/// apart: a junction of several triangles whose hit none of the neighbouring pixels' triangles
+/// holds, and a ground pixel whose stencil count is two above the oracle's (the segment to the
+/// centre passes through a crack of the mesh within 1e-4 of two triangles).
+#[test]
+fn gpu_depth_complexity_equals_the_cpu_oracle_at_half_size() {
+    check_every_fixture(Some((160, 120)), 0.9998, 1);
 }
 
 /// Renders `scene` by depth complexity in a [`GpuScene`] with an edge list of `capacity`
