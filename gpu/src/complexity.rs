@@ -128,7 +128,6 @@ impl ComplexityScene {
     fn build(scene: &GpuScene) -> (Self, u64) {
         let device = &scene.ctx.device;
         let (meshes, world) = scene.world();
-
         let c = scene.light.center;
         let mut vol: Vec<[f32; 4]> = Vec::new();
         let mut volume_ranges = Vec::with_capacity(meshes.len());

@@ -350,16 +350,11 @@ fn two_product(a: f32, b: f32) -> vec2<f32> {
 // finds on the plane.
 fn precise_side(k: vec3<f32>, k_low: vec3<f32>, i: u32, a: vec3<f32>, a_low: vec3<f32>) -> f32 {
     // Written out rather than looped: lavapipe counts a loop's iterations against its limit.
-    let d = vec3<f32>(
-        two_sum(corners[i].x, -a.x).x,
-        two_sum(corners[i].y, -a.y).x,
-        two_sum(corners[i].z, -a.z).x,
-    );
-    let d_low = vec3<f32>(
-        two_sum(corners[i].x, -a.x).y,
-        two_sum(corners[i].y, -a.y).y,
-        two_sum(corners[i].z, -a.z).y,
-    ) + (corners_low[i] - a_low);
+    let dx = two_sum(corners[i].x, -a.x);
+    let dy = two_sum(corners[i].y, -a.y);
+    let dz = two_sum(corners[i].z, -a.z);
+    let d = vec3<f32>(dx.x, dy.x, dz.x);
+    let d_low = vec3<f32>(dx.y, dy.y, dz.y) + (corners_low[i] - a_low);
     let px = two_product(k.x, d.x);
     let py = two_product(k.y, d.y);
     let pz = two_product(k.z, d.z);
