@@ -231,6 +231,52 @@ impl RealMesh {
     }
 }
 
+/// The scale scene: six real meshes close together on one ground (about 209,000 triangles),
+/// their shadows overlapping under a square light about as large as the group. The scene users
+/// bring, against which every technique's cost is measured (`docs/benchmarks.md`); it lives in
+/// `fixtures/scale/`, apart from the fixtures that every test renders.
+fn scale_scene() -> SceneText {
+    let mut s = SceneText::new(
+        "The scale scene: six public meshes close together on a ground, 209,388 triangles in all,\nunder a 5 x 5 light about as large as the group, so that their shadows overlap: Nefertiti\n(99,938 triangles, closed scan) between two finer VW beetles (38,656 each, open), with\nCheburashka, Spot and the fandisk part in front and beside.\nMeshes copied byte for byte from the public collection common-3d-test-models by Alec Jacobson\n(github.com/alecjacobson/common-3d-test-models, data/): nefertiti.obj (Berlin Egyptian\nMuseum, via Thingiverse 3974391), beetle-alt.obj (Ivan Sutherland, 1972), cheburashka.obj\n(Ilya Baran), spot.obj (Keenan Crane, CC0), fandisk.obj (Hugues Hoppe).",
+        [1.0, 4.6, 6.2],
+        [-0.2, 0.8, -0.4],
+        &aimed_light([-1.5, 6.5, 2.5], [0.0, 0.0, -0.3], 20.0, [5.0, 5.0]),
+    );
+    s.ground();
+    s.mesh(
+        "nefertiti.obj",
+        "0.006",
+        Some([1.0, 0.0, 0.0, -90.0]),
+        [0.0, 1.504, -0.5],
+    );
+    s.mesh(
+        "beetle-alt.obj",
+        "2.2",
+        Some([0.0, 1.0, 0.0, 30.0]),
+        [-2.0, 0.392, 0.6],
+    );
+    s.mesh(
+        "beetle-alt.obj",
+        "2.2",
+        Some([0.0, 1.0, 0.0, -70.0]),
+        [1.9, 0.392, -0.9],
+    );
+    s.mesh("cheburashka.obj", "1.6", None, [-1.0, -0.106, 1.4]);
+    s.mesh(
+        "spot.obj",
+        "1.0",
+        Some([0.0, 1.0, 0.0, -30.0]),
+        [1.2, 0.757, 1.6],
+    );
+    s.mesh(
+        "fandisk.obj",
+        "0.5",
+        Some([1.0, 0.0, 0.0, 90.0]),
+        [-3.6, 0.02, -9.8],
+    );
+    s
+}
+
 /// Writes every generated fixture mesh to `dir/meshes` and every scene to `dir/scenes` (the
 /// scenes of [`REAL_SCENES`] refer to the copied meshes beside the generated ones).
 pub fn generate(dir: &Path) -> Result<Vec<String>> {
@@ -379,6 +425,11 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     s.mesh("quad.obj", "6.0", None, [0.0, 3.0, 0.0]);
     s.mesh("sphere.obj", "0.6", None, [1.0, 0.8, -6.0]);
     write(scenes.join("camera-in-shadow.toml"), s.0)?;
+
+    // The scale scene (benchmarks and the scale tests, not every fixture test).
+    let scale = dir.join("scale");
+    std::fs::create_dir_all(&scale).with_context(|| format!("creating {}", scale.display()))?;
+    write(scale.join("scale.toml"), scale_scene().0)?;
 
     // One scene per real mesh; the meshes themselves are copied data, not written here.
     for m in &REAL_SCENES {

@@ -223,6 +223,9 @@ const COPIED_MESHES: [&str; 5] = [
     "woody.obj",
 ];
 
+/// The two large meshes copied from the same collection, used by the scale scene only.
+const SCALE_MESHES: [&str; 2] = ["nefertiti.obj", "beetle-alt.obj"];
+
 #[test]
 fn committed_fixtures_are_what_the_generator_writes() {
     let d = scratch("gen");
@@ -233,11 +236,11 @@ fn committed_fixtures_are_what_the_generator_writes() {
         .output()
         .unwrap();
     assert!(out.status.success());
-    for sub in ["meshes", "scenes", "bench"] {
+    for sub in ["meshes", "scenes", "bench", "scale"] {
         let names = files_in(&d.join(sub));
         let mut committed = files_in(&fixtures().join(sub));
         if sub == "meshes" {
-            for c in COPIED_MESHES {
+            for c in COPIED_MESHES.iter().chain(&SCALE_MESHES) {
                 assert!(
                     !names.iter().any(|n| n == c),
                     "the generator wrote {c}, which is copied data"
@@ -268,6 +271,17 @@ fn committed_fixtures_are_what_the_generator_writes() {
             "{scene}: attribution"
         );
     }
+    let scale = std::fs::read_to_string(d.join("scale/scale.toml")).unwrap();
+    for c in SCALE_MESHES {
+        assert!(
+            scale.contains(&format!("obj = \"../meshes/{c}\"")),
+            "scale.toml: {c}"
+        );
+    }
+    assert!(
+        scale.contains("common-3d-test-models by Alec Jacobson"),
+        "scale.toml: attribution"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 
