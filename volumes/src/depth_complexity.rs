@@ -50,8 +50,9 @@ use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, SurfacePoint, Tracer};
 use rayon::prelude::*;
 
-use crate::potential::{EdgeFace, PotentialEdges, pyramid_planes};
+use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges, pyramid_planes};
 use crate::region::{Region, crossing_region, edge_region};
+use crate::sectors::Sectors;
 pub use crate::samples::SamplePattern;
 
 /// What depth-complexity sampling found at one point.
@@ -69,9 +70,9 @@ pub struct PointVisibility {
 #[derive(Default)]
 pub struct Scratch {
     points: Vec<DVec2>,
-    /// The points' coordinates in `f32`, one array per axis.
-    xs: Vec<f32>,
-    ys: Vec<f32>,
+    /// The points in `f32`, sorted by their angle around the light's centre.
+    samples: Sectors,
+    /// Their depth complexities less the centre's, in the same order.
     counts: Vec<i32>,
     hits: Vec<u32>,
     near: Vec<u32>,
@@ -90,6 +91,9 @@ pub struct Scratch {
 #[derive(Default)]
 struct Candidates {
     ids: Vec<u32>,
+    /// A copy of each edge and, for a two-face edge, of its faces: the exact test reads them
+    /// in the list's order instead of across the whole scene's edges.
+    edges: Vec<(PotentialEdge, [EdgeFace; 2])>,
     a: [Vec<f32>; 3],
     n0: [Vec<f32>; 3],
     n1: [Vec<f32>; 3],
@@ -113,6 +117,7 @@ const MARGIN: f32 = 1e-5;
 impl Candidates {
     fn clear(&mut self) {
         self.ids.clear();
+        self.edges.clear();
         for v in self.a.iter_mut().chain(&mut self.n0).chain(&mut self.n1) {
             v.clear();
         }
@@ -128,6 +133,7 @@ impl Candidates {
             _ => (&NO_FACE, &NO_FACE),
         };
         self.ids.push(ei);
+        self.edges.push((*e, [*n0, *n1]));
         for k in 0..3 {
             self.a[k].push(e.a[k] as f32);
             self.n0[k].push(n0.normal[k] as f32);
@@ -268,21 +274,22 @@ impl DepthComplexity {
             if !ready {
                 // Only points that some edge reaches need their samples.
                 pattern.points(pixel, &mut scratch.points);
-                scratch.xs.clear();
-                scratch.ys.clear();
-                scratch.xs.extend(scratch.points.iter().map(|q| q.x as f32));
-                scratch.ys.extend(scratch.points.iter().map(|q| q.y as f32));
+                scratch.samples.fill(&scratch.points);
                 scratch.counts.clear();
                 scratch.counts.resize(n * n, 0);
                 ready = true;
             }
-            if region.apply(n, &scratch.xs, &scratch.ys, &mut scratch.counts) {
+            if region.apply(&scratch.samples, &mut scratch.counts) {
                 edges += 1;
             }
         };
-        for (k, &ei) in candidates.ids.iter().enumerate() {
+        for (k, (e, two)) in candidates.edges.iter().enumerate() {
             if candidates.keep[k] {
-                if let Some(region) = edge_region(&self.edges, pl, &pyramid, p.triangle, ei) {
+                let faces = match e.face_count {
+                    2 => &two[..],
+                    _ => self.edges.faces_of(e),
+                };
+                if let Some(region) = edge_region(e, faces, pl, &pyramid, p.triangle) {
                     add(region, scratch);
                 }
             }

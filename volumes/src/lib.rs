@@ -8,6 +8,7 @@ pub mod clip;
 pub mod depth_complexity;
 pub mod potential;
 mod region;
+mod sectors;
 pub mod render;
 pub mod samples;
 pub mod shadow_volume;

@@ -6,7 +6,8 @@ use glam::{DVec2, DVec3};
 use penumbra_geom::boxtree::Plane;
 
 use crate::clip::cross;
-use crate::potential::{LightCrossing, PotentialEdges};
+use crate::potential::{EdgeFace, LightCrossing, PotentialEdge};
+use crate::sectors::Sectors;
 
 /// A face is seen edge-on from the receiver point `P` when `P` lies within this share of
 /// `|P - a|` of the face's plane (`a` an end of the edge): within rounding of it, where the
@@ -37,109 +38,42 @@ impl Line {
     }
 }
 
-/// A convex polygon of at most eight vertices: the light square cut by four lines.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Polygon {
-    v: [DVec2; 8],
-    len: usize,
-}
-
-impl Polygon {
-    const LIGHT: Polygon = Polygon {
-        v: [
-            DVec2::new(-1.0, -1.0),
-            DVec2::new(1.0, -1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(-1.0, 1.0),
-            DVec2::ZERO,
-            DVec2::ZERO,
-            DVec2::ZERO,
-            DVec2::ZERO,
-        ],
-        len: 4,
-    };
-
-    /// Keeps the part where `line >= 0` (Sutherland & Hodgman); returns whether any is left.
-    /// Each cut adds at most one vertex to a convex polygon.
-    fn clip(&mut self, line: Line) -> bool {
-        let mut out = [DVec2::ZERO; 8];
-        let mut k = 0;
-        for i in 0..self.len {
-            let (a, b) = (self.v[i], self.v[(i + 1) % self.len]);
-            let (fa, fb) = (line.at(a), line.at(b));
-            if fa >= 0.0 && k < 8 {
-                out[k] = a;
-                k += 1;
-            }
-            if (fa >= 0.0) != (fb >= 0.0) && k < 8 {
-                out[k] = a + (b - a) * (fa / (fa - fb));
-                k += 1;
-            }
-        }
-        self.v = out;
-        self.len = k;
-        k > 0
-    }
-
-    fn bounds(&self) -> (DVec2, DVec2) {
-        let mut lo = self.v[0];
-        let mut hi = lo;
-        for &q in &self.v[1..self.len] {
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        (lo, hi)
-    }
-}
-
-/// The samples one edge changes: those of the light where four lines are positive, a convex
-/// part of it, with its bounding box.
+/// The samples one edge changes: those of the light where four lines are positive. The
+/// second and third pass through the light's centre: the region lies in the cone they bound,
+/// whose samples [`Sectors::in_cone`] finds.
 pub(crate) struct Region {
     delta: i32,
     lines: [Line; 4],
-    /// The bounding box of the light clipped by the lines: only the cells it reaches can hold
-    /// samples inside.
-    bounds: (DVec2, DVec2),
 }
 
 impl Region {
-    /// The samples where all four `lines` are positive, changed by `delta`; `None` when the
-    /// light clipped by the first three (which bound the region; the fourth only tells apart
-    /// parts the first three already separate) is empty.
+    /// The samples where all four `lines` are positive, changed by `delta` (`lines[1]` and
+    /// `lines[2]` through the centre).
     fn new(delta: i32, lines: [Line; 4]) -> Option<Region> {
-        let mut poly = Polygon::LIGHT;
-        if !(poly.clip(lines[0]) && poly.clip(lines[1]) && poly.clip(lines[2])) {
-            return None;
-        }
-        Some(Region {
-            delta,
-            lines,
-            bounds: poly.bounds(),
-        })
+        Some(Region { delta, lines })
     }
 
-    /// Adds the change to the counts of the samples inside, looking only at the cells the box
-    /// reaches (sample `j * n + i` lies in cell `(i, j)`, at `(xs, ys)`). Returns whether any
-    /// was inside.
+    /// Adds the change to the counts of the samples inside (`counts[k]` that of sample `k` of
+    /// `samples`), looking only at the samples of the sectors the cone spans. Returns whether
+    /// any was inside.
     ///
-    /// The lines are evaluated in `f32`, eight samples to a step: their rounding (about 1e-7 of
-    /// the light's half side) is that of the reference's `f32` shadow rays.
-    pub(crate) fn apply(&self, n: usize, xs: &[f32], ys: &[f32], counts: &mut [i32]) -> bool {
-        let cell = 2.0 / n as f64;
-        let index = |x: f64| (((x + 1.0) / cell).floor().max(0.0) as usize).min(n - 1);
+    /// The lines are evaluated in `f32`: their rounding (about 1e-7 of the light's half side)
+    /// is that of the reference's `f32` shadow rays.
+    pub(crate) fn apply(&self, samples: &Sectors, counts: &mut [i32]) -> bool {
         let k = self.lines.map(|l| l.k.as_vec3());
-        let (lo, hi) = self.bounds;
-        let (i0, i1) = (index(lo.x), index(hi.x) + 1);
         let mut inside = 0;
-        for j in index(lo.y)..=index(hi.y) {
-            let r = j * n + i0..j * n + i1;
-            for ((c, &x), &y) in counts[r.clone()].iter_mut().zip(&xs[r.clone()]).zip(&ys[r]) {
+        samples.in_cone(self.lines[1].k, self.lines[2].k, |r| {
+            for ((c, &x), &y) in counts[r.clone()]
+                .iter_mut()
+                .zip(&samples.xs[r.clone()])
+                .zip(&samples.ys[r])
+            {
                 let at = |k: glam::Vec3| k.x * x + k.y * y + k.z;
                 let hit = (at(k[0]) > 0.0) & (at(k[1]) > 0.0) & (at(k[2]) > 0.0) & (at(k[3]) > 0.0);
                 *c += self.delta * hit as i32;
                 inside += hit as u32;
             }
-        }
+        });
         inside > 0
     }
 }
@@ -202,18 +136,25 @@ fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
     (t0, t1)
 }
 
-/// The samples edge `ei` of `edges` separates from the centre as seen from the light-space point `pl`
-/// on triangle `receiver`, and the change of their counts; `None` when it changes none.
+/// The samples the potential silhouette edge `e` (its faces `faces`) separates from the centre
+/// as seen from the light-space point `pl` on triangle `receiver`, and the change of their
+/// counts; `None` when it changes none.
 pub(crate) fn edge_region(
-    edges: &PotentialEdges,
+    e: &PotentialEdge,
+    faces: &[EdgeFace],
     pl: DVec3,
     pyramid: &[Plane; 5],
     receiver: u32,
-    ei: u32,
 ) -> Option<Region> {
-    let e = &edges.edges[ei as usize];
     let (a, b) = (e.a, e.b);
     let c = DVec3::ZERO;
+    // An edge wholly outside one plane of P's pyramid meets no triangle P c s.
+    if pyramid
+        .iter()
+        .any(|q| q.n.dot(a) + q.d < 0.0 && q.n.dot(b) + q.d < 0.0)
+    {
+        return None;
+    }
     // The plane through P and the edge: the sides of c and of each face, each the sign of
     // the plane through the edge and that point (or that face) at P.
     let d = pl - a;
@@ -223,7 +164,7 @@ pub(crate) fn edge_region(
     }
     let d2 = d.length_squared();
     let mut delta = 0i32;
-    for f in edges.faces_of(e) {
+    for f in faces {
         if f.triangle == receiver {
             continue;
         }
@@ -240,13 +181,6 @@ pub(crate) fn edge_region(
         }
     }
     if delta == 0 {
-        return None;
-    }
-    // An edge wholly outside one plane of P's pyramid meets no triangle P c s.
-    if pyramid
-        .iter()
-        .any(|q| q.n.dot(a) + q.d < 0.0 && q.n.dot(b) + q.d < 0.0)
-    {
         return None;
     }
     // Only the part of the edge between the light's plane and P's depth can cross a
