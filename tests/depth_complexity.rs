@@ -84,3 +84,15 @@ fn depth_complexity_equals_the_256_sample_reference_on_three_fixtures() {
         check(name, &load(name), 256);
     }
 }
+
+#[test]
+fn depth_complexity_equals_the_reference_on_the_scale_scene() {
+    // Six real meshes, 209,388 triangles, a light as large as the group: tens of thousands of
+    // potential silhouette edges near each penumbra point. At 160x120 (a quarter of its
+    // pixels) and 64 samples, so that the reference's rays stay few.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/scale/scale.toml");
+    let mut scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    scene.camera.width = 160;
+    scene.camera.height = 120;
+    check("scale", &scene, 64);
+}
