@@ -38,8 +38,9 @@
 //!
 //! (`[x y z w]` the orientation of the tetrahedron, `[x, c, s]` that of `P c s x`). With `P`, `a`,
 //! `b` and `c` fixed, each is an affine function of `s` on the light's plane: four lines cut
-//! the light into the samples the edge changes, evaluated per sample with no trigonometry and
-//! clipped beforehand to the cells they can reach.
+//! the light into the samples the edge changes, evaluated per sample with no trigonometry. Two
+//! of them pass through the centre and bound the cone from `c` over the edge's projection: only
+//! the samples of the angular sectors that cone spans are evaluated ([`crate::sectors`]).
 //!
 //! Numbers are `f64` in light space; the reference casts `f32` rays, so the two differ only for
 //! samples within rounding of a projected edge, and where the reference's start and end offset
@@ -52,8 +53,8 @@ use rayon::prelude::*;
 
 use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges, pyramid_planes};
 use crate::region::{Region, crossing_region, edge_region};
-use crate::sectors::Sectors;
 pub use crate::samples::SamplePattern;
+use crate::sectors::Sectors;
 
 /// What depth-complexity sampling found at one point.
 #[derive(Clone, Copy, Debug, PartialEq)]

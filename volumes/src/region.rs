@@ -1,6 +1,7 @@
 //! The samples one edge changes, as seen from a receiver point: the part of the light square
 //! where four lines are positive (see [`crate::depth_complexity`] for the test they make up),
-//! clipped to the cells it can reach, and its change to their depth complexity.
+//! looked for among the samples of the cone from the centre that two of the lines bound, and its
+//! change to their depth complexity.
 
 use glam::{DVec2, DVec3};
 use penumbra_geom::boxtree::Plane;

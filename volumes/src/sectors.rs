@@ -171,14 +171,21 @@ mod tests {
         let mut checked = 0;
         for _ in 0..2000 {
             let k0 = DVec3::new(u(), u(), 0.0);
-            let k1 = if u() > 0.9 { -k0 } else { DVec3::new(u(), u(), 0.0) };
+            let k1 = if u() > 0.9 {
+                -k0
+            } else {
+                DVec3::new(u(), u(), 0.0)
+            };
             let mut listed = vec![false; points.len()];
             s.in_cone(k0, k1, |r| r.for_each(|i| listed[i] = true));
             for i in 0..points.len() {
                 let (x, y) = (s.xs[i], s.ys[i]);
                 let at = |k: DVec3| k.x as f32 * x + k.y as f32 * y;
                 if at(k0) > 0.0 && at(k1) > 0.0 {
-                    assert!(listed[i], "sample ({x}, {y}) in the cone {k0} {k1} not listed");
+                    assert!(
+                        listed[i],
+                        "sample ({x}, {y}) in the cone {k0} {k1} not listed"
+                    );
                     checked += 1;
                 }
             }
