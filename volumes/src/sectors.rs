@@ -5,7 +5,7 @@
 //!
 //! The angle is the "diamond angle" `p(x, y)` in `[0, 4)`, a monotone function of the polar
 //! angle with no trigonometry: `y / (x + y)` in the first quadrant, continued quadrant by
-//! quadrant. `B` sectors of equal `p`-width (about two samples each) are filled by a counting
+//! quadrant. `B = 2 N` sectors of equal `p`-width for `N` samples are filled by a counting
 //! sort. A cone's sectors are those its two bounding rays span, widened by a margin of `1e-4`
 //! in `p` (at least `1e-4` radians), far beyond the `f32` rounding of the lines' coefficients
 //! and of the samples (about `1e-7` radians), so that the sectors hold every sample the exact
@@ -52,9 +52,10 @@ pub struct Sectors {
 }
 
 impl Sectors {
-    /// Sorts `points` (in `[-1, 1]^2`) into about one sector per two samples.
+    /// Sorts `points` (in `[-1, 1]^2`) into two sectors per sample: the thin cone of a short
+    /// edge then reads one sample or two.
     pub fn fill(&mut self, points: &[DVec2]) {
-        let sectors = (points.len() / 2).max(1);
+        let sectors = (points.len() * 2).max(1);
         let scale = sectors as f64 / 4.0;
         self.start.clear();
         self.start.resize(sectors + 2, 0);
