@@ -40,7 +40,7 @@
 //! `b` and `c` fixed, each is an affine function of `s` on the light's plane: four lines cut
 //! the light into the samples the edge changes, evaluated per sample with no trigonometry. Two
 //! of them pass through the centre and bound the cone from `c` over the edge's projection: only
-//! the samples of the angular sectors that cone spans are evaluated ([`crate::sectors`]).
+//! the samples of the angular sectors that cone spans are evaluated (`volumes/src/sectors.rs`).
 //!
 //! Numbers are `f64` in light space; the reference casts `f32` rays, so the two differ only for
 //! samples within rounding of a projected edge, and where the reference's start and end offset

@@ -179,12 +179,11 @@ mod tests {
             };
             let mut listed = vec![false; points.len()];
             s.in_cone(k0, k1, |r| r.for_each(|i| listed[i] = true));
-            for i in 0..points.len() {
-                let (x, y) = (s.xs[i], s.ys[i]);
+            for ((&x, &y), &listed) in s.xs.iter().zip(&s.ys).zip(&listed) {
                 let at = |k: DVec3| k.x as f32 * x + k.y as f32 * y;
                 if at(k0) > 0.0 && at(k1) > 0.0 {
                     assert!(
-                        listed[i],
+                        listed,
                         "sample ({x}, {y}) in the cone {k0} {k1} not listed"
                     );
                     checked += 1;
