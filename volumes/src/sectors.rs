@@ -182,10 +182,7 @@ mod tests {
             for ((&x, &y), &listed) in s.xs.iter().zip(&s.ys).zip(&listed) {
                 let at = |k: DVec3| k.x as f32 * x + k.y as f32 * y;
                 if at(k0) > 0.0 && at(k1) > 0.0 {
-                    assert!(
-                        listed,
-                        "sample ({x}, {y}) in the cone {k0} {k1} not listed"
-                    );
+                    assert!(listed, "sample ({x}, {y}) in the cone {k0} {k1} not listed");
                     checked += 1;
                 }
             }
