@@ -472,15 +472,10 @@ const CPU_BYTES_PER_PIXEL: u64 = 16;
 const GPU_BYTES_PER_PIXEL: u64 = 128;
 
 /// Refuses an image of `width x height` pixels at `per_pixel` bytes each that would not fit the
-/// memory available (as `/proc/meminfo` says, where it does), before anything is allocated.
+/// memory available ([`penumbra_geom::memory::available`]), before anything is allocated.
 fn check_memory(width: u32, height: u32, per_pixel: u64) -> Result<(), RenderError> {
     let needed = width as u64 * height as u64 * per_pixel;
-    let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
-        m.lines()
-            .find_map(|l| l.strip_prefix("MemAvailable:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-            .map(|kb| kb * 1024)
-    });
+    let available = penumbra_geom::memory::available();
     match available {
         Some(a) if needed > a => Err(RenderError::TooLarge {
             width,

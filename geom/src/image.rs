@@ -41,6 +41,19 @@ pub enum ImageError {
         /// Second size.
         b: (u32, u32),
     },
+    /// An EXR whose header declares more pixels than the memory holds (or than `compare`'s other
+    /// image has), refused before its pixels are read.
+    #[error("{path}: the header declares {width} x {height} pixels; {why}")]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Declared width.
+        width: u64,
+        /// Declared height.
+        height: u64,
+        /// What it does not fit.
+        why: String,
+    },
     /// A value is NaN or infinite.
     #[error("pixel ({x}, {y}) is not finite")]
     NonFinite {
@@ -268,6 +281,19 @@ impl VisibilityImage {
     /// Reads the `V` channel of an EXR file (its first layer holding one).
     pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
         use exr::prelude::*;
+        let (width, height, bytes) = exr_header(path)?;
+        if let Some(a) = crate::memory::available().filter(|&a| bytes > a / 2) {
+            return Err(ImageError::TooLarge {
+                path: path.to_path_buf(),
+                width,
+                height,
+                why: format!(
+                    "reading it takes about {:.1} GB and {:.1} GB of memory are available",
+                    2.0 * bytes as f64 / 1e9,
+                    a as f64 / 1e9
+                ),
+            });
+        }
         let image = read()
             .no_deep_data()
             .largest_resolution_level()
@@ -296,6 +322,25 @@ impl VisibilityImage {
         })
     }
 
+    /// The width and height of the EXR's layer that holds `V`, read from its header alone (no
+    /// pixel is read or allocated).
+    pub fn read_exr_size(path: &Path) -> Result<(u64, u64), ImageError> {
+        let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
+        let mut found = Vec::new();
+        for h in meta.headers.iter() {
+            for ch in &h.channels.list {
+                if ch.name.to_string() == CHANNEL {
+                    return Ok((h.layer_size.width() as u64, h.layer_size.height() as u64));
+                }
+                found.push(ch.name.to_string());
+            }
+        }
+        Err(ImageError::NoVChannel {
+            path: path.to_path_buf(),
+            found,
+        })
+    }
+
     /// Writes V in `[0, 1]` as an 8-bit greyscale PNG (linear, atomically).
     pub fn write_png(&self, path: &Path) -> Result<(), ImageError> {
         let bytes: Vec<u8> = self
@@ -314,6 +359,24 @@ pub enum PngColor {
     Grey,
     /// Three bytes per pixel.
     Rgb,
+}
+
+/// The first layer's size, and the bytes that reading every layer and channel of the EXR takes,
+/// from its header alone.
+fn exr_header(path: &Path) -> Result<(u64, u64, u64), ImageError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
+    let mut bytes = 0u64;
+    for h in meta.headers.iter() {
+        let area = h.layer_size.width() as u64 * h.layer_size.height() as u64;
+        for ch in &h.channels.list {
+            // Every channel is read (and `V` copied once more as f32).
+            let per = ch.sample_type.bytes_per_sample() as u64 + 4;
+            bytes = bytes.saturating_add(area.saturating_mul(per));
+        }
+    }
+    let first = meta.headers.first().map(|h| h.layer_size);
+    let (w, h) = first.map_or((0, 0), |s| (s.width() as u64, s.height() as u64));
+    Ok((w, h, bytes))
 }
 
 /// Writes 8-bit pixels as a PNG (atomically).

@@ -9,6 +9,7 @@ pub mod exact;
 pub mod halfedge;
 pub mod image;
 pub mod light;
+pub mod memory;
 pub mod mesh;
 pub mod range;
 pub mod raycast;

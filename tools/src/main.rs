@@ -150,8 +150,14 @@ fn samples_per_axis(samples: usize) -> Result<usize> {
     }
 }
 
-/// The same file, whether or not it exists yet: compares canonical parent folders and names.
+/// The same file, whether or not it exists yet. Two existing paths are the same file when they
+/// reach the same inode: through a symbolic link (the image writers write through links) or as
+/// two hard links of one file. A path that does not exist yet is compared by its canonical folder
+/// and name.
 fn same_file(a: &Path, b: &Path) -> bool {
+    if let (Some(x), Some(y)) = (identity(a), identity(b)) {
+        return x == y;
+    }
     let canon = |p: &Path| -> Option<PathBuf> {
         let parent = match p.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
@@ -162,6 +168,22 @@ fn same_file(a: &Path, b: &Path) -> bool {
     match (canon(a), canon(b)) {
         (Some(x), Some(y)) => x == y,
         _ => a == b,
+    }
+}
+
+/// The device and inode of the file a path reaches, following symbolic links; `None` where
+/// nothing is there (or the platform has no inodes: then the canonical path stands for it).
+fn identity(p: &Path) -> Option<(u64, u64)> {
+    let m = std::fs::metadata(p).ok()?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        Some((m.dev(), m.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = m;
+        None
     }
 }
 

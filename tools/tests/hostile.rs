@@ -139,6 +139,67 @@ fn compare_names_the_file_with_a_non_finite_pixel() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// Rewrites the data and display windows in an EXR's header to declare `w x h` pixels: a small
+/// file whose header asks for far more than it holds.
+fn declare_size(path: &std::path::Path, w: i32, h: i32) {
+    let mut bytes = std::fs::read(path).unwrap();
+    for name in [&b"dataWindow\0box2i\0"[..], &b"displayWindow\0box2i\0"[..]] {
+        let at = bytes
+            .windows(name.len())
+            .position(|x| x == name)
+            .expect("an EXR header has both windows")
+            + name.len()
+            + 4;
+        bytes[at..at + 16].copy_from_slice(
+            &[0, 0, w - 1, h - 1]
+                .iter()
+                .flat_map(|v: &i32| v.to_le_bytes())
+                .collect::<Vec<_>>(),
+        );
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+#[test]
+fn compare_refuses_a_header_larger_than_the_other_image_or_the_memory_before_reading_it() {
+    let d = scratch("compare-header");
+    let (small, big, big2) = (d.join("small.exr"), d.join("big.exr"), d.join("big2.exr"));
+    let img = penumbra_geom::VisibilityImage::filled(3, 2, 0.5);
+    for p in [&small, &big, &big2] {
+        img.write_exr(p).unwrap();
+    }
+    for p in [&big, &big2] {
+        declare_size(p, 30000, 30000);
+    }
+    // Under a 2 GB address-space limit: one image of 30000 x 30000 floats alone is 3.6 GB.
+    let limited = |args: &[&std::path::Path]| {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 2000000; exec \"$0\" compare \"$@\"")
+            .arg(env!("CARGO_BIN_EXE_penumbra"))
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        err
+    };
+    let err = limited(&[&small, &big]);
+    assert!(
+        err.contains("image sizes differ")
+            && err.contains("small.exr is 3 x 2")
+            && err.contains("big.exr is 30000 x 30000"),
+        "{err}"
+    );
+    let err = limited(&[&big, &big2]);
+    assert!(
+        err.contains("big.exr: the header declares 30000 x 30000 pixels")
+            && err.contains("of memory are available"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn an_interrupted_write_leaves_no_temporary_file() {
     // A render whose EXR takes a while to write: SIGINT while its temporary file exists.
@@ -296,4 +357,76 @@ fn scenes_beyond_the_supported_range_are_refused_with_their_line() {
         );
         let _ = std::fs::remove_dir_all(&d);
     }
+}
+
+#[test]
+fn links_to_inputs_are_refused_as_outputs_and_the_inputs_kept() {
+    use std::os::unix::fs::symlink;
+    let d = scratch("links");
+    let (scene, mesh) = (d.join("s.toml"), d.join("m.obj"));
+    std::fs::write(&scene, GOOD_SCENE).unwrap();
+    std::fs::write(&mesh, GOOD_OBJ).unwrap();
+    let (a, b) = (d.join("a.exr"), d.join("b.exr"));
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.5)
+        .write_exr(&a)
+        .unwrap();
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.25)
+        .write_exr(&b)
+        .unwrap();
+    let a_bytes = std::fs::read(&a).unwrap();
+    let link = |name: &str, to: &std::path::Path, hard: bool| {
+        let l = d.join(name);
+        let _ = std::fs::remove_file(&l);
+        if hard {
+            std::fs::hard_link(to, &l).unwrap();
+        } else {
+            symlink(to, &l).unwrap();
+        }
+        l
+    };
+    for hard in [false, true] {
+        let kind = if hard { "hard" } else { "symbolic" };
+        // The scene as the EXR, the mesh as the PNG, and image A as the heat map.
+        let render = |out: &std::path::Path, png: Option<std::path::PathBuf>| {
+            let mut c = penumbra();
+            c.args(["render", "--technique", "hard", "--backend", "cpu"])
+                .arg(&scene)
+                .arg("--out")
+                .arg(out);
+            if let Some(p) = png {
+                c.arg("--png").arg(p);
+            }
+            c
+        };
+        let mut heatmap = penumbra();
+        heatmap
+            .arg("compare")
+            .arg(&a)
+            .arg(&b)
+            .arg("--heatmap")
+            .arg(link("heat.png", &a, hard));
+        let cases = [
+            render(&link("out.exr", &scene, hard), None),
+            render(&d.join("v.exr"), Some(link("out.png", &mesh, hard))),
+            heatmap,
+        ];
+        for mut c in cases {
+            let out = c.output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                !out.status.success() && err.contains("is an input of this run"),
+                "{kind} link, {:?}: {err}",
+                c.get_args().collect::<Vec<_>>()
+            );
+        }
+        assert_eq!(
+            std::fs::read_to_string(&scene).unwrap(),
+            GOOD_SCENE,
+            "{kind}"
+        );
+        assert_eq!(std::fs::read_to_string(&mesh).unwrap(), GOOD_OBJ, "{kind}");
+        assert_eq!(std::fs::read(&a).unwrap(), a_bytes, "{kind}");
+        assert!(!d.join("v.exr").exists(), "{kind}: partial output left");
+    }
+    let _ = std::fs::remove_dir_all(&d);
 }

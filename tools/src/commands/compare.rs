@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use penumbra::geom::image::{self, VisibilityImage};
 
 use crate::check_outputs;
@@ -10,6 +10,23 @@ use crate::check_outputs;
 pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) -> Result<()> {
     if let Some(h) = heatmap {
         check_outputs(&[a.to_path_buf(), b.to_path_buf()], &[h])?;
+    }
+    // Sizes from the headers first: an image that declares more pixels than the other is
+    // refused before either is read.
+    let (sa, sb) = (
+        VisibilityImage::read_exr_size(a)?,
+        VisibilityImage::read_exr_size(b)?,
+    );
+    if sa != sb {
+        bail!(
+            "image sizes differ: {} is {} x {} pixels, {} is {} x {}",
+            a.display(),
+            sa.0,
+            sa.1,
+            b.display(),
+            sb.0,
+            sb.1
+        );
     }
     let ia = VisibilityImage::read_exr(a)?;
     let ib = VisibilityImage::read_exr(b)?;
