@@ -100,27 +100,7 @@ fn io_err(path: &Path, e: impl std::fmt::Display) -> ImageError {
 /// symbolic link, its final target when that is a regular file (the link is kept, never
 /// replaced). Directories, devices, FIFOs, sockets and links to anything else are refused.
 pub fn output_target(path: &Path) -> Result<std::path::PathBuf, ImageError> {
-    let kind = |m: &std::fs::Metadata| -> &'static str {
-        let t = m.file_type();
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::FileTypeExt;
-            if t.is_fifo() {
-                return "FIFO";
-            }
-            if t.is_block_device() || t.is_char_device() {
-                return "device";
-            }
-            if t.is_socket() {
-                return "socket";
-            }
-        }
-        if t.is_dir() {
-            "directory"
-        } else {
-            "special file"
-        }
-    };
+    use crate::input::kind;
     match std::fs::symlink_metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(path.to_path_buf()),
         Err(e) => Err(io_err(path, e)),
@@ -325,6 +305,7 @@ impl VisibilityImage {
     /// The width and height of the EXR's layer that holds `V`, read from its header alone (no
     /// pixel is read or allocated).
     pub fn read_exr_size(path: &Path) -> Result<(u64, u64), ImageError> {
+        crate::input::regular_file(path).map_err(|e| io_err(path, e))?;
         let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
         let mut found = Vec::new();
         for h in meta.headers.iter() {
@@ -364,6 +345,7 @@ pub enum PngColor {
 /// The first layer's size, and the bytes that reading every layer and channel of the EXR takes,
 /// from its header alone.
 fn exr_header(path: &Path) -> Result<(u64, u64, u64), ImageError> {
+    crate::input::regular_file(path).map_err(|e| io_err(path, e))?;
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
     let mut bytes = 0u64;
     for h in meta.headers.iter() {

@@ -8,6 +8,7 @@ pub mod camera;
 pub mod exact;
 pub mod halfedge;
 pub mod image;
+pub mod input;
 pub mod light;
 pub mod memory;
 pub mod mesh;

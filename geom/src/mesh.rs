@@ -147,7 +147,7 @@ impl TriangleMesh {
     /// Materials are ignored (a missing `.mtl` is not an error). Errors name the file and, where
     /// the statement can be located, its line.
     pub fn load_obj(path: &Path) -> Result<Self, MeshError> {
-        let text = std::fs::read_to_string(path).map_err(|error| MeshError::Io {
+        let text = crate::input::read_text(path).map_err(|error| MeshError::Io {
             path: path.to_path_buf(),
             error,
         })?;

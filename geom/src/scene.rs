@@ -172,7 +172,7 @@ fn line_of(text: &str, at: usize) -> usize {
 impl Scene {
     /// Loads and validates a scene file and every mesh it names.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
+        let text = crate::input::read_text(path).map_err(|error| SceneError::Io {
             path: path.to_path_buf(),
             error,
         })?;

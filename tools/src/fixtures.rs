@@ -286,6 +286,8 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     std::fs::create_dir_all(&scenes).with_context(|| format!("creating {}", scenes.display()))?;
     let mut written = Vec::new();
     let mut write = |path: std::path::PathBuf, text: String| -> Result<()> {
+        // A FIFO or device under the folder is refused, not written into (a FIFO would block).
+        penumbra::geom::image::output_target(&path)?;
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
         written.push(path.display().to_string());
         Ok(())

@@ -430,3 +430,135 @@ fn links_to_inputs_are_refused_as_outputs_and_the_inputs_kept() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Runs `c` and returns its exit status and stderr; fails the test if it runs for a minute (a
+/// read blocked on a FIFO never ends).
+fn within_a_minute(mut c: std::process::Command) -> (std::process::ExitStatus, String) {
+    use std::io::Read;
+    let mut child = c
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            child
+                .stderr
+                .take()
+                .unwrap()
+                .read_to_string(&mut err)
+                .unwrap();
+            return (status, err);
+        }
+        if start.elapsed() > std::time::Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("{c:?} still running after a minute");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn special_files_are_refused_as_inputs_before_they_are_read() {
+    let d = scratch("special-in");
+    let fifo = |name: &str| {
+        let p = d.join(name);
+        assert!(
+            std::process::Command::new("mkfifo")
+                .arg(&p)
+                .status()
+                .unwrap()
+                .success()
+        );
+        p
+    };
+    std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
+    for (name, obj) in [("zero", "/dev/zero"), ("random", "/dev/urandom")] {
+        std::fs::write(
+            d.join(format!("{name}.toml")),
+            GOOD_SCENE.replace("m.obj", obj),
+        )
+        .unwrap();
+    }
+    fifo("fifo.obj");
+    std::fs::write(
+        d.join("fifo-mesh.toml"),
+        GOOD_SCENE.replace("m.obj", "fifo.obj"),
+    )
+    .unwrap();
+    let fifo_scene = fifo("fifo-scene.toml");
+    let render = |scene: &std::path::Path| {
+        let mut c = penumbra();
+        c.args(["render", "--technique", "hard", "--backend", "cpu", "--out"])
+            .arg(d.join("v.exr"))
+            .arg(scene);
+        c
+    };
+    let cases = [
+        (
+            render(&d.join("zero.toml")),
+            "/dev/zero: cannot read mesh: a device, not a regular file",
+        ),
+        (
+            render(&d.join("random.toml")),
+            "/dev/urandom: cannot read mesh: a device",
+        ),
+        (
+            render(std::path::Path::new("/dev/zero")),
+            "cannot read scene: a device",
+        ),
+        (
+            render(&d.join("fifo-mesh.toml")),
+            "fifo.obj: cannot read mesh: a FIFO",
+        ),
+        (
+            render(&fifo_scene),
+            "fifo-scene.toml: cannot read scene: a FIFO",
+        ),
+    ];
+    for (c, want) in cases {
+        let (status, err) = within_a_minute(c);
+        assert!(
+            !status.success() && err.contains(want),
+            "want {want:?}: {err}"
+        );
+    }
+    assert!(!d.join("v.exr").exists());
+    // A FIFO among the scenes `accuracy` reads.
+    let scenes = d.join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    std::fs::rename(&fifo_scene, scenes.join("a.toml")).unwrap();
+    let mut c = penumbra();
+    c.args([
+        "accuracy",
+        "--samples",
+        "4",
+        "--technique-samples",
+        "4",
+        "--scenes",
+    ])
+    .arg(&scenes);
+    let (status, err) = within_a_minute(c);
+    assert!(
+        !status.success() && err.contains("a.toml: cannot read scene: a FIFO"),
+        "{err}"
+    );
+    // A FIFO where `gen-fixtures` writes a mesh.
+    let out = d.join("gen");
+    std::fs::create_dir_all(out.join("meshes")).unwrap();
+    let blocker = out.join("meshes").join("quad.obj");
+    assert!(
+        std::process::Command::new("mkfifo")
+            .arg(&blocker)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let mut c = penumbra();
+    c.arg("gen-fixtures").arg("--out").arg(&out);
+    let (status, err) = within_a_minute(c);
+    assert!(!status.success() && err.contains("is a FIFO"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}
