@@ -156,6 +156,9 @@ impl TriangleMesh {
 
     /// [`TriangleMesh::load_obj`] of the text of an OBJ file; `path` names it in errors.
     pub fn parse_obj(path: &Path, text: &str) -> Result<Self, MeshError> {
+        // A UTF-8 byte-order mark (as some Windows editors write) is not part of line 1: left
+        // there, it hid the first `v` from the parser and shifted every index.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         // Our own scan first: it knows line numbers, which tobj's errors do not carry.
         scan_obj(path, text)?;
         let opts = tobj::LoadOptions {
@@ -403,6 +406,16 @@ mod tests {
             load_str("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 1 2 5\n").unwrap();
         assert_eq!(m.triangles.len(), 2);
         assert_eq!(m.dropped_degenerate, 1);
+    }
+
+    #[test]
+    fn a_byte_order_mark_keeps_every_vertex() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
+        let plain = load_str(text).unwrap();
+        let marked = load_str(&format!("\u{feff}{text}")).unwrap();
+        assert_eq!(marked.positions, plain.positions);
+        assert_eq!(marked.triangles, plain.triangles);
+        assert_eq!(plain.positions.len(), 4);
     }
 
     #[test]

@@ -181,6 +181,8 @@ impl Scene {
 
     /// Parses scene text as if read from `path` (OBJ paths are relative to its folder).
     pub fn from_toml(text: &str, path: &Path) -> Result<Scene, SceneError> {
+        // A UTF-8 byte-order mark is not part of the first line.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let file: SceneFile = toml::from_str(text).map_err(|e| SceneError::Syntax {
             path: path.to_path_buf(),
             line: e.span().map_or(0, |s| line_of(text, s.start)),
@@ -556,5 +558,20 @@ mod tests {
         assert_eq!(message, "mdsm.kernel: 9 is not in 2..=5");
         let text = format!("{CAMERA_AND_LIGHT}[pcss]\nsearch = 4\n\n[pfc]\nkernel = 3\n");
         assert!(Scene::from_toml(&text, Path::new("s.toml")).is_err());
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_line() {
+        let plain = Scene::from_toml(CAMERA_AND_LIGHT, Path::new("s.toml")).unwrap();
+        let marked =
+            Scene::from_toml(&format!("\u{feff}{CAMERA_AND_LIGHT}"), Path::new("s.toml")).unwrap();
+        assert_eq!(marked.camera.width, plain.camera.width);
+        // Errors keep their lines.
+        let text = format!("\u{feff}{CAMERA_AND_LIGHT}[pcss]\nsearch = 0\n");
+        let Err(SceneError::Invalid { line, .. }) = Scene::from_toml(&text, Path::new("s.toml"))
+        else {
+            panic!("search = 0 accepted")
+        };
+        assert_eq!(line, text.lines().count());
     }
 }
