@@ -15,7 +15,10 @@ pub enum CameraError {
     /// `eye == target`: no view direction.
     #[error("eye and target coincide: the view direction is undefined")]
     EyeIsTarget,
-    /// `up` is zero or parallel to the view direction.
+    /// `up` is zero.
+    #[error("up {0:?} is zero: it gives no direction")]
+    UpZero([f64; 3]),
+    /// `up` is parallel to the view direction.
     #[error("up {up:?} is parallel to the view direction {forward:?}")]
     UpParallel {
         /// The given up vector.
@@ -86,7 +89,10 @@ impl Camera {
             .try_normalize()
             .ok_or(CameraError::EyeIsTarget)?;
         let side = forward.cross(up);
-        if up.length() == 0.0 || side.length() <= 1e-9 * up.length() {
+        if up.length() == 0.0 {
+            return Err(CameraError::UpZero(up.to_array()));
+        }
+        if side.length() <= 1e-9 * up.length() {
             return Err(CameraError::UpParallel {
                 up: up.to_array(),
                 forward: forward.to_array(),
@@ -146,6 +152,10 @@ mod tests {
             Camera::look_at(e, DVec3::ZERO, DVec3::Y, 45., 4, 4),
             Err(CameraError::UpParallel { .. })
         ));
+        assert_eq!(
+            Camera::look_at(e, DVec3::ZERO, DVec3::ZERO, 45., 4, 4),
+            Err(CameraError::UpZero([0.0; 3]))
+        );
         assert!(matches!(
             Camera::look_at(e, DVec3::X, DVec3::Y, 45., 0, 4),
             Err(CameraError::EmptyImage { .. })

@@ -305,7 +305,7 @@ impl VisibilityImage {
     /// The width and height of the EXR's layer that holds `V`, read from its header alone (no
     /// pixel is read or allocated).
     pub fn read_exr_size(path: &Path) -> Result<(u64, u64), ImageError> {
-        crate::input::regular_file(path).map_err(|e| io_err(path, e))?;
+        exr_file(path)?;
         let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
         let mut found = Vec::new();
         for h in meta.headers.iter() {
@@ -342,10 +342,28 @@ pub enum PngColor {
     Rgb,
 }
 
+/// Refuses what is not a regular file starting with OpenEXR's magic number, with words a user
+/// can act on (the EXR reader says "file identifier missing" of a PNG).
+fn exr_file(path: &Path) -> Result<(), ImageError> {
+    use std::io::Read;
+    crate::input::regular_file(path).map_err(|e| io_err(path, e))?;
+    let mut magic = [0u8; 4];
+    let read = std::fs::File::open(path)
+        .and_then(|f| f.take(4).read(&mut magic))
+        .map_err(|e| io_err(path, e))?;
+    if read < 4 || magic != [0x76, 0x2f, 0x31, 0x01] {
+        return Err(io_err(
+            path,
+            "not an OpenEXR file: visibility images are read as the EXRs `penumbra render --out` writes",
+        ));
+    }
+    Ok(())
+}
+
 /// The first layer's size, and the bytes that reading every layer and channel of the EXR takes,
 /// from its header alone.
 fn exr_header(path: &Path) -> Result<(u64, u64, u64), ImageError> {
-    crate::input::regular_file(path).map_err(|e| io_err(path, e))?;
+    exr_file(path)?;
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
     let mut bytes = 0u64;
     for h in meta.headers.iter() {

@@ -237,7 +237,7 @@ impl Scene {
         .map_err(|e| {
             let span = match e {
                 CameraError::EyeIsTarget => c.target.span(),
-                CameraError::UpParallel { .. } => c.up.span(),
+                CameraError::UpParallel { .. } | CameraError::UpZero(_) => c.up.span(),
                 CameraError::EmptyImage { width: 0, .. } => c.width.span(),
                 CameraError::EmptyImage { .. } => c.height.span(),
                 CameraError::BadFov(_) => c.fov_y_deg.span(),

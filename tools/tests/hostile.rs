@@ -562,3 +562,37 @@ fn special_files_are_refused_as_inputs_before_they_are_read() {
     assert!(!status.success() && err.contains("is a FIFO"), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn an_image_named_as_another_format_is_refused_and_compare_says_it_reads_exr() {
+    let d = case_dir("formats", GOOD_SCENE, GOOD_OBJ);
+    let out = penumbra()
+        .args(["render", "--technique", "hard", "--backend", "cpu", "--out"])
+        .arg(d.join("v.png"))
+        .arg(d.join("s.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("writes an OpenEXR image") && err.contains("--png"),
+        "{err}"
+    );
+    assert!(!d.join("v.png").exists());
+    // A PNG given to compare.
+    let png = d.join("a.png");
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.5)
+        .write_png(&png)
+        .unwrap();
+    let out = penumbra()
+        .arg("compare")
+        .arg(&png)
+        .arg(&png)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("a.png: not an OpenEXR file"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -24,6 +24,18 @@ pub(crate) fn render(
             "--jitter: {technique:?} takes no light samples (depth-complexity does; the reference always jitters)"
         );
     }
+    // `--out` is always an OpenEXR file: one named as another format would mislead its readers.
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    if let Some(e) =
+        ext.filter(|e| ["png", "jpg", "jpeg", "tif", "tiff", "bmp", "hdr"].contains(&e.as_str()))
+    {
+        bail!(
+            "--out {} names a .{e} file, but --out writes an OpenEXR image (channel V): name it .exr, and use --png for an 8-bit PNG",
+            out.display()
+        );
+    }
     let mut outputs = vec![out];
     outputs.extend(png);
     // Checked before and after loading: the scene names the meshes.
