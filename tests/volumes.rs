@@ -487,3 +487,39 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
         "the planes reject only {rejected} of 1000 points"
     );
 }
+
+/// Share of pixels where CPU `hard` differs from the hard reference.
+fn hard_against_its_reference(scene: &Scene) -> f64 {
+    let hard = CpuRenderer::new(scene).render(scene, Technique::Hard, &|_| {});
+    let tracer = Tracer::new(scene);
+    let want = reference::render(scene, &tracer, Reference::Hard, &|_| {});
+    let differ = hard
+        .data
+        .iter()
+        .zip(&want.data)
+        .filter(|(a, b)| a != b)
+        .count();
+    differ as f64 / hard.data.len() as f64
+}
+
+#[test]
+fn closed_meshes_wound_inwards_or_mirrored_cast_the_same_hard_shadow() {
+    for name in ["sphere-over-plane", "spot", "camera-in-shadow"] {
+        let scene = load(name);
+        // Every mesh wound inwards, as an OBJ authored that way: closed ones turn inside out.
+        let mut inward = scene.clone();
+        for m in &mut inward.meshes {
+            m.mesh = m.mesh.flipped();
+        }
+        // The whole scene mirrored (a negative scale): positions only, windings unchanged.
+        let mirrored = scene.transformed(&DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0)));
+        for (what, s) in [("wound inwards", &inward), ("mirrored", &mirrored)] {
+            let share = hard_against_its_reference(s);
+            println!(
+                "{name:>18} {what}: hard differs from the hard reference on {:.4}% of pixels",
+                100.0 * share
+            );
+            assert!(share <= 1e-3, "{name} {what}: {:.3}% differ", 100.0 * share);
+        }
+    }
+}

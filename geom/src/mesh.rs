@@ -80,6 +80,15 @@ fn weld_key(p: DVec3) -> [u64; 3] {
 }
 
 impl TriangleMesh {
+    /// The same mesh with every triangle's winding reversed (each normal turned around).
+    pub fn flipped(&self) -> TriangleMesh {
+        TriangleMesh {
+            positions: self.positions.clone(),
+            triangles: self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+            dropped_degenerate: self.dropped_degenerate,
+        }
+    }
+
     /// Builds a welded mesh from raw positions and triangles. Non-finite positions and
     /// out-of-range indices are errors naming `name`; degenerate triangles are dropped and
     /// counted.

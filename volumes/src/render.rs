@@ -48,14 +48,15 @@ pub use crate::wedge_grid::{
 
 /// One scene mesh with its half-edges, silhouette and shadow volume.
 pub struct Occluder {
-    /// Half-edge structure (world space).
+    /// Half-edge structure (world space), wound outwards where the mesh is closed: a closed
+    /// scene mesh wound inwards is flipped here ([`Occluder::outward`] keeps its own winding).
     pub mesh: HalfEdgeMesh,
     /// Its silhouette from the light's centre.
     pub silhouette: Silhouette,
     /// Index of its first triangle in [`Scene::triangles`].
     pub first_triangle: u32,
-    /// [`crate::terminator::outward_sign`]: +1 or -1 for a closed mesh wound outwards or
-    /// inwards, 0 for an open one.
+    /// [`crate::terminator::outward_sign`] of the scene's mesh: +1 or -1 for a closed mesh
+    /// wound outwards or inwards, 0 for an open one.
     pub outward: f64,
 }
 
@@ -98,6 +99,17 @@ impl Volumes {
             .enumerate()
             .map(|(oi, m)| {
                 let mesh = HalfEdgeMesh::build(m);
+                let outward = crate::terminator::outward_sign(m, &mesh);
+                // A closed mesh wound inwards (mirrored by a negative scale, or authored so) is
+                // turned outwards for its silhouette and volume. Their rule for closed meshes
+                // takes the light-facing triangles as casters; on an inward mesh those are the
+                // ones facing away, and a point on its shadowed side found no caster between
+                // itself and the light.
+                let mesh = if outward < 0.0 {
+                    HalfEdgeMesh::build(&m.flipped())
+                } else {
+                    mesh
+                };
                 let ls: Vec<DVec3> = mesh
                     .positions
                     .iter()
@@ -160,7 +172,7 @@ impl Volumes {
                     }
                 }
                 let o = Occluder {
-                    outward: crate::terminator::outward_sign(m, &mesh),
+                    outward,
                     mesh,
                     silhouette,
                     first_triangle: first,
