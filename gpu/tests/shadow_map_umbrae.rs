@@ -1,14 +1,17 @@
-//! The shadow-map techniques on every fixture, real meshes included, at their default
-//! parameters, against the exact depth-complexity image at 256 light samples (the reference's
-//! accuracy, several times faster): how much of the umbra (V <= 0.02) each leaves lit (V > 0.5),
-//! and the penumbra errors of `pcss` and `fractional-disk`. They need an adapter (lavapipe in
-//! CI), as `gpu.rs` does.
+//! The shadow-map techniques on every fixture, real meshes included, and on the scale scene
+//! (`fixtures/scale/scale.toml`: six meshes close together under a light as large as the group),
+//! at their default parameters, against the exact depth-complexity image at 256 light samples
+//! (the reference's accuracy, several times faster): how much of the umbra (V <= 0.02) each
+//! leaves lit (V > 0.5), and the penumbra errors of `pcss` and `fractional-disk`. They need an
+//! adapter (lavapipe in CI), as `gpu.rs` does.
 
 mod common;
 use common::{context, fixtures};
 
-use penumbra_geom::Technique;
+use std::path::PathBuf;
+
 use penumbra_geom::image::compare;
+use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::ShadowMapRenderer;
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
@@ -22,6 +25,13 @@ const PCSS_PENUMBRA_MAE: f64 = 0.13;
 /// radius counts cells of the paper's 256² grid. Counted in texels of the 2048² map, the
 /// paper's 16 capped the penumbrae at a tenth of their width, 0.15 to 0.23 on every fixture.
 const FD_PENUMBRA_MAE: f64 = 0.15;
+
+/// The scale scene: a light map spanning a group of objects, where `pcss`'s blocker search takes
+/// in near and far blockers at once.
+fn scale() -> (String, Scene) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scale/scale.toml");
+    ("scale".to_string(), Scene::load(&path).unwrap())
+}
 
 #[test]
 fn shadow_maps_keep_their_umbrae_and_pcss_and_fractional_disk_their_penumbrae() {
@@ -41,7 +51,7 @@ fn shadow_maps_keep_their_umbrae_and_pcss_and_fractional_disk_their_penumbrae() 
         jitter: false,
     };
     let mut failures = Vec::new();
-    for (name, scene) in fixtures() {
+    for (name, scene) in fixtures().into_iter().chain([scale()]) {
         let truth = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
         for r in &renderers {
             let t = r.technique();

@@ -3,13 +3,17 @@
 // estimation and filtering").
 // 1. Blocker search (4.2.1): iparams.x^2 grids over the region where a blocker can hide part of
 //    the light from P, the light rectangle shrunk by (d_R - z)/d_R about P's projection, at
-//    nested depths z (below); d_B = mean depth of the taps nearer than P's plane whose depth puts
-//    them inside that pyramid. No blocker: lit.
-// 2. Penumbra width (Eq. 2): w = (d_R - d_B) * w_light / d_B, per axis of the rectangle light.
-// 3. PCF over a box of half-width w / 2 on the receiver (the light's own shape, so exact for
-//    parallel planes): an F x F grid, F = clamp(ceil(2 * kernel in texels), 1, iparams.y).
-//    iparams.z = 1: Shinde's section 4.4 instead, four taps of a 4x4 lattice per pixel,
-//    chosen by the pixel's place in its 2x2 screen quad (GPU Gems 1, 11.4).
+//    nested depths z (below); the taps nearer than P's plane whose depth puts them inside that
+//    pyramid are blockers, kept in depth layers (below) with one mean depth d_B each. No
+//    blocker: lit.
+// 2. Penumbra width (Eq. 2) per layer: w = (d_R - d_B) * w_light / d_B, per axis of the
+//    rectangle light.
+// 3. PCF over the light's points on an F x F grid, F = clamp(ceil(2 * widest kernel in texels),
+//    1, iparams.y): a point is hidden when some layer's map tap on its ray to P, inside that
+//    layer's box of half-width w / 2 on the receiver (the light's own shape, so exact for one
+//    blocker parallel to the receiver), holds a blocker. iparams.z = 1: Shinde's section 4.4
+//    instead, four points of a 4x4 lattice per pixel, chosen by the pixel's place in its 2x2
+//    screen quad (GPU Gems 1, 11.4).
 
 fn cell(i: u32, n: u32) -> f32 {
     return (f32(i) + 0.5) / f32(n) * 2.0 - 1.0;
@@ -22,8 +26,50 @@ fn search_region(h: vec2<f32>, zr: f32, z: f32) -> vec2<f32> {
     return min(h * max(zr - z, 0.0) / zr * uv_per_world(z), vec2<f32>(0.25));
 }
 
-fn tap_lit(r: Receiver, uv: vec2<f32>) -> f32 {
-    return select(0.0, 1.0, depth_uv(uv) >= occlusion_threshold(r, uv));
+// Depth layers of the blocker search. Layer i holds the blockers of depth d with
+// (zr - z0) / (zr - d) in [2^(i STEP), 2^((i + 1) STEP)), z0 the search's first (nearest)
+// section and zr the receiver's depth: a quarter of an octave of the distance to the receiver,
+// which the penumbra width (zr - d) / d follows near the receiver, and a quarter of the nested
+// sections' halving step. The search's 12 rounds span 12 octaves, 48 layers.
+const LAYERS: u32 = 48u;
+const STEP: f32 = 0.25;
+// Adjacent filled layers merge into one blocker, at most this many layers (half an octave)
+// wide: finer blockers make a slanted plate (`fence`, `woody`, the pages of `nonmanifold`) a
+// stack of blockers whose errors at their edges add up, too dark.
+const MERGE: u32 = 2u;
+
+// The layer of a blocker at depth d, for a receiver at depth zr and a first section at z0.
+fn layer_of(zr: f32, z0: f32, d: f32) -> u32 {
+    let q = max(zr - z0, 1e-30) / max(zr - d, 1e-30);
+    return u32(clamp(floor(log2(max(q, 1.0)) / STEP), 0.0, f32(LAYERS - 1u)));
+}
+
+// Whether light point `cell` (in [-1, 1]^2 of the light's half sides) is hidden from the
+// receiver by some blocker: blocker i (stored at its nearest layer, `cuts[i] > 0`) looks at the
+// tap where the ray from that point to P crosses its mean depth, r.uv + cell * k_i, and counts
+// it when the map holds a surface there in front of the receiver's plane and no deeper than the
+// next deeper blocker's layers begin (`cuts[i]`): a solid's near side hides the rays that pass
+// below it, further in, and the deeper blocker tests those depths itself.
+fn cell_hidden(
+    r: Receiver,
+    cell: vec2<f32>,
+    kernels: ptr<function, array<vec2<f32>, LAYERS>>,
+    cuts: ptr<function, array<f32, LAYERS>>,
+    first: u32,
+    last: u32,
+) -> bool {
+    for (var i = first; i <= last; i++) {
+        let cut = (*cuts)[i];
+        if (cut <= 0.0) {
+            continue;
+        }
+        let uv = r.uv + cell * (*kernels)[i];
+        let d = depth_uv(uv);
+        if (d < cut && d < occlusion_threshold(r, uv)) {
+            return true;
+        }
+    }
+    return false;
 }
 
 @fragment
@@ -43,11 +89,30 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     // from the previous one to P, an ns x ns grid each, down to a section of about a texel; a
     // round keeps its taps outside the next round's section, so every tap stands for an equal
     // share of its round's area, and each blocker inside the pyramid at its own depth counts
-    // with that share. d_B is the weighted mean of their depths.
+    // with that share.
+    //
+    //
+    // The blockers are kept in depth layers (`layer_of`), each with its share-weighted mean
+    // depth, rather than averaged into one d_B. Fernando 2005 assumes one planar blocker
+    // parallel to the receiver; under a group of objects as wide as the light, P's pyramid
+    // takes in both the object right above P and the tops of taller neighbours, which hide
+    // other parts of the same light. Their mean depth puts "the" blocker far nearer the light
+    // than the object that hides P: the penumbra estimate (Eq. 2) widens, and the filter
+    // reaches past that object's shadow into light, in the middle of its umbra (12% of the
+    // umbra lit on the `scale` scene). Layered, each blocker filters at its own width and a
+    // light point counts as hidden when any of them hides it, so the nearest object keeps
+    // its umbra whatever lies above it. Within one object, too, the layers near the receiver
+    // (a sphere's lower half, a body over its feet) get their own, narrower widths: the
+    // penumbra no longer widens with the object's height.
     let ns = shadow.iparams.x;
-    var sum = 0.0;
-    var weight = 0.0;
-    var z = min(shadow.depth.y, zr);
+    var sums: array<f32, LAYERS>;
+    var weights: array<f32, LAYERS>;
+    for (var i = 0u; i < LAYERS; i++) {
+        sums[i] = 0.0;
+        weights[i] = 0.0;
+    }
+    let z0 = min(shadow.depth.y, zr);
+    var z = z0;
     let texel = 1.0 / map_size();
     for (var round = 0u; round < 12u; round++) {
         let region = search_region(h, zr, z);
@@ -64,8 +129,9 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
                 let uv = r.uv + o;
                 let d = depth_uv(uv);
                 if (d < occlusion_threshold(r, uv) && all(abs(o) <= search_region(h, zr, d))) {
-                    sum += share * d;
-                    weight += share;
+                    let l = layer_of(zr, z0, d);
+                    sums[l] += share * d;
+                    weights[l] += share;
                 }
             }
         }
@@ -74,14 +140,58 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
         }
         z = z_next;
     }
-    if (weight == 0.0) {
+    // 2. Blockers: runs of adjacent filled layers, at most MERGE layers each, from the
+    // receiver up, each with its mean depth zb and its penumbra width on the receiver per axis
+    // (Eq. 2 with w_light = 2h), as the half-width k = w / 2 in uv of its filter box (the light
+    // seen from P, at depth zb). Blocker i is stored at its nearest layer; `cuts[i]`, the depth
+    // where the next deeper blocker's layers begin (BIG for the deepest), bounds what it tests.
+    var kernels: array<vec2<f32>, LAYERS>;
+    var cuts: array<f32, LAYERS>;
+    for (var i = 0u; i < LAYERS; i++) {
+        cuts[i] = 0.0;
+        kernels[i] = vec2<f32>(0.0);
+    }
+    var first = LAYERS;
+    var deepest = 0u;
+    var k_max = 0.0;
+    var cut = BIG;
+    var csum = 0.0;
+    var cw = 0.0;
+    var top = LAYERS;
+    var gap = false;
+    var start = 0u;
+    for (var n = 0u; n <= LAYERS; n++) {
+        let i = LAYERS - 1u - min(n, LAYERS - 1u);
+        let filled = n < LAYERS && weights[i] > 0.0;
+        let close = cw > 0.0 && (n == LAYERS || (filled && (gap || start - i >= MERGE)));
+        if (close) {
+            let zb = csum / cw;
+            let w = (zr - zb) * 2.0 * h / zb;
+            kernels[top] = 0.5 * w * uv_per_world(zr);
+            k_max = max(k_max, max(kernels[top].x * map_size().x, kernels[top].y * map_size().y));
+            cuts[top] = cut;
+            cut = zr - (zr - z0) * exp2(-STEP * f32(top));
+            first = top;
+            deepest = max(deepest, top);
+            csum = 0.0;
+            cw = 0.0;
+        }
+        if (filled) {
+            if (cw == 0.0) {
+                start = i;
+            }
+            csum += sums[i];
+            cw += weights[i];
+            top = i;
+            gap = false;
+        } else {
+            gap = true;
+        }
+    }
+    if (first == LAYERS) {
         return shaded(r, 1.0);
     }
-    let zb = sum / weight;
-    // 2. Penumbra width on the receiver, per axis (Eq. 2 with w_light = 2h).
-    let w = (zr - zb) * 2.0 * h / zb;
-    // 3. PCF over the box of half-width w / 2, in uv.
-    let k = 0.5 * w * uv_per_world(zr);
+    // 3. PCF: the light's points on a grid, each hidden when some blocker hides it.
     var lit = 0.0;
     var taps = 0u;
     if (shadow.iparams.z != 0u) {
@@ -91,19 +201,17 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
             for (var a = 0u; a < 2u; a++) {
                 let ij = vec2<f32>(o + 2u * vec2<u32>(a, b));
                 // Cell centres of a 4x4 grid over the kernel, as `cell(i, 4)`.
-                lit += tap_lit(r, r.uv + (ij - 1.5) * 0.5 * k);
+                let c = (ij - 1.5) * 0.5;
+                lit += select(1.0, 0.0, cell_hidden(r, c, &kernels, &cuts, first, deepest));
                 taps += 1u;
             }
         }
     } else {
-        let f = clamp(
-            u32(ceil(2.0 * max(k.x * map_size().x, k.y * map_size().y))),
-            1u,
-            shadow.iparams.y,
-        );
+        let f = clamp(u32(ceil(2.0 * k_max)), 1u, shadow.iparams.y);
         for (var j = 0u; j < f; j++) {
             for (var i = 0u; i < f; i++) {
-                lit += tap_lit(r, r.uv + vec2<f32>(cell(i, f), cell(j, f)) * k);
+                let c = vec2<f32>(cell(i, f), cell(j, f));
+                lit += select(1.0, 0.0, cell_hidden(r, c, &kernels, &cuts, first, deepest));
                 taps += 1u;
             }
         }
