@@ -19,6 +19,7 @@ use commands::{accuracy, bench, compare, geometry, probe, render};
 fn main() -> ExitCode {
     quiet_device_select();
     remove_temporaries_on_signal();
+    quiet_on_closed_stdout();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -26,6 +27,25 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// A reader that closes the output early (`penumbra compare A B | head -1`) ends the command
+/// quietly, with the status of a process ended by SIGPIPE (141), as other tools do: `println!`
+/// panics on a closed pipe, since Rust ignores SIGPIPE.
+fn quiet_on_closed_stdout() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.starts_with("failed printing to stdout") && message.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
 }
 
 /// On SIGINT, SIGTERM or SIGHUP, removes the temporary files of the outputs being written (their

@@ -596,3 +596,25 @@ fn an_image_named_as_another_format_is_refused_and_compare_says_it_reads_exr() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_reader_that_stops_early_ends_the_command_quietly() {
+    let d = scratch("pipe");
+    let a = d.join("a.exr");
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.5)
+        .write_exr(&a)
+        .unwrap();
+    // `true` reads nothing and exits at once, closing the pipe before compare (which reads two
+    // files first) prints its table.
+    let out = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("\"$0\" compare \"$1\" \"$1\" | true")
+        .arg(env!("CARGO_BIN_EXE_penumbra"))
+        .arg(&a)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}
