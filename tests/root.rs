@@ -3,6 +3,7 @@
 mod blending;
 mod common;
 mod depth_complexity;
+mod far_light;
 mod fixtures;
 mod fuzz;
 mod light_plane;

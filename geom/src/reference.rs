@@ -32,7 +32,7 @@ use crate::scene::Scene;
 /// Seed of the reference's light samples.
 pub const REFERENCE_SEED: u64 = 0x005E_ED0F_5AD0;
 
-/// Shadow rays start this far from P, relative to the scene's extent: P carries the `f32`
+/// Shadow rays start this far from P, relative to the extent of the triangles and the eye: P carries the `f32`
 /// rounding of the hit (about 1e-7 of its coordinates), two orders of magnitude below.
 pub const SHADOW_EPSILON: f64 = 1e-5;
 
@@ -71,17 +71,16 @@ impl Tracer {
     pub fn new(scene: &Scene) -> Self {
         let triangles = scene.triangles();
         let bvh = SceneBvh::build(&triangles);
-        let mut lo = scene.light.center.min(scene.camera.eye);
-        let mut hi = scene.light.center.max(scene.camera.eye);
+        // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
+        // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
+        // between an occluder and its receiver, and the shadow was lost.
+        let mut lo = scene.camera.eye;
+        let mut hi = scene.camera.eye;
         for t in &triangles {
             for v in t {
                 lo = lo.min(*v);
                 hi = hi.max(*v);
             }
-        }
-        for c in scene.light.corners() {
-            lo = lo.min(c);
-            hi = hi.max(c);
         }
         let extent = (hi - lo).length().max(1e-30);
         let boxes: Vec<(DVec3, DVec3)> = triangles
