@@ -71,6 +71,11 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
     /// How many zero-area triangles were dropped while building.
     pub dropped_degenerate: usize,
+    /// How many triangles were dropped as repeats of an earlier one: the same three vertices
+    /// (after welding) in either winding, as a face listed twice or a double-sided sheet
+    /// listed once per side. Both copies cast the same shadow; kept, each silhouette edge
+    /// would get two wedges that blend as two occluders.
+    pub dropped_duplicate: usize,
 }
 
 /// The key under which a position is welded: its bits, with `-0.0` mapped to `0.0`.
@@ -86,12 +91,13 @@ impl TriangleMesh {
             positions: self.positions.clone(),
             triangles: self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect(),
             dropped_degenerate: self.dropped_degenerate,
+            dropped_duplicate: self.dropped_duplicate,
         }
     }
 
     /// Builds a welded mesh from raw positions and triangles. Non-finite positions and
-    /// out-of-range indices are errors naming `name`; degenerate triangles are dropped and
-    /// counted.
+    /// out-of-range indices are errors naming `name`; degenerate and repeated triangles are
+    /// dropped and counted.
     ///
     /// ```
     /// use glam::DVec3;
@@ -127,6 +133,8 @@ impl TriangleMesh {
             });
             remap.push(id);
         }
+        let mut faces: std::collections::HashSet<[u32; 3]> =
+            std::collections::HashSet::with_capacity(triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
             let mut w = [0u32; 3];
             for k in 0..3 {
@@ -142,8 +150,12 @@ impl TriangleMesh {
                 w[k] = remap[i];
             }
             let [a, b, c] = w.map(|i| mesh.positions[i as usize]);
+            let mut key = w;
+            key.sort_unstable();
             if (b - a).cross(c - a) == DVec3::ZERO {
                 mesh.dropped_degenerate += 1;
+            } else if !faces.insert(key) {
+                mesh.dropped_duplicate += 1;
             } else {
                 mesh.triangles.push(w);
             }
@@ -261,6 +273,7 @@ impl TriangleMesh {
                 .collect(),
             triangles: self.triangles.clone(),
             dropped_degenerate: self.dropped_degenerate,
+            dropped_duplicate: self.dropped_duplicate,
         }
     }
 
@@ -425,6 +438,18 @@ mod tests {
         assert_eq!(marked.positions, plain.positions);
         assert_eq!(marked.triangles, plain.triangles);
         assert_eq!(plain.positions.len(), 4);
+    }
+
+    #[test]
+    fn repeated_faces_in_either_winding_are_dropped_and_counted() {
+        // A quad, the same quad again, and its first triangle once more wound the other way
+        // (a double-sided sheet of triangles).
+        let m = load_str(
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 3 4\nf 3 2 1\nf 2 3 1\n",
+        )
+        .unwrap();
+        assert_eq!(m.triangles, [[0, 1, 2], [0, 2, 3]]);
+        assert_eq!((m.dropped_duplicate, m.dropped_degenerate), (4, 0));
     }
 
     #[test]

@@ -186,8 +186,9 @@ pub(crate) enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Print the volume geometry of a scene: per mesh, its edges by kind, silhouette edges,
-    /// loops, wedges and shadow-volume triangles.
+    /// Print the volume geometry of a scene: silhouette edges, loops, wedges and shadow-volume
+    /// triangles, and for each mesh that had any, the triangles dropped on loading (of zero
+    /// area, or repeating another).
     Geometry {
         /// Scene file (TOML).
         scene: PathBuf,

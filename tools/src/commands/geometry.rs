@@ -23,6 +23,17 @@ pub(crate) fn geometry(scene_path: &Path, json: bool) -> Result<()> {
             g.wedges,
             g.volume_triangles
         );
+        // What loading dropped, per mesh that dropped any.
+        for m in &scene.meshes {
+            let (zero, repeated) = (m.mesh.dropped_degenerate, m.mesh.dropped_duplicate);
+            if zero + repeated > 0 {
+                println!(
+                    "  {}: {} triangles kept; dropped {zero} of zero area, {repeated} repeating another",
+                    m.source.display(),
+                    m.mesh.triangles.len()
+                );
+            }
+        }
     }
     Ok(())
 }

@@ -1,0 +1,69 @@
+//! A face listed twice, or a sheet listed once per winding: both copies cast one shadow, and the
+//! wedge techniques draw it once (each copy's silhouette once blended as a second occluder).
+
+use glam::{DMat4, DVec2, DVec3};
+use penumbra::geom::camera::Camera;
+use penumbra::geom::image::compare;
+use penumbra::geom::reference::{self, Reference, Tracer};
+use penumbra::geom::{RectLight, Scene, TriangleMesh};
+use penumbra::volumes::{CpuRenderer, Technique};
+
+#[test]
+fn repeated_faces_cast_one_shadow() {
+    let c = DVec3::new;
+    let ground = TriangleMesh::from_raw(
+        std::path::Path::new("ground"),
+        &[
+            c(-2., 0., -2.),
+            c(-2., 0., 2.),
+            c(2., 0., 2.),
+            c(2., 0., -2.),
+        ],
+        &[[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap();
+    let corners = [
+        c(-0.5, 1., -0.5),
+        c(-0.5, 1., 0.5),
+        c(0.5, 1., 0.5),
+        c(0.5, 1., -0.5),
+    ];
+    let once = [[0, 1, 2], [0, 2, 3]];
+    let twice = [[0, 1, 2], [0, 2, 3], [0, 1, 2], [0, 2, 3]];
+    let both_sides = [[0, 1, 2], [0, 2, 3], [2, 1, 0], [3, 2, 0]];
+    let camera = Camera::look_at(c(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 48, 32).unwrap();
+    let light = RectLight::new(c(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
+    let scene = |faces: &[[u32; 3]]| {
+        let quad = TriangleMesh::from_raw(std::path::Path::new("quad"), &corners, faces).unwrap();
+        assert_eq!(quad.triangles.len(), 2);
+        Scene::new(camera, light)
+            .with_mesh("ground", &ground, DMat4::IDENTITY)
+            .with_mesh("quad", &quad, DMat4::IDENTITY)
+    };
+    let single = scene(&once);
+    let want: Vec<_> = [Technique::Wedges, Technique::WedgesBlend]
+        .map(|t| CpuRenderer::new(&single).render(&single, t, &|_| {}))
+        .into();
+    for (what, faces) in [("twice", &twice[..]), ("both windings", &both_sides[..])] {
+        let s = scene(faces);
+        assert_eq!(s.meshes[1].mesh.dropped_duplicate, 2, "{what}");
+        let truth = reference::render(
+            &s,
+            &Tracer::new(&s),
+            Reference::Sampled { per_axis: 16 },
+            &|_| {},
+        );
+        for (i, t) in [Technique::Wedges, Technique::WedgesBlend]
+            .into_iter()
+            .enumerate()
+        {
+            let img = CpuRenderer::new(&s).render(&s, t, &|_| {});
+            assert_eq!(
+                img, want[i],
+                "{what} {t}: not the image of the quad listed once"
+            );
+            let m = compare(&img, &truth).unwrap();
+            assert!(m.all.max < 0.05, "{what} {t}: max error {}", m.all.max);
+        }
+    }
+}
