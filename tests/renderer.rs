@@ -132,6 +132,22 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
         .render(&wide, Technique::Hard, &RenderOptions::default())
         .unwrap_err();
     assert!(err.to_string().contains("field of view"), "{err}");
+    // A light the scene file would refuse (its normal not unit length) is refused here too,
+    // where wedges-blend drew a hard-edged, broken shadow.
+    let mut tilted = base.clone();
+    tilted.light = penumbra::geom::RectLight::new(
+        base.light.center,
+        DVec3::new(0.0, -1.0, 0.5),
+        DVec3::X,
+        base.light.size,
+    );
+    let err = Renderer::new(Backend::Cpu)
+        .render(&tilted, Technique::WedgesBlend, &RenderOptions::default())
+        .unwrap_err();
+    assert!(
+        matches!(err, RenderError::OutOfRange(_)) && err.to_string().contains("not unit length"),
+        "{err}"
+    );
 }
 
 #[test]
