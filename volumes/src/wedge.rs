@@ -36,7 +36,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::clip::{RADIAL_PARTS, Rect, area, clip_halfplane, clip_segment, cross};
+use crate::clip::{Poly, RADIAL_PARTS, Rect, area, clip_segment, clip_segment_by, cross};
 use crate::silhouette::orient3d;
 
 /// Fraction of `z_P` kept between the clipped edge and the local near plane, so that no
@@ -159,20 +159,49 @@ impl Wedge {
             near: [Rect::EMPTY; 4],
             cover: [0.0; 4],
         };
+        // The cone over the edge from the centre is where both `side_a` and `side_b` are
+        // non-negative; `edge_line` is non-negative on the centre's side of the edge.
+        let side_a = |x: DVec2| s0 * cross(a, x);
+        let side_b = |x: DVec2| s0 * cross(x, b);
+        let edge_line = |x: DVec2| s0 * cross(b - a, x - a);
+        // Part k runs from corner k to corner k + 1: their values decide, before any clipping,
+        // whether the cone keeps the whole part or misses it.
+        let corners = RADIAL_PARTS.map(|part| part[1]);
+        let (at_a, at_b) = (corners.map(side_a), corners.map(side_b));
+        let centre_near = edge_line(DVec2::ZERO) >= 0.0;
+        let (mut half, mut cone) = (Poly::EMPTY, Poly::EMPTY);
+        let (mut beyond, mut near) = (Poly::EMPTY, Poly::EMPTY);
         let mut any = false;
         for (k, part) in RADIAL_PARTS.iter().enumerate() {
-            let cone = clip_halfplane(part, |x| s0 * cross(a, x));
-            let cone = clip_halfplane(&cone, |x| s0 * cross(x, b));
+            let (u, v) = (k, (k + 1) % 4);
+            let keeps = |f: &[f64; 4]| f[u] >= 0.0 && f[v] >= 0.0;
+            let drops = |f: &[f64; 4]| f[u] < 0.0 && f[v] < 0.0;
+            if drops(&at_a) || (keeps(&at_a) && drops(&at_b)) {
+                // The cone misses the part. Clipping the part would leave three copies of the
+                // centre (the apex every clip keeps): no area, no cover, and, where the centre
+                // lies on the near side, a near rectangle of that one point.
+                if centre_near {
+                    out.near[k] = Rect::of(&[DVec2::ZERO]);
+                    any = true;
+                }
+                continue;
+            }
+            if keeps(&at_a) && keeps(&at_b) {
+                // The cone holds the whole part: the clips would return it unchanged.
+                cone.set(part);
+            } else {
+                half.set_clip(part, side_a);
+                cone.set_clip(&half, side_b);
+            }
             if cone.len() < 3 {
                 continue;
             }
-            if let Some((p0, p1)) = clip_segment(part[1], part[2], |x| s0 * cross(a, x))
-                .and_then(|(p0, p1)| clip_segment(p0, p1, |x| s0 * cross(x, b)))
+            if let Some((p0, p1)) = clip_segment_by(part[1], part[2], at_a[u], at_a[v])
+                .and_then(|(p0, p1)| clip_segment(p0, p1, side_b))
             {
                 out.cover[k] = (p1 - p0).length();
             }
-            let beyond = clip_halfplane(&cone, |x| -s0 * cross(b - a, x - a));
-            let near = clip_halfplane(&cone, |x| s0 * cross(b - a, x - a));
+            cone.split_into(edge_line, &mut beyond, &mut near);
             let r = area(&beyond).abs();
             if r > 0.0 {
                 out.area[k] = m * r;
@@ -353,3 +382,7 @@ pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
     }
     t0 <= t1
 }
+
+#[cfg(test)]
+#[path = "wedge_tests.rs"]
+mod tests;
