@@ -176,10 +176,24 @@ impl Wedge {
             let (u, v) = (k, (k + 1) % 4);
             let keeps = |f: &[f64; 4]| f[u] >= 0.0 && f[v] >= 0.0;
             let drops = |f: &[f64; 4]| f[u] < 0.0 && f[v] < 0.0;
-            if drops(&at_a) || (keeps(&at_a) && drops(&at_b)) {
-                // The cone misses the part. Clipping the part would leave three copies of the
-                // centre (the apex every clip keeps): no area, no cover, and, where the centre
-                // lies on the near side, a near rectangle of that one point.
+            let misses = if drops(&at_a) {
+                true
+            } else if keeps(&at_a) {
+                drops(&at_b)
+            } else {
+                // `a`'s line crosses the part's outer side at `x`: clipping by it keeps the
+                // centre, one corner and `x` (the crossing computed as the clip computes it).
+                // When `b`'s line leaves both behind, the cone is the centre alone: the part
+                // opposite a narrow cone.
+                let x = part[1] + (part[2] - part[1]) * (at_a[u] / (at_a[u] - at_a[v]));
+                let corner = if at_a[u] >= 0.0 { at_b[u] } else { at_b[v] };
+                corner < 0.0 && side_b(x) < 0.0
+            };
+            if misses {
+                // The cone misses the part. Clipping the part would leave copies of the centre
+                // alone (the apex every clip keeps, and the crossings of the sides through it):
+                // no area, no cover, and, where the centre lies on the near side, a near
+                // rectangle of that one point.
                 if centre_near {
                     out.near[k] = Rect::of(&[DVec2::ZERO]);
                     any = true;
