@@ -83,6 +83,17 @@ pub struct EdgeIntegral {
     pub cover: [f64; 4],
 }
 
+impl EdgeIntegral {
+    /// Nothing in any part (the sign is left at 0).
+    pub const NONE: EdgeIntegral = EdgeIntegral {
+        sign: 0.0,
+        area: [0.0; 4],
+        beyond: [Rect::EMPTY; 4],
+        near: [Rect::EMPTY; 4],
+        cover: [0.0; 4],
+    };
+}
+
 impl Wedge {
     /// The edge clipped to the local near plane of `p` and projected from `p` onto the light
     /// plane, or `None` when nothing of it lies in front of `p` or `p` is not on the emitting
@@ -117,15 +128,25 @@ impl Wedge {
     /// The wedge integral at `p` (light space), or `None` when the edge does not touch the light
     /// as seen from `p` (`p` outside the wedge).
     pub fn integral(&self, p: DVec3) -> Option<EdgeIntegral> {
-        let (a, b) = self.project(p)?;
+        let mut out = EdgeIntegral::NONE;
+        self.integral_into(p, &mut out).then_some(out)
+    }
+
+    /// [`Wedge::integral`] written into `out`, whether there is one: the renderer keeps one
+    /// integral for all its wedges rather than have each returned (a copy of some 300 bytes).
+    /// `out` is unspecified when it returns `false`.
+    pub fn integral_into(&self, p: DVec3, out: &mut EdgeIntegral) -> bool {
+        let Some((a, b)) = self.project(p) else {
+            return false;
+        };
         // Only wedges containing p contribute: an edge whose projection misses the light hides
         // none of it (its near region would otherwise depend on which edges a search returns).
         if !segment_meets_square(a, b) {
-            return None;
+            return false;
         }
         let s0 = cross(a, b);
         if s0 == 0.0 {
-            return None;
+            return false;
         }
         let s0 = s0.signum();
         // Outer when the caster, seen from p, lies beyond the edge from the light's centre. On a
@@ -149,16 +170,15 @@ impl Wedge {
             }
         };
         if side == 0.0 {
-            return None;
+            return false;
         }
         let m = self.multiplicity as f64;
-        let mut out = EdgeIntegral {
-            sign: side.signum(),
-            area: [0.0; 4],
-            beyond: [Rect::EMPTY; 4],
-            near: [Rect::EMPTY; 4],
-            cover: [0.0; 4],
-        };
+        // Field by field: a whole new value would be built aside and copied over.
+        out.sign = side.signum();
+        out.area = [0.0; 4];
+        out.beyond = [Rect::EMPTY; 4];
+        out.near = [Rect::EMPTY; 4];
+        out.cover = [0.0; 4];
         // The cone over the edge from the centre is where both `side_a` and `side_b` are
         // non-negative; `edge_line` is non-negative on the centre's side of the edge.
         let side_a = |x: DVec2| s0 * cross(a, x);
@@ -227,7 +247,7 @@ impl Wedge {
                 any = true;
             }
         }
-        any.then_some(out)
+        any
     }
 }
 
