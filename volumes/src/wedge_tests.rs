@@ -94,3 +94,50 @@ fn integral_matches_the_plain_clipping_bit_for_bit() {
     }
     assert!(compared > 5_000, "only {compared} integrals compared");
 }
+
+/// Liang & Barsky's loop as the textbook writes it.
+fn plain_meets_square(a: DVec2, b: DVec2) -> bool {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x + 1.0),
+        (d.x, 1.0 - a.x),
+        (-d.y, a.y + 1.0),
+        (d.y, 1.0 - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    t0 <= t1
+}
+
+#[test]
+fn segment_meets_square_matches_the_textbook_loop() {
+    let mut rng = Rng::new(0x51de);
+    // Coordinates on the square's lines and corners, just off them, and anywhere.
+    let coord = |rng: &mut Rng| match rng.below(5) {
+        0 => [-1.0, 1.0, 0.0][rng.below(3)],
+        1 => [-1.0f64, 1.0][rng.below(2)] * (1.0 + f64::EPSILON * rng.range(-4.0, 4.0)),
+        2 => rng.range(-1.0, 1.0),
+        _ => rng.range(-4.0, 4.0),
+    };
+    let mut met = 0;
+    for _ in 0..200_000 {
+        let a = DVec2::new(coord(&mut rng), coord(&mut rng));
+        let b = DVec2::new(coord(&mut rng), coord(&mut rng));
+        let plain = plain_meets_square(a, b);
+        assert_eq!(segment_meets_square(a, b), plain, "{a} {b}");
+        met += usize::from(plain);
+    }
+    assert!(met > 50_000 && met < 190_000, "{met} of 200000 met");
+}
