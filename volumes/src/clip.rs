@@ -19,6 +19,20 @@ pub struct Poly {
 }
 
 impl Poly {
+    /// No vertex.
+    pub const EMPTY: Poly = Poly {
+        points: [DVec2::ZERO; Poly::CAPACITY],
+        len: 0,
+    };
+
+    /// The polygon of `points` (at most [`Poly::CAPACITY`]; any beyond are dropped).
+    #[inline]
+    pub fn of(points: &[DVec2]) -> Poly {
+        let mut p = Poly::EMPTY;
+        p.set(points);
+        p
+    }
+
     /// Most vertices. A convex polygon gains at most one vertex per clip, so a triangle clipped
     /// by three half-planes, as the wedge integrals clip their radial parts, has at most 6; the
     /// slack is for polygons that rounding left a hair short of convex.
@@ -26,10 +40,76 @@ impl Poly {
 
     /// Appends `p`; beyond the capacity (only a polygon that rounding made non-convex, of an area
     /// at the rounding's scale, can get there) the vertex is dropped rather than panicking.
+    #[inline]
     fn push(&mut self, p: DVec2) {
         if self.len < Self::CAPACITY {
             self.points[self.len] = p;
             self.len += 1;
+        }
+    }
+
+    /// One step of Sutherland & Hodgman's clip by an affine `f >= 0`: the side `a b` of the
+    /// polygon being clipped, with `fa = f(a)` and `fb = f(b)`, adds `a` when it is kept and
+    /// the crossing when the side crosses the line.
+    #[inline]
+    fn clip_side(&mut self, a: DVec2, b: DVec2, fa: f64, fb: f64) {
+        if fa >= 0.0 {
+            self.push(a);
+        }
+        if (fa >= 0.0) != (fb >= 0.0) {
+            let t = fa / (fa - fb);
+            self.push(a + (b - a) * t);
+        }
+    }
+
+    /// Makes this the polygon of `points`, as [`Poly::of`].
+    #[inline]
+    pub fn set(&mut self, points: &[DVec2]) {
+        self.len = 0;
+        for &x in points {
+            self.push(x);
+        }
+    }
+
+    /// Makes this [`clip_halfplane`]`(poly, f)` in place: the wedge integrals clip in buffers
+    /// that stay put, where returning a polygon would copy it. Each vertex is evaluated once and
+    /// its value carried to the next side.
+    #[inline]
+    pub fn set_clip(&mut self, poly: &[DVec2], f: impl Fn(DVec2) -> f64) {
+        self.len = 0;
+        let Some(&first) = poly.first() else {
+            return;
+        };
+        let f_first = f(first);
+        let (mut a, mut fa) = (first, f_first);
+        for i in 1..=poly.len() {
+            let (b, fb) = match poly.get(i) {
+                Some(&b) => (b, f(b)),
+                None => (first, f_first),
+            };
+            self.clip_side(a, b, fa, fb);
+            (a, fa) = (b, fb);
+        }
+    }
+
+    /// Makes `below` and `above` the parts of this polygon where the affine `f <= 0` and where
+    /// `f >= 0`: the polygons [`clip_halfplane`] gives by `-f` and by `f`, bit for bit
+    /// (negation is exact, so `below` is clipped by this `f`'s values negated), with `f`
+    /// evaluated once per vertex.
+    #[inline]
+    pub fn split_into(&self, f: impl Fn(DVec2) -> f64, below: &mut Poly, above: &mut Poly) {
+        let mut values = [0.0; Poly::CAPACITY];
+        for (v, &x) in values.iter_mut().zip(self.iter()) {
+            *v = f(x);
+        }
+        below.len = 0;
+        above.len = 0;
+        let n = self.len;
+        for i in 0..n {
+            let j = if i + 1 == n { 0 } else { i + 1 };
+            let (a, b, fa, fb) = (self.points[i], self.points[j], values[i], values[j]);
+            below.clip_side(a, b, -fa, -fb);
+            above.clip_side(a, b, fa, fb);
         }
     }
 }
@@ -45,27 +125,18 @@ impl std::ops::Deref for Poly {
 /// Keeps the part of the convex polygon `poly` where `f(x) >= 0`, `f` affine (Sutherland &
 /// Hodgman 1974, one plane at a time), in at most [`Poly::CAPACITY`] vertices.
 pub fn clip_halfplane(poly: &[DVec2], f: impl Fn(DVec2) -> f64) -> Poly {
-    let mut out = Poly {
-        points: [DVec2::ZERO; Poly::CAPACITY],
-        len: 0,
-    };
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-        let (fa, fb) = (f(a), f(b));
-        if fa >= 0.0 {
-            out.push(a);
-        }
-        if (fa >= 0.0) != (fb >= 0.0) {
-            let t = fa / (fa - fb);
-            out.push(a + (b - a) * t);
-        }
-    }
+    let mut out = Poly::EMPTY;
+    out.set_clip(poly, f);
     out
 }
 
 /// Keeps the part of the segment `a b` where the affine `f >= 0`.
 pub fn clip_segment(a: DVec2, b: DVec2, f: impl Fn(DVec2) -> f64) -> Option<(DVec2, DVec2)> {
-    let (fa, fb) = (f(a), f(b));
+    clip_segment_by(a, b, f(a), f(b))
+}
+
+/// [`clip_segment`] given `fa = f(a)` and `fb = f(b)`.
+pub fn clip_segment_by(a: DVec2, b: DVec2, fa: f64, fb: f64) -> Option<(DVec2, DVec2)> {
     match (fa >= 0.0, fb >= 0.0) {
         (true, true) => Some((a, b)),
         (false, false) => None,

@@ -41,7 +41,7 @@ use crate::blend::{Part, VBuffer};
 use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
 use crate::shadow_volume::ShadowVolume;
 use crate::silhouette::Silhouette;
-use crate::wedge::Wedge;
+use crate::wedge::{EdgeIntegral, Wedge};
 pub use crate::wedge_grid::{
     WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
 };
@@ -288,6 +288,25 @@ fn full_parts() -> [Part; 4] {
 /// Marks caster triangles in `CpuRenderer::triangle_occluder`.
 const CASTER_BIT: u32 = 1 << 31;
 
+/// The wedges [`CpuRenderer::candidates`] lists: a grid cell's, or all of them. An enum rather
+/// than a boxed iterator, so the loop over them, run for every pixel, inlines.
+enum Candidates<'a> {
+    Cell(std::slice::Iter<'a, u32>),
+    All(std::ops::Range<u32>),
+}
+
+impl Iterator for Candidates<'_> {
+    type Item = u32;
+
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        match self {
+            Candidates::Cell(c) => c.next().copied(),
+            Candidates::All(r) => r.next(),
+        }
+    }
+}
+
 #[derive(Clone, Copy)]
 struct Accum {
     occluder: u32,
@@ -416,10 +435,10 @@ impl CpuRenderer {
 
     /// Indices of the wedges that may contain the light-space point `pl`: the grid's cell, or
     /// every wedge for points outside the scene's box.
-    fn candidates(&self, pl: DVec3) -> Box<dyn Iterator<Item = u32> + '_> {
+    fn candidates(&self, pl: DVec3) -> Candidates<'_> {
         match self.grid.candidates(pl) {
-            Some(c) => Box::new(c.iter().copied()),
-            None => Box::new(0..self.volumes.wedges.len() as u32),
+            Some(c) => Candidates::Cell(c.iter()),
+            None => Candidates::All(0..self.volumes.wedges.len() as u32),
         }
     }
 
@@ -457,11 +476,12 @@ impl CpuRenderer {
                 ..Accum::new(o)
             })
             .collect();
+        let mut int = EdgeIntegral::NONE;
         for wi in self.candidates(pl) {
             let w = &self.volumes.wedges[wi as usize];
-            let Some(int) = w.integral(pl) else {
+            if !w.integral_into(pl, &mut int) {
                 continue;
-            };
+            }
             let a = match acc.iter().position(|a| a.occluder == w.unit) {
                 Some(i) => &mut acc[i],
                 None => {

@@ -36,7 +36,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::clip::{RADIAL_PARTS, Rect, area, clip_halfplane, clip_segment, cross};
+use crate::clip::{Poly, RADIAL_PARTS, Rect, area, clip_segment, clip_segment_by, cross};
 use crate::silhouette::orient3d;
 
 /// Fraction of `z_P` kept between the clipped edge and the local near plane, so that no
@@ -83,6 +83,17 @@ pub struct EdgeIntegral {
     pub cover: [f64; 4],
 }
 
+impl EdgeIntegral {
+    /// Nothing in any part (the sign is left at 0).
+    pub const NONE: EdgeIntegral = EdgeIntegral {
+        sign: 0.0,
+        area: [0.0; 4],
+        beyond: [Rect::EMPTY; 4],
+        near: [Rect::EMPTY; 4],
+        cover: [0.0; 4],
+    };
+}
+
 impl Wedge {
     /// The edge clipped to the local near plane of `p` and projected from `p` onto the light
     /// plane, or `None` when nothing of it lies in front of `p` or `p` is not on the emitting
@@ -117,15 +128,25 @@ impl Wedge {
     /// The wedge integral at `p` (light space), or `None` when the edge does not touch the light
     /// as seen from `p` (`p` outside the wedge).
     pub fn integral(&self, p: DVec3) -> Option<EdgeIntegral> {
-        let (a, b) = self.project(p)?;
+        let mut out = EdgeIntegral::NONE;
+        self.integral_into(p, &mut out).then_some(out)
+    }
+
+    /// [`Wedge::integral`] written into `out`, whether there is one: the renderer keeps one
+    /// integral for all its wedges rather than have each returned (a copy of some 300 bytes).
+    /// `out` is unspecified when it returns `false`.
+    pub fn integral_into(&self, p: DVec3, out: &mut EdgeIntegral) -> bool {
+        let Some((a, b)) = self.project(p) else {
+            return false;
+        };
         // Only wedges containing p contribute: an edge whose projection misses the light hides
         // none of it (its near region would otherwise depend on which edges a search returns).
         if !segment_meets_square(a, b) {
-            return None;
+            return false;
         }
         let s0 = cross(a, b);
         if s0 == 0.0 {
-            return None;
+            return false;
         }
         let s0 = s0.signum();
         // Outer when the caster, seen from p, lies beyond the edge from the light's centre. On a
@@ -149,30 +170,72 @@ impl Wedge {
             }
         };
         if side == 0.0 {
-            return None;
+            return false;
         }
         let m = self.multiplicity as f64;
-        let mut out = EdgeIntegral {
-            sign: side.signum(),
-            area: [0.0; 4],
-            beyond: [Rect::EMPTY; 4],
-            near: [Rect::EMPTY; 4],
-            cover: [0.0; 4],
-        };
+        // Field by field: a whole new value would be built aside and copied over.
+        out.sign = side.signum();
+        out.area = [0.0; 4];
+        out.beyond = [Rect::EMPTY; 4];
+        out.near = [Rect::EMPTY; 4];
+        out.cover = [0.0; 4];
+        // The cone over the edge from the centre is where both `side_a` and `side_b` are
+        // non-negative; `edge_line` is non-negative on the centre's side of the edge.
+        let side_a = |x: DVec2| s0 * cross(a, x);
+        let side_b = |x: DVec2| s0 * cross(x, b);
+        let edge_line = |x: DVec2| s0 * cross(b - a, x - a);
+        // Part k runs from corner k to corner k + 1: their values decide, before any clipping,
+        // whether the cone keeps the whole part or misses it.
+        let corners = RADIAL_PARTS.map(|part| part[1]);
+        let (at_a, at_b) = (corners.map(side_a), corners.map(side_b));
+        let centre_near = edge_line(DVec2::ZERO) >= 0.0;
+        let (mut half, mut cone) = (Poly::EMPTY, Poly::EMPTY);
+        let (mut beyond, mut near) = (Poly::EMPTY, Poly::EMPTY);
         let mut any = false;
         for (k, part) in RADIAL_PARTS.iter().enumerate() {
-            let cone = clip_halfplane(part, |x| s0 * cross(a, x));
-            let cone = clip_halfplane(&cone, |x| s0 * cross(x, b));
+            let (u, v) = (k, (k + 1) % 4);
+            let keeps = |f: &[f64; 4]| f[u] >= 0.0 && f[v] >= 0.0;
+            let drops = |f: &[f64; 4]| f[u] < 0.0 && f[v] < 0.0;
+            let misses = if drops(&at_a) {
+                true
+            } else if keeps(&at_a) {
+                drops(&at_b)
+            } else {
+                // `a`'s line crosses the part's outer side at `x`: clipping by it keeps the
+                // centre, one corner and `x` (the crossing computed as the clip computes it).
+                // When `b`'s line leaves both behind, the cone is the centre alone: the part
+                // opposite a narrow cone.
+                let x = part[1] + (part[2] - part[1]) * (at_a[u] / (at_a[u] - at_a[v]));
+                let corner = if at_a[u] >= 0.0 { at_b[u] } else { at_b[v] };
+                corner < 0.0 && side_b(x) < 0.0
+            };
+            if misses {
+                // The cone misses the part. Clipping the part would leave copies of the centre
+                // alone (the apex every clip keeps, and the crossings of the sides through it):
+                // no area, no cover, and, where the centre lies on the near side, a near
+                // rectangle of that one point.
+                if centre_near {
+                    out.near[k] = Rect::of(&[DVec2::ZERO]);
+                    any = true;
+                }
+                continue;
+            }
+            if keeps(&at_a) && keeps(&at_b) {
+                // The cone holds the whole part: the clips would return it unchanged.
+                cone.set(part);
+            } else {
+                half.set_clip(part, side_a);
+                cone.set_clip(&half, side_b);
+            }
             if cone.len() < 3 {
                 continue;
             }
-            if let Some((p0, p1)) = clip_segment(part[1], part[2], |x| s0 * cross(a, x))
-                .and_then(|(p0, p1)| clip_segment(p0, p1, |x| s0 * cross(x, b)))
+            if let Some((p0, p1)) = clip_segment_by(part[1], part[2], at_a[u], at_a[v])
+                .and_then(|(p0, p1)| clip_segment(p0, p1, side_b))
             {
                 out.cover[k] = (p1 - p0).length();
             }
-            let beyond = clip_halfplane(&cone, |x| -s0 * cross(b - a, x - a));
-            let near = clip_halfplane(&cone, |x| s0 * cross(b - a, x - a));
+            cone.split_into(edge_line, &mut beyond, &mut near);
             let r = area(&beyond).abs();
             if r > 0.0 {
                 out.area[k] = m * r;
@@ -184,7 +247,7 @@ impl Wedge {
                 any = true;
             }
         }
-        any.then_some(out)
+        any
     }
 }
 
@@ -329,27 +392,42 @@ impl Wedge {
 }
 
 /// Whether the segment `a b` meets the square `[-1, 1]^2` (Liang & Barsky 1984).
+///
+/// The segment `a + t (b - a)`, `0 <= t <= 1`, is inside the side `(p, q)` where `p t <= q`.
+/// A side with `q >= 0` (`a` inside it) can only lower the exit `t1`, and from 1 to no less
+/// than 0; one with `q < 0` rules the segment out unless it enters there (`p < 0`), which raises
+/// the entry `t0`. So `t0` comes first, and the exits, with their divisions, are only needed
+/// when `a` lies outside the square: the same answer as the textbook loop, bit for bit, since
+/// each ratio is the same division.
 pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
     let d = b - a;
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [
+    let sides = [
         (-d.x, a.x + 1.0),
         (d.x, 1.0 - a.x),
         (-d.y, a.y + 1.0),
         (d.y, 1.0 - a.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
+    ];
+    let mut t0 = 0.0f64;
+    for (p, q) in sides {
+        if q < 0.0 {
+            if p >= 0.0 {
                 return false;
             }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
+            t0 = t0.max(q / p);
+        }
+    }
+    if !(t0 > 0.0) {
+        return true;
+    }
+    let mut t1 = 1.0f64;
+    for (p, q) in sides {
+        if q >= 0.0 && p > 0.0 {
+            t1 = t1.min(q / p);
         }
     }
     t0 <= t1
 }
+
+#[cfg(test)]
+#[path = "wedge_tests.rs"]
+mod tests;

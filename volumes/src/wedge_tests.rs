@@ -1,0 +1,143 @@
+//! The wedge integral's shortcuts (parts the cone keeps whole or misses, each line's values
+//! shared between its two sides) against the plain clipping of every radial part, bit for bit.
+
+use glam::{DVec2, DVec3};
+use penumbra_geom::Rng;
+
+use super::*;
+use crate::clip::clip_halfplane;
+
+/// The integral as the plain clipping computes it: every part clipped by the cone's two sides,
+/// then by the edge's line once for each side (for an edge in front of the light).
+fn plain_integral(w: &Wedge, p: DVec3) -> Option<EdgeIntegral> {
+    let (a, b) = w.project(p)?;
+    if !segment_meets_square(a, b) || cross(a, b) == 0.0 {
+        return None;
+    }
+    let s0 = cross(a, b).signum();
+    let side = orient3d(w.from, w.to, DVec3::ZERO, p);
+    if side == 0.0 {
+        return None;
+    }
+    let m = w.multiplicity as f64;
+    let mut out = EdgeIntegral {
+        sign: side.signum(),
+        area: [0.0; 4],
+        beyond: [Rect::EMPTY; 4],
+        near: [Rect::EMPTY; 4],
+        cover: [0.0; 4],
+    };
+    let mut any = false;
+    for (k, part) in RADIAL_PARTS.iter().enumerate() {
+        let cone = clip_halfplane(part, |x| s0 * cross(a, x));
+        let cone = clip_halfplane(&cone, |x| s0 * cross(x, b));
+        if cone.len() < 3 {
+            continue;
+        }
+        if let Some((p0, p1)) = clip_segment(part[1], part[2], |x| s0 * cross(a, x))
+            .and_then(|(p0, p1)| clip_segment(p0, p1, |x| s0 * cross(x, b)))
+        {
+            out.cover[k] = (p1 - p0).length();
+        }
+        let beyond = clip_halfplane(&cone, |x| -s0 * cross(b - a, x - a));
+        let near = clip_halfplane(&cone, |x| s0 * cross(b - a, x - a));
+        let r = area(&beyond).abs();
+        if r > 0.0 {
+            out.area[k] = m * r;
+            out.beyond[k] = Rect::of(&beyond);
+            any = true;
+        }
+        if near.len() >= 3 {
+            out.near[k] = Rect::of(&near);
+            any = true;
+        }
+    }
+    any.then_some(out)
+}
+
+#[test]
+fn integral_matches_the_plain_clipping_bit_for_bit() {
+    let mut rng = Rng::new(0x05ee_d0fe_d6e5);
+    let mut compared = 0;
+    for i in 0..20_000 {
+        // Receivers and edges anywhere, and edges whose projections pass through the light's
+        // corners and its centre's diagonals, where the shortcuts' conditions tie.
+        let p = DVec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(0.5, 4.0),
+        );
+        let end = |rng: &mut Rng| {
+            let z = rng.range(0.05, 0.95) * p.z;
+            let on = match i % 4 {
+                0 => DVec2::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0)),
+                1 => RADIAL_PARTS[rng.below(4)][1] * rng.range(0.1, 3.0),
+                2 => RADIAL_PARTS[rng.below(4)][1],
+                _ => DVec2::new(rng.range(-1.0, 1.0), 0.0),
+            };
+            // The point that projects from p onto `on` in the light's plane.
+            let k = p.z / (p.z - z);
+            DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+        };
+        let w = Wedge {
+            from: end(&mut rng),
+            to: end(&mut rng),
+            multiplicity: 1 + (i % 3) as u32,
+            occluder: 0,
+            silhouette_loop: 0,
+            unit: 0,
+            caster: None,
+        };
+        let (fast, plain) = (w.integral(p), plain_integral(&w, p));
+        assert_eq!(fast, plain, "edge {w:?} at {p}");
+        compared += usize::from(fast.is_some());
+    }
+    assert!(compared > 5_000, "only {compared} integrals compared");
+}
+
+/// Liang & Barsky's loop as the textbook writes it.
+fn plain_meets_square(a: DVec2, b: DVec2) -> bool {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x + 1.0),
+        (d.x, 1.0 - a.x),
+        (-d.y, a.y + 1.0),
+        (d.y, 1.0 - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    t0 <= t1
+}
+
+#[test]
+fn segment_meets_square_matches_the_textbook_loop() {
+    let mut rng = Rng::new(0x51de);
+    // Coordinates on the square's lines and corners, just off them, and anywhere.
+    let coord = |rng: &mut Rng| match rng.below(5) {
+        0 => [-1.0, 1.0, 0.0][rng.below(3)],
+        1 => [-1.0f64, 1.0][rng.below(2)] * (1.0 + f64::EPSILON * rng.range(-4.0, 4.0)),
+        2 => rng.range(-1.0, 1.0),
+        _ => rng.range(-4.0, 4.0),
+    };
+    let mut met = 0;
+    for _ in 0..200_000 {
+        let a = DVec2::new(coord(&mut rng), coord(&mut rng));
+        let b = DVec2::new(coord(&mut rng), coord(&mut rng));
+        let plain = plain_meets_square(a, b);
+        assert_eq!(segment_meets_square(a, b), plain, "{a} {b}");
+        met += usize::from(plain);
+    }
+    assert!(met > 50_000 && met < 190_000, "{met} of 200000 met");
+}
