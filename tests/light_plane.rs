@@ -97,3 +97,101 @@ fn a_box_and_a_quad_through_the_light_plane() {
         );
     }
 }
+
+/// A box whose top face lies in the light's plane, under the light's centre and beside it, and a
+/// sphere with a ring of vertices on the plane around the centre: the sides' edges on the plane
+/// bound what hides the light, and the faces on the plane hide nothing. `depth-complexity` with
+/// the reference's samples is the reference, pixel for pixel.
+#[test]
+fn faces_and_rings_on_the_light_plane() {
+    use glam::{DMat4, DVec2};
+    use penumbra::geom::camera::Camera;
+    use penumbra::geom::{RectLight, Scene, TriangleMesh};
+    use penumbra::volumes::{DepthComplexity, SamplePattern};
+    let c = DVec3::new;
+    let mesh = |p: &[DVec3], t: &[[u32; 3]]| {
+        TriangleMesh::from_raw(std::path::Path::new("memory"), p, t).unwrap()
+    };
+    let ground = mesh(
+        &[
+            c(-4., 0., -4.),
+            c(-4., 0., 4.),
+            c(4., 0., 4.),
+            c(4., 0., -4.),
+        ],
+        &[[0, 1, 2], [0, 2, 3]],
+    );
+    let (lo, hi) = (c(-0.3, 1.0, -0.3), c(0.3, 2.0, 0.3));
+    let corner = |i: u32| {
+        c(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let quads = [
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+    ];
+    let tris: Vec<[u32; 3]> = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    let cube = mesh(&(0..8).map(corner).collect::<Vec<_>>(), &tris);
+    // The fixture sphere has a ring of vertices on its equator: centred on the light's plane.
+    let sphere = TriangleMesh::uv_sphere(20, 20);
+    let camera = Camera::look_at(c(0., 3., 6.), DVec3::ZERO, DVec3::Y, 60.0, 40, 30).unwrap();
+    let light = RectLight::new(c(0., 2., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
+    let pattern = SamplePattern {
+        per_axis: 16,
+        jitter: true,
+    };
+    for (name, occluder, at) in [
+        ("box under the centre", &cube, DMat4::IDENTITY),
+        (
+            "box beside the centre",
+            &cube,
+            DMat4::from_translation(c(0.5, 0., 0.)),
+        ),
+        (
+            "sphere around the centre",
+            &sphere,
+            DMat4::from_scale_rotation_translation(
+                DVec3::splat(0.6),
+                Default::default(),
+                c(0.3, 2., 0.),
+            ),
+        ),
+    ] {
+        let scene = Scene::new(camera, light)
+            .with_mesh("ground", &ground, DMat4::IDENTITY)
+            .with_mesh(name, occluder, at);
+        let truth = reference::render(
+            &scene,
+            &Tracer::new(&scene),
+            Reference::Sampled { per_axis: 16 },
+            &|_| {},
+        );
+        let exact = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        let differ = exact
+            .data
+            .iter()
+            .zip(&truth.data)
+            .filter(|(a, b)| a != b)
+            .count();
+        let c = compare(&exact, &truth).unwrap();
+        println!(
+            "{name}: {differ} pixels differ, {} penumbra pixels",
+            c.penumbra.pixels
+        );
+        assert!(c.penumbra.pixels > 50, "{name}: no penumbra");
+        assert_eq!(
+            differ, 0,
+            "{name}: depth-complexity differs from the reference"
+        );
+    }
+}

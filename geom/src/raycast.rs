@@ -201,6 +201,30 @@ impl SceneBvh {
             }
         })
     }
+
+    /// [`SceneBvh::occluded`] by the triangles that `blocks` accepts (given their index).
+    pub fn occluded_by(
+        &self,
+        origin: DVec3,
+        dir: Vec3A,
+        tmin: f32,
+        tmax: f32,
+        blocks: impl Fn(u32) -> bool,
+    ) -> bool {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return false;
+        };
+        let origin = self.local(origin);
+        let wt = WatertightRay::new(origin, dir);
+        let ray = Ray::new(origin, dir, tmin, tmax);
+        !bvh.ray_traverse_miss(ray, |_, id| {
+            if blocks(self.ids[id]) {
+                wt.intersect(&self.tris[id], tmin, tmax)
+            } else {
+                f32::INFINITY
+            }
+        })
+    }
 }
 
 impl SceneBvh {

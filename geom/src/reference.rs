@@ -64,6 +64,10 @@ pub struct Tracer {
     pub touch: f64,
     /// The triangles' bounding boxes, to find those near a point.
     near: BoxTree,
+    /// Per triangle, whether it has a vertex strictly in front of the light's plane. The others
+    /// can meet a segment from P to a light point only at its end, on the light: a touch, not
+    /// a crossing, whichever way `f32` rounds it (a box whose top face is the light's plane).
+    in_front: Vec<bool>,
 }
 
 impl Tracer {
@@ -87,7 +91,12 @@ impl Tracer {
             .iter()
             .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
             .collect();
+        let in_front = triangles
+            .iter()
+            .map(|t| t.iter().any(|&v| scene.light.signed_distance(v) > 0.0))
+            .collect();
         Tracer {
+            in_front,
             bvh,
             light: scene.light,
             epsilon: SHADOW_EPSILON * extent,
@@ -95,6 +104,12 @@ impl Tracer {
             near: BoxTree::build(&boxes),
             triangles,
         }
+    }
+
+    /// Whether triangle `t` has a vertex strictly in front of the light's plane: only those can
+    /// block a segment to a light point.
+    pub fn in_front(&self, t: u32) -> bool {
+        self.in_front[t as usize]
     }
 
     /// Into `out`, the triangles other than `p`'s that may pass within [`Tracer::epsilon`] of
@@ -113,8 +128,12 @@ impl Tracer {
 
     /// Whether the segment from `p` to `l` crosses triangle `t` in `f64`, farther than
     /// [`Tracer::touch`] from both ends (Möller & Trumbore,
-    /// "Fast, Minimum Storage Ray/Triangle Intersection", 1997, edges included).
+    /// "Fast, Minimum Storage Ray/Triangle Intersection", 1997, edges included); never for a
+    /// triangle with no vertex in front of the light's plane.
     pub fn crosses(&self, p: DVec3, l: DVec3, t: u32) -> bool {
+        if !self.in_front[t as usize] {
+            return false;
+        }
         let [a, b, c] = self.triangles[t as usize];
         let d = l - p;
         let dist = d.length();
@@ -164,12 +183,12 @@ impl Tracer {
             return true;
         }
         let dir = d / dist;
-        !self.bvh.occluded(
+        !self.bvh.occluded_by(
             p.position,
             dir.as_vec3().into(),
             self.epsilon as f32,
             (dist - self.touch) as f32,
-            p.triangle,
+            |t| t != p.triangle && self.in_front[t as usize],
         )
     }
 

@@ -216,7 +216,11 @@ impl DepthComplexity {
                 t.epsilon as f32,
                 (dist - t.touch) as f32,
                 p.triangle,
-                |tri| hits.push(tri),
+                |tri| {
+                    if t.in_front(tri) {
+                        hits.push(tri);
+                    }
+                },
             );
         }
         // A triangle split over several leaves is reported once per leaf, a near one perhaps

@@ -93,10 +93,16 @@ pub struct LightCrossing {
 }
 
 /// The segment where the triangle `t` (light space) crosses the light's plane, if it does
-/// with vertices strictly on both sides and the segment meets the light; with a point of the
-/// triangle just on the emitting side of it.
+/// with vertices strictly on both sides, or lies on it with a side there and its third vertex in
+/// front, and the segment meets the light; with a point of the triangle just on the emitting
+/// side of it.
 fn light_crossing(t: [DVec3; 3], triangle: u32) -> Option<LightCrossing> {
-    if !(t.iter().any(|v| v.z > 0.0) && t.iter().any(|v| v.z < 0.0)) {
+    // A triangle with a side lying in the plane and its third vertex in front bounds its
+    // projection there too (a box whose top face is the light's plane, a sphere with a ring of
+    // vertices on it): that side is no potential silhouette edge (those lie strictly in front),
+    // and without it the samples beyond it lost the triangle.
+    let on_plane = t.iter().filter(|v| v.z == 0.0).count();
+    if !(t.iter().any(|v| v.z > 0.0) && (t.iter().any(|v| v.z < 0.0) || on_plane == 2)) {
         return None;
     }
     let mut ends = Vec::with_capacity(3);
