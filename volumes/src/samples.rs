@@ -43,22 +43,31 @@ impl SamplePattern {
             let fine = 1.0 / n as f64;
             // The fine column within cell (i, j) is a permutation of the row index j, the fine
             // row one of the column index i: one point per fine row and column.
-            let columns: Vec<u32> = (0..m)
-                .map(|j| permute(j, m, seed.wrapping_mul(0x63d8_3595)))
-                .collect();
-            let rows: Vec<u32> = (0..m)
-                .map(|i| permute(i, m, seed.wrapping_mul(0xa511_e9b3)))
-                .collect();
-            for s in 0..m * m {
-                let (i, j) = (s % m, s / m);
-                let (sx, sy) = (columns[j as usize], rows[i as usize]);
-                // Both jitters from one hash, 16 bits each: a 65,536th of a fine cell.
-                let h = hash(s, seed.wrapping_mul(0xa399_d265));
-                let jx = (h & 0xffff) as f64 / 65_536.0;
-                let jy = (h >> 16) as f64 / 65_536.0;
-                let x = (i as f64 + (sx as f64 + jx) * fine) * cell;
-                let y = (j as f64 + (sy as f64 + jy) * fine) * cell;
-                out.push(DVec2::new(-1.0 + x, -1.0 + y));
+            // The row permutation, on the stack for up to 256 per axis (65,536 samples).
+            let mut rows_stack = [0u32; 256];
+            let mut rows_heap = Vec::new();
+            let rows: &mut [u32] = if n <= 256 {
+                &mut rows_stack[..n]
+            } else {
+                rows_heap.resize(n, 0);
+                &mut rows_heap
+            };
+            for (i, r) in rows.iter_mut().enumerate() {
+                *r = permute(i as u32, m, seed.wrapping_mul(0xa511_e9b3));
+            }
+            out.reserve(n * n);
+            for j in 0..m {
+                let sx = permute(j, m, seed.wrapping_mul(0x63d8_3595));
+                for (i, &sy) in rows.iter().enumerate() {
+                    let s = j * m + i as u32;
+                    // Both jitters from one hash, 16 bits each: a 65,536th of a fine cell.
+                    let h = hash(s, seed.wrapping_mul(0xa399_d265));
+                    let jx = (h & 0xffff) as f64 / 65_536.0;
+                    let jy = (h >> 16) as f64 / 65_536.0;
+                    let x = (i as f64 + (sx as f64 + jx) * fine) * cell;
+                    let y = (j as f64 + (sy as f64 + jy) * fine) * cell;
+                    out.push(DVec2::new(-1.0 + x, -1.0 + y));
+                }
             }
         }
     }
