@@ -212,7 +212,8 @@ fn workspace() -> PathBuf {
     d
 }
 
-/// The seed inputs: the fixtures' scenes that name generated meshes, or the small meshes.
+/// The seed inputs: the fixtures' scenes that name generated meshes, or the small meshes, and
+/// the hostile inputs kept as seeds.
 fn seeds(ext: &str) -> Vec<String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut out = Vec::new();
@@ -235,6 +236,15 @@ fn seeds(ext: &str) -> Vec<String> {
         };
         if small {
             out.push(text);
+        }
+    }
+    // And the hostile inputs of `tests/fuzz/seeds/`: a byte-order mark, repeated faces, a
+    // mesh wound inwards, a mirrored mesh under a far light, a ring of vertices on the light's
+    // plane.
+    for e in std::fs::read_dir(root.join("tests/fuzz/seeds")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == ext) {
+            out.push(std::fs::read_to_string(&p).unwrap());
         }
     }
     assert!(!out.is_empty());
