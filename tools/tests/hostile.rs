@@ -618,3 +618,31 @@ fn a_reader_that_stops_early_ends_the_command_quietly() {
     assert!(!err.contains("panicked"), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn obj_weights_and_continued_lines_name_their_line() {
+    // A weight of zero is a point at infinity: refused on its own line (it said line 0).
+    let obj = GOOD_OBJ.replace("v -0.5 0 0.5", "v -0.5 0 0.5 0");
+    assert_refused(
+        "obj-w0",
+        GOOD_SCENE,
+        &obj,
+        &["m.obj:2", "weight w = 0", "at infinity"],
+    );
+    // A `\` continues a statement; the lines after it keep their numbers.
+    let obj = "v -0.5 0 \\\n  -0.5\nv -0.5 0 0.5\nv 0.5 0 0.5\nv 0.5 0 -0.5\nf 1 2 \\\n 3 4\n";
+    let (d, out) = render_case_with("obj-continued", GOOD_SCENE, obj, &["--technique", "hard"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&d);
+    let obj = format!("{obj}f 1 2 \\\n 9\n");
+    assert_refused(
+        "obj-continued-bad",
+        GOOD_SCENE,
+        &obj,
+        &["m.obj:8", "vertex index 9"],
+    );
+}
