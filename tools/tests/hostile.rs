@@ -646,3 +646,15 @@ fn obj_weights_and_continued_lines_name_their_line() {
         &["m.obj:8", "vertex index 9"],
     );
 }
+
+#[test]
+fn a_key_of_fifty_thousand_parts_names_its_line() {
+    // GOOD_SCENE has 22 lines; the key is the 23rd (it said line 0).
+    let s = format!("{GOOD_SCENE}{} = 1\n", vec!["a"; 50_000].join("."));
+    assert_refused(
+        "key-parts",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:23", "more than 80 parts"],
+    );
+}
