@@ -394,6 +394,20 @@ mod tests {
         p = TechniqueParams::default();
         p.fractional_disk.a = f64::NAN;
         assert_eq!(p.validate().unwrap_err().key, "a");
+        // Not finite.
+        let message = |set: fn(&mut TechniqueParams)| {
+            let mut p = TechniqueParams::default();
+            set(&mut p);
+            p.validate().unwrap_err().to_string()
+        };
+        assert_eq!(
+            message(|p| p.gaussian.dm = f64::INFINITY),
+            "gaussian.dm: inf is not finite"
+        );
+        assert_eq!(
+            message(|p| p.fractional_disk.a = f64::NAN),
+            "fractional_disk.a: NaN is not finite"
+        );
     }
 
     #[test]

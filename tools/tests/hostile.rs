@@ -658,3 +658,25 @@ fn a_key_of_fifty_thousand_parts_names_its_line() {
         &["s.toml:23", "more than 80 parts"],
     );
 }
+
+#[test]
+fn shadow_map_values_not_finite_are_refused_by_key_and_line() {
+    // A flag: named with the key, and said to be not finite (it said "inf is not >= 0").
+    assert_refused_with(
+        "dm-inf",
+        GOOD_SCENE,
+        GOOD_OBJ,
+        &["--technique", "gaussian", "--gaussian-dm", "inf"],
+        &["gaussian.dm: inf is not finite", "--gaussian-dm"],
+    );
+    // A scene key: its line (GOOD_SCENE has 22 lines, the table is the 24th, the key the 25th).
+    for (value, want) in [("inf", "inf is not finite"), ("nan", "NaN is not finite")] {
+        let s = format!("{GOOD_SCENE}\n[gaussian]\ndm = {value}\n");
+        assert_refused(
+            &format!("dm-scene-{value}"),
+            &s,
+            GOOD_OBJ,
+            &["s.toml:25", want],
+        );
+    }
+}
