@@ -163,10 +163,25 @@ impl Kind {
             (Kind::Real { min, max, above }, Value::Real(v)) => {
                 let within = if max.is_infinite() { "" } else { "in " };
                 let ok = |v: f64| (if above { v > min } else { v >= min }) && v <= max;
+                // The back ends compute in 32-bit floats: the value must be one, and stay in
+                // range once rounded to one.
+                let single = v as f32 as f64;
                 if !v.is_finite() {
                     Some(format!("{} is not finite", shown(v)))
+                } else if v.abs() > f32::MAX as f64 {
+                    Some(format!(
+                        "{} does not fit in 32-bit floats (largest magnitude 3.4e38)",
+                        shown(v)
+                    ))
                 } else if !ok(v) {
                     Some(format!("{} is not {within}{}", shown(v), self.range()))
+                } else if !ok(single) {
+                    Some(format!(
+                        "{} is {} in 32-bit floats, which is not {within}{}",
+                        shown(v),
+                        shown(single),
+                        self.range()
+                    ))
                 } else {
                     None
                 }

@@ -660,7 +660,7 @@ fn a_key_of_fifty_thousand_parts_names_its_line() {
 }
 
 #[test]
-fn shadow_map_values_not_finite_are_refused_by_key_and_line() {
+fn shadow_map_values_not_finite_or_beyond_f32_are_refused_by_key_and_line() {
     // A flag: named with the key, and said to be not finite (it said "inf is not >= 0").
     assert_refused_with(
         "dm-inf",
@@ -669,8 +669,19 @@ fn shadow_map_values_not_finite_are_refused_by_key_and_line() {
         &["--technique", "gaussian", "--gaussian-dm", "inf"],
         &["gaussian.dm: inf is not finite", "--gaussian-dm"],
     );
+    assert_refused_with(
+        "dm-f32-flag",
+        GOOD_SCENE,
+        GOOD_OBJ,
+        &["--technique", "gaussian", "--gaussian-dm", "1e39"],
+        &["gaussian.dm: 1e39 does not fit in 32-bit floats"],
+    );
     // A scene key: its line (GOOD_SCENE has 22 lines, the table is the 24th, the key the 25th).
-    for (value, want) in [("inf", "inf is not finite"), ("nan", "NaN is not finite")] {
+    for (value, want) in [
+        ("1e39", "1e39 does not fit in 32-bit floats"),
+        ("inf", "inf is not finite"),
+        ("nan", "NaN is not finite"),
+    ] {
         let s = format!("{GOOD_SCENE}\n[gaussian]\ndm = {value}\n");
         assert_refused(
             &format!("dm-scene-{value}"),
