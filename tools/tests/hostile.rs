@@ -691,3 +691,37 @@ fn shadow_map_values_not_finite_or_beyond_f32_are_refused_by_key_and_line() {
         );
     }
 }
+
+#[test]
+fn a_missing_output_folder_is_created_and_said_or_removed_on_failure() {
+    let d = case_dir("out-folder", GOOD_SCENE, GOOD_OBJ);
+    let out = penumbra()
+        .args(["render", "--technique", "hard", "--out"])
+        .arg(d.join("new/sub/v.exr"))
+        .arg(d.join("s.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    for f in ["new", "new/sub"] {
+        let said = format!("created folder {}\n", d.join(f).display());
+        assert!(err.contains(&said), "{said:?}: {err}");
+    }
+    assert!(d.join("new/sub/v.exr").is_file());
+    // A render that fails leaves no folder behind.
+    let huge = GOOD_SCENE
+        .replace("width = 24", "width = 200000")
+        .replace("height = 16", "height = 200000");
+    std::fs::write(d.join("s.toml"), huge).unwrap();
+    let out = penumbra()
+        .args(["render", "--technique", "hard", "--backend", "cpu", "--out"])
+        .arg(d.join("other/v.exr"))
+        .arg(d.join("s.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("too large"), "{err}");
+    assert!(!err.contains("created folder"), "{err}");
+    assert_eq!(files_in(&d), ["m.obj", "new", "s.toml"]);
+    let _ = std::fs::remove_dir_all(&d);
+}
