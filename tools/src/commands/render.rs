@@ -123,6 +123,9 @@ fn draw(
         format!(" ({})", frame.detail),
     );
     bar.finish_and_clear();
+    for w in &frame.warnings {
+        eprintln!("warning: {w}");
+    }
     img.check_finite()
         .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
     img.write_exr(out)
