@@ -163,6 +163,10 @@ pub struct Frame {
     pub times: Option<PassTimes>,
     /// `gpu: <adapter>` or `cpu`, and what the technique used (samples, edges, wedges).
     pub detail: String,
+    /// What makes the image wrong though it rendered: the hard, wedge and shadow-map techniques
+    /// warn of each mesh whose cut by the light's plane holds the light's centre
+    /// ([`penumbra_volumes::render::encloses_light_centre`]), one line each.
+    pub warnings: Vec<String>,
 }
 
 /// Whether the GPU has been looked for yet, and what was found.
@@ -304,6 +308,20 @@ impl Renderer {
         volumes: Option<&Volumes>,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Frame, RenderError> {
+        let mut frame = self.render_image(scene, technique, options, volumes, progress)?;
+        frame.warnings = warnings(scene, technique);
+        Ok(frame)
+    }
+
+    /// [`Renderer::render_frame`] without its warnings.
+    fn render_image(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+        volumes: Option<&Volumes>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Frame, RenderError> {
         if let Some(why) = scene.out_of_range() {
             return Err(RenderError::OutOfRange(why));
         }
@@ -423,6 +441,7 @@ impl Renderer {
                     other => other?,
                 };
                 return Ok(Frame {
+                    warnings: Vec::new(),
                     image: out.image,
                     times: out.times,
                     detail: format!(
@@ -443,6 +462,7 @@ impl Renderer {
                 r.render_timed(scene, volumes, technique)?
             };
             return Ok(Frame {
+                warnings: Vec::new(),
                 image,
                 times,
                 detail: format!("gpu: {}", ctx.describe()),
@@ -454,6 +474,35 @@ impl Renderer {
         }
         Ok(frame)
     }
+}
+
+/// The warnings of a frame of `technique`: each mesh whose cut by the light's plane holds the
+/// light's centre, for the techniques built from the light's centre (hard, wedges, shadow
+/// maps).
+fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
+    if !(technique.is_volume() || technique.needs_gpu()) {
+        return Vec::new();
+    }
+    scene
+        .meshes
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| {
+            penumbra_volumes::render::encloses_light_centre(
+                &m.mesh.positions,
+                &m.mesh.triangles,
+                &scene.light,
+            )
+        })
+        .map(|(i, m)| {
+            format!(
+                "mesh {i} ({}) holds the light's centre where the light's plane cuts it: {technique} \
+                 builds its shadow from that centre and cannot be right here (see docs/accuracy.md); \
+                 --technique depth-complexity comes closer",
+                m.source.display()
+            )
+        })
+        .collect()
 }
 
 /// Most light samples per pixel of depth-complexity sampling on the GPU.
@@ -539,5 +588,6 @@ fn render_cpu(
         image,
         times: None,
         detail,
+        warnings: Vec::new(),
     }
 }

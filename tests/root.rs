@@ -6,6 +6,7 @@ mod depth_complexity;
 mod far_light;
 mod fixtures;
 mod fuzz;
+mod light_inside;
 mod light_plane;
 mod quad_closed_form;
 mod reference_vs_exact;

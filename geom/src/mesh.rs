@@ -4,6 +4,7 @@
 //! `0.0`) become one vertex, whatever the OBJ's own indices say. Zero-area triangles (repeated
 //! vertices after welding, or collinear corners) are dropped and counted, never fatal.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -180,8 +181,22 @@ impl TriangleMesh {
         // A UTF-8 byte-order mark (as some Windows editors write) is not part of line 1: left
         // there, it hid the first `v` from the parser and shifted every index.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        // A `\` ending a line continues the statement on the next line. The reader does not
+        // know it, so the statements are joined first, each keeping the line it starts on.
+        let statements = statements(text);
         // Our own scan first: it knows line numbers, which tobj's errors do not carry.
-        scan_obj(path, text)?;
+        scan_obj(path, &statements)?;
+        let joined;
+        let text = if statements.iter().any(|(_, s)| matches!(s, Cow::Owned(_))) {
+            joined = statements
+                .iter()
+                .map(|(_, s)| s.as_ref())
+                .collect::<Vec<&str>>()
+                .join("\n");
+            joined.as_str()
+        } else {
+            text
+        };
         let opts = tobj::LoadOptions {
             triangulate: true,
             single_index: false,
@@ -299,10 +314,36 @@ impl TriangleMesh {
     }
 }
 
+/// The statements of an OBJ text, each with the 1-based line it starts on: a line ending in `\`
+/// continues on the next one (the `\` becomes a space). Lines without one are borrowed.
+fn statements(text: &str) -> Vec<(usize, Cow<'_, str>)> {
+    let mut out: Vec<(usize, Cow<'_, str>)> = Vec::new();
+    let mut open = false; // whether the last statement ended in `\`
+    for (n, raw) in text.lines().enumerate() {
+        let (body, continues) = match raw.strip_suffix('\\') {
+            Some(b) => (b, true),
+            None => (raw, false),
+        };
+        match out.last_mut() {
+            Some((_, s)) if open => {
+                let s = s.to_mut();
+                s.push(' ');
+                s.push_str(body);
+            }
+            _ if continues => out.push((n + 1, Cow::Owned(body.to_string()))),
+            _ => out.push((n + 1, Cow::Borrowed(raw))),
+        }
+        open = continues;
+    }
+    out
+}
+
 /// Checks the statements penumbra relies on (`v` and `f`), so that errors carry a line number:
-/// `v` needs three (or four) numbers, all finite; `f` needs at least three vertex references,
-/// each a non-zero integer (negative ones relative) naming a vertex defined before it.
-fn scan_obj(path: &Path, text: &str) -> Result<(), MeshError> {
+/// `v` needs three numbers, all finite, then an optional weight `w` (finite, non-zero: a point
+/// at infinity has no place in a mesh) or three colour components; `f` needs at least three
+/// vertex references, each a non-zero integer (negative ones relative) naming a vertex defined
+/// before it.
+fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), MeshError> {
     let parse_err = |line: usize, message: String| MeshError::Parse {
         path: path.to_path_buf(),
         line,
@@ -310,23 +351,47 @@ fn scan_obj(path: &Path, text: &str) -> Result<(), MeshError> {
     };
     let mut vertices = 0usize;
     let mut colours: Option<(bool, usize)> = None;
-    for (n, raw) in text.lines().enumerate() {
-        let line = n + 1;
+    for (line, raw) in statements {
+        let line = *line;
         let stmt = raw.split('#').next().unwrap_or("");
         let mut words = stmt.split_whitespace();
         match words.next() {
             Some("v") => {
                 let nums: Vec<&str> = words.collect();
-                if nums.len() != 3 && nums.len() != 4 && nums.len() != 6 && nums.len() != 7 {
+                if nums.len() != 3 && nums.len() != 4 && nums.len() != 6 {
                     return Err(parse_err(
                         line,
-                        format!("`v` needs 3 coordinates, found {}", nums.len()),
+                        format!(
+                            "`v` needs 3 coordinates (then a weight w, or 3 colour components), found {} numbers",
+                            nums.len()
+                        ),
                     ));
                 }
+                let number = |w: &str| -> Result<f64, MeshError> {
+                    w.parse()
+                        .map_err(|_| parse_err(line, format!("`{w}` is not a number")))
+                };
+                for w in &nums[3..] {
+                    number(w)?;
+                }
+                // The reader divides the coordinates by the weight.
+                let weight = if nums.len() == 4 {
+                    let w = number(nums[3])?;
+                    if !(w as f32).is_finite() || w as f32 == 0.0 {
+                        return Err(parse_err(
+                            line,
+                            format!(
+                                "weight w = {} puts the vertex at infinity or out of 32-bit range; a mesh needs w finite and non-zero (usually 1)",
+                                nums[3]
+                            ),
+                        ));
+                    }
+                    w
+                } else {
+                    1.0
+                };
                 for w in &nums[..3] {
-                    let x: f64 = w
-                        .parse()
-                        .map_err(|_| parse_err(line, format!("`{w}` is not a number")))?;
+                    let x: f64 = number(w)? / weight;
                     if !x.is_finite() {
                         return Err(MeshError::NonFiniteVertex {
                             path: path.to_path_buf(),
@@ -338,9 +403,16 @@ fn scan_obj(path: &Path, text: &str) -> Result<(), MeshError> {
                     if x.abs() > f32::MAX as f64 {
                         return Err(parse_err(
                             line,
-                            format!(
-                                "`{w}` does not fit in 32-bit floats (largest magnitude 3.4e38)"
-                            ),
+                            if weight == 1.0 {
+                                format!(
+                                    "`{w}` does not fit in 32-bit floats (largest magnitude 3.4e38)"
+                                )
+                            } else {
+                                format!(
+                                    "`{w}` divided by the weight {} does not fit in 32-bit floats (largest magnitude 3.4e38)",
+                                    nums[3]
+                                )
+                            },
                         ));
                     }
                 }
@@ -471,12 +543,31 @@ mod tests {
             // Beyond f32 (the reader's), and colours on some vertices only: both went to line 0.
             ("v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n", 2),
             ("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 1 1 1\nf 1 2 3\n", 2),
+            // A weight of zero (a point at infinity), one too small for 32-bit floats, one
+            // that is no number, and one that pushes the point beyond them; 7 numbers.
+            ("v 0 0 0\nv 1 0 0\n\nv 0 1 0 0\nf 1 2 3\n", 4),
+            ("v 0 0 0\nv 1 0 0 1e-300\nv 0 1 0\nf 1 2 3\n", 2),
+            ("v 0 0 0\nv 1 0 0 one\nv 0 1 0\nf 1 2 3\n", 2),
+            ("v 0 0 0\nv 1e30 0 0 1e-10\nv 0 1 0\nf 1 2 3\n", 2),
+            ("v 0 0 0 1 0 0 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1),
+            // After a continued statement, lines keep their numbers.
+            ("v 0 0 \\\n 0\nv 1 0 0\nv 0 1 0\nf 1 2 \\\n3 \\\n 9\n", 5),
         ] {
             match load_str(text).unwrap_err() {
                 MeshError::Parse { line, .. } => assert_eq!(line, want, "{text}"),
                 other => panic!("unexpected {other}"),
             }
         }
+    }
+
+    #[test]
+    fn a_backslash_continues_a_statement_and_a_weight_divides() {
+        let plain = load_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n").unwrap();
+        let continued = load_str(
+            "v 0 0 \\\n0\nv 1 \\\n  0 \\\n  0\nv 0 1 0\nv 0 0 2 2\nf 1 2 3\nf 1 \\\n 2 4\n",
+        )
+        .unwrap();
+        assert_eq!(continued, plain);
     }
 
     #[test]

@@ -169,6 +169,33 @@ fn line_of(text: &str, at: usize) -> usize {
         + 1
 }
 
+/// The line of a syntax error the parser reports without a position (a key of too many parts):
+/// the first line whose text up to and including it already fails that way (0 when none does).
+fn spanless_line(text: &str) -> usize {
+    let ends: Vec<usize> = text
+        .match_indices('\n')
+        .map(|(i, _)| i + 1)
+        .chain((!text.ends_with('\n')).then_some(text.len()))
+        .collect();
+    let fails = |k: usize| {
+        toml::from_str::<toml::Table>(&text[..ends[k]]).is_err_and(|e| e.span().is_none())
+    };
+    // The parser reads in order: once the prefix holds the line, it fails there first.
+    let (mut lo, mut hi) = (0, ends.len());
+    if hi == 0 || !fails(hi - 1) {
+        return 0;
+    }
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if fails(mid) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo + 1
+}
+
 impl Scene {
     /// Loads and validates a scene file and every mesh it names.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
@@ -183,10 +210,20 @@ impl Scene {
     pub fn from_toml(text: &str, path: &Path) -> Result<Scene, SceneError> {
         // A UTF-8 byte-order mark is not part of the first line.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let file: SceneFile = toml::from_str(text).map_err(|e| SceneError::Syntax {
-            path: path.to_path_buf(),
-            line: e.span().map_or(0, |s| line_of(text, s.start)),
-            message: e.message().trim().to_string(),
+        let file: SceneFile = toml::from_str(text).map_err(|e| {
+            let mut message = e.message().trim().to_string();
+            if message == "recursion limit" {
+                message =
+                    "a dotted key of more than 80 parts is beyond the parser's recursion limit"
+                        .to_string();
+            }
+            SceneError::Syntax {
+                path: path.to_path_buf(),
+                line: e
+                    .span()
+                    .map_or_else(|| spanless_line(text), |s| line_of(text, s.start)),
+                message,
+            }
         })?;
         let invalid = |span: std::ops::Range<usize>, message: String| SceneError::Invalid {
             path: path.to_path_buf(),
@@ -573,5 +610,24 @@ mod tests {
             panic!("search = 0 accepted")
         };
         assert_eq!(line, text.lines().count());
+    }
+
+    #[test]
+    fn a_key_of_too_many_parts_names_its_line() {
+        for parts in [81, 50_000] {
+            let key = vec!["a"; parts].join(".");
+            for body in [format!("{key} = 1\n"), format!("[{key}]\nb = 2\n")] {
+                // After a multi-line array, which a shorter prefix would cut.
+                let text = format!("{CAMERA_AND_LIGHT}[pcss]\nsearch = 4\nx = [\n1,\n2]\n{body}");
+                let want = text.lines().count() - body.lines().count() + 1;
+                let Err(SceneError::Syntax { line, message, .. }) =
+                    Scene::from_toml(&text, Path::new("s.toml"))
+                else {
+                    panic!("{parts} parts accepted")
+                };
+                assert_eq!(line, want, "{message}");
+                assert!(message.contains("more than 80 parts"), "{message}");
+            }
+        }
     }
 }

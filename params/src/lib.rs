@@ -394,6 +394,28 @@ mod tests {
         p = TechniqueParams::default();
         p.fractional_disk.a = f64::NAN;
         assert_eq!(p.validate().unwrap_err().key, "a");
+        // Not finite, beyond 32-bit floats, or out of range once rounded to one.
+        let message = |set: fn(&mut TechniqueParams)| {
+            let mut p = TechniqueParams::default();
+            set(&mut p);
+            p.validate().unwrap_err().to_string()
+        };
+        assert_eq!(
+            message(|p| p.gaussian.dm = f64::INFINITY),
+            "gaussian.dm: inf is not finite"
+        );
+        assert_eq!(
+            message(|p| p.fractional_disk.a = f64::NAN),
+            "fractional_disk.a: NaN is not finite"
+        );
+        assert_eq!(
+            message(|p| p.gaussian.dm = 1e39),
+            "gaussian.dm: 1e39 does not fit in 32-bit floats (largest magnitude 3.4e38)"
+        );
+        assert_eq!(
+            message(|p| p.gaussian.dp = Some(1e-50)),
+            "gaussian.dp: 1e-50 is 0 in 32-bit floats, which is not in (0, 8]"
+        );
     }
 
     #[test]

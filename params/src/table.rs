@@ -91,6 +91,15 @@ fn number(v: f64) -> String {
     }
 }
 
+/// A value in a message: as [`number`], with an exponent when very large or small.
+fn shown(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e15).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        number(v)
+    }
+}
+
 impl Kind {
     /// A TOML value of this kind, if it is one (a number for a real may be written as an
     /// integer).
@@ -152,9 +161,30 @@ impl Kind {
                 (!(min..=max).contains(&v)).then(|| format!("{v} is not in {}", self.range()))
             }
             (Kind::Real { min, max, above }, Value::Real(v)) => {
-                let ok = v.is_finite() && (if above { v > min } else { v >= min }) && v <= max;
                 let within = if max.is_infinite() { "" } else { "in " };
-                (!ok).then(|| format!("{} is not {within}{}", number(v), self.range()))
+                let ok = |v: f64| (if above { v > min } else { v >= min }) && v <= max;
+                // The back ends compute in 32-bit floats: the value must be one, and stay in
+                // range once rounded to one.
+                let single = v as f32 as f64;
+                if !v.is_finite() {
+                    Some(format!("{} is not finite", shown(v)))
+                } else if v.abs() > f32::MAX as f64 {
+                    Some(format!(
+                        "{} does not fit in 32-bit floats (largest magnitude 3.4e38)",
+                        shown(v)
+                    ))
+                } else if !ok(v) {
+                    Some(format!("{} is not {within}{}", shown(v), self.range()))
+                } else if !ok(single) {
+                    Some(format!(
+                        "{} is {} in 32-bit floats, which is not {within}{}",
+                        shown(v),
+                        shown(single),
+                        self.range()
+                    ))
+                } else {
+                    None
+                }
             }
             _ => None,
         }

@@ -142,7 +142,7 @@ pub(crate) enum Command {
         /// Technique.
         #[arg(long, value_parser = technique_parser(), default_value = "wedges-blend")]
         technique: Technique,
-        /// Output EXR file.
+        /// Output EXR file; missing folders are created (and said on stderr).
         #[arg(long)]
         out: PathBuf,
         /// Light samples per pixel for `reference` and `depth-complexity`: a perfect square up to 65536.

@@ -377,3 +377,47 @@ fn render_help_lists_the_shadow_map_parameters() {
         assert!(help.contains(flag), "render --help lacks {flag}");
     }
 }
+
+#[test]
+fn a_mesh_around_the_light_centre_is_warned_of_on_stderr() {
+    // A sphere of radius 0.6 centred 0.3 beside the light's centre, in the light's plane.
+    let scene = GOOD_SCENE.replace(
+        "obj = \"m.obj\"\ntranslate = [0.0, 1.0, 0.0]",
+        "obj = \"sphere.obj\"\nscale = 0.6\ntranslate = [0.3, 4.0, 0.0]",
+    );
+    assert_ne!(scene, GOOD_SCENE);
+    let d = scratch("light-inside");
+    std::fs::write(d.join("s.toml"), &scene).unwrap();
+    std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
+    let sphere = penumbra_geom::TriangleMesh::uv_sphere(12, 16).to_obj_string("sphere");
+    std::fs::write(d.join("sphere.obj"), sphere).unwrap();
+    let render = |technique: &str| {
+        let out = penumbra()
+            .args([
+                "render",
+                "--technique",
+                technique,
+                "--backend",
+                "cpu",
+                "--out",
+            ])
+            .arg(d.join("v.exr"))
+            .arg(d.join("s.toml"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{technique}: {err}");
+        err
+    };
+    for technique in ["hard", "wedges", "wedges-blend"] {
+        let err = render(technique);
+        let want = format!(
+            "warning: mesh 1 ({}) holds the light's centre where the light's plane cuts it: {technique} builds its shadow from that centre and cannot be right here (see docs/accuracy.md); --technique depth-complexity comes closer\n",
+            d.join("sphere.obj").display()
+        );
+        assert!(err.contains(&want), "{want}: {err}");
+    }
+    let err = render("depth-complexity");
+    assert!(!err.contains("warning"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}

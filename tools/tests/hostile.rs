@@ -618,3 +618,110 @@ fn a_reader_that_stops_early_ends_the_command_quietly() {
     assert!(!err.contains("panicked"), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn obj_weights_and_continued_lines_name_their_line() {
+    // A weight of zero is a point at infinity: refused on its own line (it said line 0).
+    let obj = GOOD_OBJ.replace("v -0.5 0 0.5", "v -0.5 0 0.5 0");
+    assert_refused(
+        "obj-w0",
+        GOOD_SCENE,
+        &obj,
+        &["m.obj:2", "weight w = 0", "at infinity"],
+    );
+    // A `\` continues a statement; the lines after it keep their numbers.
+    let obj = "v -0.5 0 \\\n  -0.5\nv -0.5 0 0.5\nv 0.5 0 0.5\nv 0.5 0 -0.5\nf 1 2 \\\n 3 4\n";
+    let (d, out) = render_case_with("obj-continued", GOOD_SCENE, obj, &["--technique", "hard"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&d);
+    let obj = format!("{obj}f 1 2 \\\n 9\n");
+    assert_refused(
+        "obj-continued-bad",
+        GOOD_SCENE,
+        &obj,
+        &["m.obj:8", "vertex index 9"],
+    );
+}
+
+#[test]
+fn a_key_of_fifty_thousand_parts_names_its_line() {
+    // GOOD_SCENE has 22 lines; the key is the 23rd (it said line 0).
+    let s = format!("{GOOD_SCENE}{} = 1\n", vec!["a"; 50_000].join("."));
+    assert_refused(
+        "key-parts",
+        &s,
+        GOOD_OBJ,
+        &["s.toml:23", "more than 80 parts"],
+    );
+}
+
+#[test]
+fn shadow_map_values_not_finite_or_beyond_f32_are_refused_by_key_and_line() {
+    // A flag: named with the key, and said to be not finite (it said "inf is not >= 0").
+    assert_refused_with(
+        "dm-inf",
+        GOOD_SCENE,
+        GOOD_OBJ,
+        &["--technique", "gaussian", "--gaussian-dm", "inf"],
+        &["gaussian.dm: inf is not finite", "--gaussian-dm"],
+    );
+    assert_refused_with(
+        "dm-f32-flag",
+        GOOD_SCENE,
+        GOOD_OBJ,
+        &["--technique", "gaussian", "--gaussian-dm", "1e39"],
+        &["gaussian.dm: 1e39 does not fit in 32-bit floats"],
+    );
+    // A scene key: its line (GOOD_SCENE has 22 lines, the table is the 24th, the key the 25th).
+    for (value, want) in [
+        ("1e39", "1e39 does not fit in 32-bit floats"),
+        ("inf", "inf is not finite"),
+        ("nan", "NaN is not finite"),
+    ] {
+        let s = format!("{GOOD_SCENE}\n[gaussian]\ndm = {value}\n");
+        assert_refused(
+            &format!("dm-scene-{value}"),
+            &s,
+            GOOD_OBJ,
+            &["s.toml:25", want],
+        );
+    }
+}
+
+#[test]
+fn a_missing_output_folder_is_created_and_said_or_removed_on_failure() {
+    let d = case_dir("out-folder", GOOD_SCENE, GOOD_OBJ);
+    let out = penumbra()
+        .args(["render", "--technique", "hard", "--out"])
+        .arg(d.join("new/sub/v.exr"))
+        .arg(d.join("s.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    for f in ["new", "new/sub"] {
+        let said = format!("created folder {}\n", d.join(f).display());
+        assert!(err.contains(&said), "{said:?}: {err}");
+    }
+    assert!(d.join("new/sub/v.exr").is_file());
+    // A render that fails leaves no folder behind.
+    let huge = GOOD_SCENE
+        .replace("width = 24", "width = 200000")
+        .replace("height = 16", "height = 200000");
+    std::fs::write(d.join("s.toml"), huge).unwrap();
+    let out = penumbra()
+        .args(["render", "--technique", "hard", "--backend", "cpu", "--out"])
+        .arg(d.join("other/v.exr"))
+        .arg(d.join("s.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("too large"), "{err}");
+    assert!(!err.contains("created folder"), "{err}");
+    assert_eq!(files_in(&d), ["m.obj", "new", "s.toml"]);
+    let _ = std::fs::remove_dir_all(&d);
+}

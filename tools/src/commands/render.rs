@@ -1,6 +1,6 @@
 //! `penumbra render`: one technique's visibility image of a scene, to EXR (and PNG).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -43,12 +43,65 @@ pub(crate) fn render(
     let mut scene = load_scene(scene_path)?;
     params.apply(&mut scene)?;
     check_outputs(&scene.input_files(), &outputs)?;
-    for o in &outputs {
-        if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("creating the folder of {}", o.display()))?;
+    // Missing folders are made before the render (so that one that cannot be made fails
+    // early), said on success, and removed again on failure.
+    let mut created: Vec<PathBuf> = Vec::new();
+    let made = make_folders(&outputs, &mut created);
+    let result =
+        made.and_then(|()| draw(scene_path, &scene, technique, out, sampling, png, backend));
+    match result {
+        Ok(summary) => {
+            for d in &created {
+                eprintln!("created folder {}", d.display());
+            }
+            eprintln!("{summary}");
+            Ok(())
+        }
+        Err(e) => {
+            for d in created.iter().rev() {
+                let _ = std::fs::remove_dir(d);
+            }
+            Err(e)
         }
     }
+}
+
+/// Makes the missing folders of `outputs`, recording each in `created` (outermost first).
+fn make_folders(outputs: &[&Path], created: &mut Vec<PathBuf>) -> Result<()> {
+    for o in outputs {
+        let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) else {
+            continue;
+        };
+        let missing: Vec<&Path> = dir
+            .ancestors()
+            .filter(|a| !a.as_os_str().is_empty())
+            .take_while(|a| std::fs::symlink_metadata(a).is_err())
+            .collect();
+        for d in missing.into_iter().rev() {
+            match std::fs::create_dir(d) {
+                Ok(()) => created.push(d.to_path_buf()),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(e) => {
+                    return Err(e).with_context(|| {
+                        format!("creating the folder {} of {}", d.display(), o.display())
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Renders `scene` into `out` (and `png`); returns the summary line.
+fn draw(
+    scene_path: &Path,
+    scene: &penumbra::Scene,
+    technique: Technique,
+    out: &Path,
+    sampling: Sampling,
+    png: Option<&Path>,
+    backend: Backend,
+) -> Result<String> {
     let bar = ProgressBar::new(scene.camera.height as u64);
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows, {elapsed} (eta {eta})")
@@ -63,13 +116,16 @@ pub(crate) fn render(
         jitter: sampling.jitter,
     };
     let frame =
-        Renderer::new(backend.into()).render_frame(&scene, technique, &options, None, &progress)?;
+        Renderer::new(backend.into()).render_frame(scene, technique, &options, None, &progress)?;
     let (img, triangles, detail) = (
         frame.image,
         scene.triangle_count(),
         format!(" ({})", frame.detail),
     );
     bar.finish_and_clear();
+    for w in &frame.warnings {
+        eprintln!("warning: {w}");
+    }
     img.check_finite()
         .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
     img.write_exr(out)
@@ -80,7 +136,7 @@ pub(crate) fn render(
             return Err(e).with_context(|| format!("writing {}", png.display()));
         }
     }
-    eprintln!(
+    Ok(format!(
         "{}: {}x{} px, {} triangles, {:?}{}, {:.2} s -> {}",
         scene_path.display(),
         img.width,
@@ -90,6 +146,5 @@ pub(crate) fn render(
         detail,
         start.elapsed().as_secs_f64(),
         out.display()
-    );
-    Ok(())
+    ))
 }
