@@ -498,7 +498,7 @@ fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
             format!(
                 "mesh {i} ({}) holds the light's centre where the light's plane cuts it: {technique} \
                  builds its shadow from that centre and cannot be right here (see docs/accuracy.md); \
-                 --technique depth-complexity comes closer",
+                 depth-complexity is exact there for its samples",
                 m.source.display()
             )
         })

@@ -412,7 +412,7 @@ fn a_mesh_around_the_light_centre_is_warned_of_on_stderr() {
     for technique in ["hard", "wedges", "wedges-blend"] {
         let err = render(technique);
         let want = format!(
-            "warning: mesh 1 ({}) holds the light's centre where the light's plane cuts it: {technique} builds its shadow from that centre and cannot be right here (see docs/accuracy.md); --technique depth-complexity comes closer\n",
+            "warning: mesh 1 ({}) holds the light's centre where the light's plane cuts it: {technique} builds its shadow from that centre and cannot be right here (see docs/accuracy.md); depth-complexity is exact there for its samples\n",
             d.join("sphere.obj").display()
         );
         assert!(err.contains(&want), "{want}: {err}");
