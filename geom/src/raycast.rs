@@ -1,9 +1,11 @@
 //! Ray casting over every triangle of a scene with an obvhs compressed wide BVH (CWBVH).
 //!
-//! obvhs builds and traverses the hierarchy; the triangle test is ours: the watertight test of
-//! Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013, with its `f64`
-//! fallback on zero edge functions, so that rays through shared edges and vertices never slip
-//! between triangles, from either side. Triangles are two-sided.
+//! The binary hierarchy is built top-down ([`crate::bvh_build`]: obvhs' own PLOC builder is
+//! quadratic on coincident faces and fan slivers), then refined, converted and traversed by
+//! obvhs; the triangle test is ours: the watertight test of Woop, Benthin & Wald, "Watertight
+//! Ray/Triangle Intersection", JCGT 2(1), 2013, with its `f64` fallback on zero edge functions,
+//! so that rays through shared edges and vertices never slip between triangles, from either side.
+//! Triangles are two-sided.
 
 use glam::{DVec3, Vec3A};
 use obvhs::{
