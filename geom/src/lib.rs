@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 pub mod boxtree;
+pub mod bvh_build;
 pub mod camera;
 pub mod exact;
 pub mod halfedge;

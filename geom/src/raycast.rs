@@ -1,17 +1,19 @@
 //! Ray casting over every triangle of a scene with an obvhs compressed wide BVH (CWBVH).
 //!
-//! obvhs builds and traverses the hierarchy; the triangle test is ours: the watertight test of
-//! Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013, with its `f64`
-//! fallback on zero edge functions, so that rays through shared edges and vertices never slip
-//! between triangles, from either side. Triangles are two-sided.
-
-use std::time::Duration;
+//! The binary hierarchy is built top-down ([`crate::bvh_build`]: obvhs' own PLOC builder is
+//! quadratic on coincident faces and fan slivers), then refined, converted and traversed by
+//! obvhs; the triangle test is ours: the watertight test of Woop, Benthin & Wald, "Watertight
+//! Ray/Triangle Intersection", JCGT 2(1), 2013, with its `f64` fallback on zero edge functions,
+//! so that rays through shared edges and vertices never slip between triangles, from either side.
+//! Triangles are two-sided.
 
 use glam::{DVec3, Vec3A};
 use obvhs::{
-    BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
-    triangle::Triangle,
+    Boundable, BvhBuildParams, aabb::Aabb, bvh2::reinsertion::ReinsertionOptimizer, cwbvh::CwBvh,
+    cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh, ray::Ray, triangle::Triangle,
 };
+
+use crate::bvh_build::build_bvh2;
 
 /// A ray's closest hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,7 +111,10 @@ pub struct SceneBvh {
 }
 
 impl SceneBvh {
-    /// Builds the hierarchy (obvhs' medium-quality PLOC build with spatial pre-splits).
+    /// Builds the hierarchy: a binned-SAH binary BVH ([`build_bvh2`], O(N log N) even on
+    /// coincident or fan-sliver triangles, where obvhs' PLOC builder is quadratic), refined by
+    /// obvhs' reinsertion optimizer and converted to its compressed wide BVH, with the
+    /// parameters of obvhs' medium-quality build.
     pub fn build(triangles: &[[DVec3; 3]]) -> Self {
         if triangles.is_empty() {
             return SceneBvh {
@@ -139,8 +144,11 @@ impl SceneBvh {
                 v2: (t[2] - origin).as_vec3().into(),
             })
             .collect();
-        let mut build_time = Duration::ZERO;
-        let bvh = build_cwbvh_from_tris(&soup, BvhBuildParams::medium_build(), &mut build_time);
+        let params = BvhBuildParams::medium_build();
+        let boxes: Vec<Aabb> = soup.iter().map(Boundable::aabb).collect();
+        let mut bvh2 = build_bvh2(&boxes);
+        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
         let ids = bvh.primitive_indices.clone();
         let tris = ids
             .iter()
@@ -304,6 +312,78 @@ mod tests {
         // Excluding the triangle hit at t = 1 alone still finds the quad above.
         let from_top = DVec3::new(0.1, 0.0, 0.2);
         assert!(bvh.occluded(from_top, up, 0.0, 10.0, hit.triangle));
+    }
+
+    /// `n` copies of one quad (as separate meshes give them: not deduplicated) and a convex
+    /// `m`-gon fan-triangulated from one vertex, the inputs that made obvhs' PLOC builder
+    /// quadratic.
+    fn degenerate_soup(n: usize, m: usize) -> Vec<[DVec3; 3]> {
+        let mut tris: Vec<[DVec3; 3]> = (0..n).flat_map(|_| quad(0.5)).collect();
+        let ring: Vec<DVec3> = (0..m)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / m as f64;
+                DVec3::new(1.5 * a.cos(), 1.0, 1.5 * a.sin())
+            })
+            .collect();
+        tris.extend((1..m - 1).map(|i| [ring[0], ring[i], ring[i + 1]]));
+        tris
+    }
+
+    #[test]
+    fn coincident_faces_and_fans_hit_as_brute_force_does() {
+        let tris = degenerate_soup(3000, 3000);
+        let bvh = SceneBvh::build(&tris);
+        let mut rng = crate::Rng::new(7);
+        let mut hits = 0;
+        for k in 0..300 {
+            // From above, the fan is hit first; from below, the stack of quads.
+            let above = if k % 2 == 0 { 3.0 } else { -2.0 };
+            let from = DVec3::new(0.0, above, 0.0)
+                + DVec3::new(
+                    rng.next_f64() - 0.5,
+                    rng.next_f64() - 0.5,
+                    rng.next_f64() - 0.5,
+                );
+            let target = DVec3::new(
+                3.2 * rng.next_f64() - 1.6,
+                rng.next_f64(),
+                3.2 * rng.next_f64() - 1.6,
+            );
+            let dir = (target - from).normalize();
+            let (tmin, tmax) = (0.0f32, 10.0f32);
+            // Brute force over the same f32 triangles, with the same test.
+            let wt = WatertightRay::new(bvh.local(from), dir.as_vec3().into());
+            let ts: Vec<f32> = bvh
+                .tris
+                .iter()
+                .map(|t| wt.intersect(t, tmin, tmax))
+                .collect();
+            let closest = ts.iter().copied().fold(f32::INFINITY, f32::min);
+            let mut crossed: Vec<u32> = (0..ts.len())
+                .filter(|&k| ts[k] < tmax)
+                .map(|k| bvh.ids[k])
+                .collect();
+            crossed.sort_unstable();
+            match bvh.closest_hit(from, dir, tmax as f64) {
+                Some(hit) => {
+                    hits += 1;
+                    assert_eq!(hit.t as f32, closest);
+                    let k = bvh.ids.iter().position(|&i| i == hit.triangle).unwrap();
+                    assert_eq!(ts[k], closest);
+                }
+                None => assert_eq!(closest, f32::INFINITY),
+            }
+            let d: Vec3A = dir.as_vec3().into();
+            assert_eq!(
+                bvh.occluded(from, d, tmin, tmax, u32::MAX),
+                !crossed.is_empty()
+            );
+            let mut found = Vec::new();
+            bvh.for_each_hit(from, d, tmin, tmax, u32::MAX, |t| found.push(t));
+            found.sort_unstable();
+            assert_eq!(found, crossed);
+        }
+        assert!(hits > 100, "only {hits} of 300 rays hit");
     }
 
     #[test]
