@@ -17,17 +17,8 @@ const IN_THE_AIR: u32 = u32::MAX;
 fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
     for name in fixture_names() {
         let scene = load(&name);
-        let r = CpuRenderer::new(&scene);
-        let hard = r.render(&scene, Technique::Hard, &|_| {});
-        let tracer = Tracer::new(&scene);
-        let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
-        let differ = hard
-            .data
-            .iter()
-            .zip(&want.data)
-            .filter(|(a, b)| a != b)
-            .count();
-        let share = differ as f64 / hard.data.len() as f64;
+        let differ = pixels_where_hard_differs(&scene);
+        let share = differ as f64 / scene.camera.pixel_count() as f64;
         println!(
             "{name:>18}: hard differs from the hard reference on {differ} pixels ({:.4}%)",
             100.0 * share
@@ -488,18 +479,16 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
     );
 }
 
-/// Share of pixels where CPU `hard` differs from the hard reference.
-fn hard_against_its_reference(scene: &Scene) -> f64 {
+/// The pixels where CPU `hard` differs from the hard reference.
+fn pixels_where_hard_differs(scene: &Scene) -> usize {
     let hard = CpuRenderer::new(scene).render(scene, Technique::Hard, &|_| {});
     let tracer = Tracer::new(scene);
     let want = reference::render(scene, &tracer, Reference::Hard, &|_| {});
-    let differ = hard
-        .data
+    hard.data
         .iter()
         .zip(&want.data)
         .filter(|(a, b)| a != b)
-        .count();
-    differ as f64 / hard.data.len() as f64
+        .count()
 }
 
 #[test]
@@ -514,7 +503,7 @@ fn closed_meshes_wound_inwards_or_mirrored_cast_the_same_hard_shadow() {
         // The whole scene mirrored (a negative scale): positions only, windings unchanged.
         let mirrored = scene.transformed(&DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0)));
         for (what, s) in [("wound inwards", &inward), ("mirrored", &mirrored)] {
-            let share = hard_against_its_reference(s);
+            let share = pixels_where_hard_differs(s) as f64 / s.camera.pixel_count() as f64;
             println!(
                 "{name:>18} {what}: hard differs from the hard reference on {:.4}% of pixels",
                 100.0 * share

@@ -6,7 +6,7 @@
 //! meshes) or monotone (nested slivers: a large convex polygon fan-triangulated from one vertex),
 //! about one pair merges per pass, and the build takes O(N²): 50,000 slivers took 19 s. A top-down
 //! build splits every node in time linear in its size, so each level of the tree costs O(N); the
-//! depth stays O(log N) because binned SAH is used only for the top [`SAH_DEPTH`] levels (it may
+//! depth stays O(log N) because binned SAH is used only for the top `SAH_DEPTH` (48) levels (it may
 //! peel off one primitive at a time on adversarial inputs) and object-median splits, which halve
 //! the set, take over below that or wherever the centroids coincide.
 //!

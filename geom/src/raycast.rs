@@ -195,22 +195,12 @@ impl SceneBvh {
     /// `(tmin, tmax)`.
     #[inline]
     pub fn occluded(&self, origin: DVec3, dir: Vec3A, tmin: f32, tmax: f32, exclude: u32) -> bool {
-        let Some(bvh) = self.bvh.as_ref() else {
-            return false;
-        };
-        let origin = self.local(origin);
-        let wt = WatertightRay::new(origin, dir);
-        let ray = Ray::new(origin, dir, tmin, tmax);
-        !bvh.ray_traverse_miss(ray, |_, id| {
-            if self.ids[id] == exclude {
-                f32::INFINITY
-            } else {
-                wt.intersect(&self.tris[id], tmin, tmax)
-            }
-        })
+        self.occluded_by(origin, dir, tmin, tmax, |t| t != exclude)
     }
 
-    /// [`SceneBvh::occluded`] by the triangles that `blocks` accepts (given their index).
+    /// Whether any triangle that `blocks` accepts (given its index) blocks `origin + t * dir`
+    /// for `t` in `(tmin, tmax)`.
+    #[inline]
     pub fn occluded_by(
         &self,
         origin: DVec3,
