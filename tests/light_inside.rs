@@ -57,7 +57,7 @@ fn a_closed_mesh_around_the_light_centre_is_warned_of() {
         assert!(
             w[0].starts_with("mesh 1 (occluder) holds the light's centre")
                 && w[0].contains(&format!("{t} builds its shadow from that centre"))
-                && w[0].contains("--technique depth-complexity"),
+                && w[0].contains("depth-complexity is exact there"),
             "{}",
             w[0]
         );
