@@ -13,6 +13,7 @@ pub mod input;
 pub mod light;
 pub mod memory;
 pub mod mesh;
+mod output;
 pub mod range;
 pub mod raycast;
 pub mod reference;

@@ -6,6 +6,7 @@
 pub mod blend;
 pub mod clip;
 pub mod depth_complexity;
+mod light_centre;
 pub mod potential;
 mod region;
 pub mod render;
