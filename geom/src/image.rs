@@ -146,7 +146,7 @@ impl VisibilityImage {
     /// Reads the `V` channel of an EXR file (its first layer holding one).
     pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
         use exr::prelude::*;
-        let (width, height, bytes) = exr_header(path)?;
+        let (width, height, bytes) = exr_layout(path)?;
         if let Some(a) = crate::memory::available().filter(|&a| bytes > a / 2) {
             return Err(ImageError::TooLarge {
                 path: path.to_path_buf(),
@@ -190,21 +190,7 @@ impl VisibilityImage {
     /// The width and height of the EXR's layer that holds `V`, read from its header alone (no
     /// pixel is read or allocated).
     pub fn read_exr_size(path: &Path) -> Result<(u64, u64), ImageError> {
-        exr_file(path)?;
-        let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
-        let mut found = Vec::new();
-        for h in meta.headers.iter() {
-            for ch in &h.channels.list {
-                if ch.name.to_string() == CHANNEL {
-                    return Ok((h.layer_size.width() as u64, h.layer_size.height() as u64));
-                }
-                found.push(ch.name.to_string());
-            }
-        }
-        Err(ImageError::NoVChannel {
-            path: path.to_path_buf(),
-            found,
-        })
+        exr_layout(path).map(|(w, h, _)| (w, h))
     }
 
     /// Writes V in `[0, 1]` as an 8-bit greyscale PNG (linear, atomically).
@@ -245,22 +231,32 @@ fn exr_file(path: &Path) -> Result<(), ImageError> {
     Ok(())
 }
 
-/// The first layer's size, and the bytes that reading every layer and channel of the EXR takes,
-/// from its header alone.
-fn exr_header(path: &Path) -> Result<(u64, u64, u64), ImageError> {
+/// The size of the EXR's layer that holds `V`, and the bytes that reading every layer and
+/// channel of it takes, from its header alone.
+fn exr_layout(path: &Path) -> Result<(u64, u64, u64), ImageError> {
     exr_file(path)?;
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
     let mut bytes = 0u64;
+    let mut size = None;
+    let mut found = Vec::new();
     for h in meta.headers.iter() {
-        let area = h.layer_size.width() as u64 * h.layer_size.height() as u64;
+        let (w, ht) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
         for ch in &h.channels.list {
             // Every channel is read (and `V` copied once more as f32).
             let per = ch.sample_type.bytes_per_sample() as u64 + 4;
-            bytes = bytes.saturating_add(area.saturating_mul(per));
+            bytes = bytes.saturating_add(w.saturating_mul(ht).saturating_mul(per));
+            let name = ch.name.to_string();
+            if name == CHANNEL {
+                size.get_or_insert((w, ht));
+            } else if size.is_none() {
+                found.push(name);
+            }
         }
     }
-    let first = meta.headers.first().map(|h| h.layer_size);
-    let (w, h) = first.map_or((0, 0), |s| (s.width() as u64, s.height() as u64));
+    let (w, h) = size.ok_or_else(|| ImageError::NoVChannel {
+        path: path.to_path_buf(),
+        found,
+    })?;
     Ok((w, h, bytes))
 }
 

@@ -11,17 +11,24 @@ pub fn available() -> Option<u64> {
         .min()
 }
 
-fn meminfo() -> Option<u64> {
-    let m = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let kb = m
+/// The value of a `Key: N kB` line of a `/proc` file, in bytes.
+fn kb_line(text: &str, key: &str) -> Option<u64> {
+    let kb = text
         .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))?
+        .find_map(|l| l.strip_prefix(key))?
         .trim()
         .trim_end_matches("kB")
         .trim()
         .parse::<u64>()
         .ok()?;
     Some(kb * 1024)
+}
+
+fn meminfo() -> Option<u64> {
+    kb_line(
+        &std::fs::read_to_string("/proc/meminfo").ok()?,
+        "MemAvailable:",
+    )
 }
 
 fn cgroup() -> Option<u64> {
@@ -49,12 +56,8 @@ fn address_space() -> Option<u64> {
         .parse::<u64>()
         .ok()?;
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let used_kb = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmSize:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
-        .unwrap_or(0);
-    Some(soft.saturating_sub(used_kb * 1024))
+    let used = kb_line(&status, "VmSize:").unwrap_or(0);
+    Some(soft.saturating_sub(used))
 }
 
 #[cfg(test)]
@@ -62,16 +65,8 @@ mod tests {
     #[test]
     fn some_memory_is_available_and_less_than_the_machine_has() {
         let a = super::available().expect("Linux reports memory");
-        let total_kb: u64 = std::fs::read_to_string("/proc/meminfo")
-            .unwrap()
-            .lines()
-            .find_map(|l| l.strip_prefix("MemTotal:"))
-            .unwrap()
-            .trim()
-            .trim_end_matches("kB")
-            .trim()
-            .parse()
-            .unwrap();
-        assert!(a > 0 && a <= total_kb * 1024, "{a} of {total_kb} kB");
+        let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap();
+        let total = super::kb_line(&meminfo, "MemTotal:").unwrap();
+        assert!(a > 0 && a <= total, "{a} of {total} bytes");
     }
 }
