@@ -84,7 +84,7 @@ impl FrameCamera {
     /// otherwise), for an image of `size` pixels.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use DVec3;
     /// use glam::dcamera::rh::{proj::directx, view};
     /// use penumbra_gpu::frame::FrameCamera;
     ///
@@ -152,10 +152,18 @@ impl FrameCamera {
         }
     }
 
-    /// [`FrameCamera::from_camera`] with the near plane the one-shot renderers use: a
-    /// thousandth of `scene_radius` (the distance from the eye that holds the scene).
-    pub fn for_scene(c: &Camera, scene_radius: f64) -> Self {
-        Self::from_camera(c, (scene_radius * NEAR_FRACTION).max(1e-6))
+    /// [`FrameCamera::from_camera`] with the near plane the one-shot renderers use for a scene
+    /// whose eye-relative vertices ([`eye_relative`]) are `vertices`: a thousandth of the
+    /// distance from the eye that holds the scene ([`scene_radius`]), or half the distance to
+    /// the nearest triangle ([`nearest_distance`]) where that is closer (an eye just above a
+    /// ground it looks along), so that no surface in view is clipped; the reversed depth keeps
+    /// its relative precision however small the near plane.
+    pub fn for_scene(c: &Camera, vertices: &[[f32; 3]]) -> Self {
+        let radius = scene_radius(vertices);
+        let near = (radius * NEAR_FRACTION)
+            .min(0.5 * nearest_distance(vertices))
+            .max(radius * 1e-9);
+        Self::from_camera(c, near)
     }
 }
 
@@ -197,6 +205,60 @@ pub fn scene_radius(vertices: &[[f32; 3]]) -> f64 {
         .iter()
         .map(|v| Vec3::from(*v).length() as f64)
         .fold(1e-3, f64::max)
+}
+
+/// The distance from the origin (the eye) to the nearest of the triangles whose corners are
+/// `vertices`, three by three, in `f64`.
+pub fn nearest_distance(vertices: &[[f32; 3]]) -> f64 {
+    vertices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(t[k]).as_dvec3());
+            point_triangle_distance(DVec3::ZERO, a, b, c)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The distance from `p` to the triangle `abc` (Ericson, "Real-Time Collision Detection",
+/// 2005, 5.1.5: the closest point by its Voronoi region).
+fn point_triangle_distance(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ap.length();
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return bp.length();
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (a + ab * v - p).length();
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return cp.length();
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (a + ac * w - p).length();
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + (c - b) * w - p).length();
+    }
+    let denom = va + vb + vc;
+    if denom == 0.0 || !denom.is_finite() {
+        // A degenerate triangle: the nearest of its corners.
+        return ap.length().min(bp.length()).min(cp.length());
+    }
+    let (v, w) = (vb / denom, vc / denom);
+    (a + ab * v + ac * w - p).length()
 }
 
 /// The bind group of `uniforms` and of the meshes' matrices `models` (a storage buffer of

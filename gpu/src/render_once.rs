@@ -7,7 +7,7 @@ use penumbra_volumes::Volumes;
 
 use crate::complexity::ComplexityImage;
 use crate::context::GpuError;
-use crate::frame::{FrameCamera, eye_relative, scene_radius};
+use crate::frame::{FrameCamera, eye_relative};
 use crate::gpu_scene::{FrameInputs, GpuScene, check_technique};
 use crate::passes::depth::{GBuffer, visibility_target};
 use crate::passes::view;
@@ -117,8 +117,8 @@ impl GpuRenderer {
     fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
         let device = &self.ctx.device;
         let size = (scene.camera.width, scene.camera.height);
-        let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
-        let camera = FrameCamera::for_scene(&scene.camera, radius);
+        let vertices = eye_relative(scene.camera.eye, &scene.triangles());
+        let camera = FrameCamera::for_scene(&scene.camera, &vertices);
         (
             camera,
             GBuffer::new(device, size),

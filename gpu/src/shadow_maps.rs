@@ -13,7 +13,7 @@ use wgpu::util::DeviceExt;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 use crate::context::{GpuContext, GpuError};
-use crate::frame::{FrameCamera, FrameUniforms, eye_relative, scene_radius, single_frame_group};
+use crate::frame::{FrameCamera, FrameUniforms, eye_relative, single_frame_group};
 use crate::passes::fullscreen::{
     FullscreenPass, INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT, LightMapPass,
     shadow_layout, shadow_shader,
@@ -163,13 +163,12 @@ impl ShadowMapRenderer {
         let (world, closed) = closed_first(scene);
         let eye = scene.camera.eye;
         let tris = eye_relative(eye, &world);
-        let radius = scene_radius(&tris);
         let frame = single_frame_group(
             device,
             &self.frame_layout,
             &FrameUniforms {
                 size: [w as f32, h as f32, 3.0 * closed as f32, 0.0],
-                ..FrameUniforms::new(&FrameCamera::for_scene(&scene.camera, radius), &scene.light)
+                ..FrameUniforms::new(&FrameCamera::for_scene(&scene.camera, &tris), &scene.light)
             },
         );
         // Nothing in front of the light: a frustum that no receiver falls in (every receiver is

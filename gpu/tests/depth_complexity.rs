@@ -10,7 +10,7 @@ use glam::DMat4;
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
-use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
+use penumbra_gpu::frame::{FrameCamera, eye_relative};
 use penumbra_gpu::passes::depth::visibility_target;
 use penumbra_gpu::passes::view;
 use penumbra_gpu::readback::{read_r32f, read_texels};
@@ -133,8 +133,10 @@ fn record_frame(
     gbuffer: &GBuffer,
 ) -> Result<(wgpu::CommandEncoder, wgpu::Texture), penumbra_gpu::GpuError> {
     let device = &ctx.device;
-    let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
-    let camera = FrameCamera::for_scene(&scene.camera, radius);
+    let camera = FrameCamera::for_scene(
+        &scene.camera,
+        &eye_relative(scene.camera.eye, &scene.triangles()),
+    );
     let target = visibility_target(device, gbuffer.size());
     let inputs = FrameInputs {
         camera,

@@ -9,7 +9,7 @@ use common::{context, fixtures};
 use penumbra_geom::Scene;
 use penumbra_geom::image::compare;
 use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_gpu::frame::{FrameCamera, eye_relative, scene_radius};
+use penumbra_gpu::frame::{FrameCamera, eye_relative};
 use penumbra_gpu::passes::fullscreen;
 use penumbra_gpu::renderer::{ReceiverClusters, nearest_edges, occluder_tiles, wedge_instances};
 use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
@@ -141,8 +141,7 @@ fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
     for (name, scene) in fixtures() {
         let cpu = CpuRenderer::new(&scene);
         let world = scene.triangles();
-        let radius = scene_radius(&eye_relative(scene.camera.eye, &world));
-        let camera = FrameCamera::for_scene(&scene.camera, radius);
+        let camera = FrameCamera::for_scene(&scene.camera, &eye_relative(scene.camera.eye, &world));
         let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
         let masks = occluder_tiles(
             &camera,

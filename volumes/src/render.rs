@@ -419,6 +419,15 @@ impl CpuRenderer {
                 },
             );
         }
+        // The casters within the segment's `f32` start offset of `p`, tested in `f64` over the
+        // whole segment as the reference does: that offset grows with the scene's extent, and a
+        // caster inside it (a small occluder over a huge ground) still casts its shadow.
+        let mut near = Vec::new();
+        self.tracer.near_triangles(p, &mut near);
+        out.extend(near.into_iter().filter(|&t| {
+            self.triangle_occluder[t as usize] & CASTER_BIT != 0
+                && self.tracer.crosses(p.position, c, t)
+        }));
         // A triangle split over several leaves is reported once per leaf.
         out.sort_unstable();
         out.dedup();
