@@ -8,18 +8,33 @@ use glam::{DVec2, DVec3};
 use penumbra_geom::{HalfEdgeMesh, RectLight, TriangleMesh};
 
 /// +1 when `mesh` is closed and wound with its normals outwards, -1 when closed and wound
-/// inwards, 0 when open or inconsistently wound (`half_edges` is its half-edge structure).
+/// inwards, 0 when open, inconsistently wound or enclosing no volume (`half_edges` is its
+/// half-edge structure). A closed mesh that encloses nothing, such as a sheet listed once per
+/// side with its two sides split along different diagonals, has no inside: a point on it sees
+/// the light on both sides, as on an open mesh.
 pub fn outward_sign(mesh: &TriangleMesh, half_edges: &HalfEdgeMesh) -> f64 {
     if !half_edges.is_closed() || half_edges.has_inconsistent_orientation() {
         return 0.0;
     }
     let p = &mesh.positions;
-    let volume: f64 = mesh
-        .triangles
-        .iter()
-        .map(|&[a, b, c]| p[a as usize].dot(p[b as usize].cross(p[c as usize])))
-        .sum();
-    if volume < 0.0 { -1.0 } else { 1.0 }
+    let Some(&o) = p.first() else {
+        return 0.0;
+    };
+    let (mut volume, mut area) = (0.0, 0.0);
+    for &[a, b, c] in &mesh.triangles {
+        let (a, b, c) = (p[a as usize] - o, p[b as usize] - o, p[c as usize] - o);
+        volume += a.dot(b.cross(c));
+        area += (b - a).cross(c - a).length();
+    }
+    // Six times the volume against twice the area to the power 3/2: a sphere gives about 0.3,
+    // a 1 x 1 x 1e-6 box 1e-6, a sheet with two sides the rounding of its corners.
+    if volume.abs() <= 1e-9 * area.powf(1.5) {
+        0.0
+    } else if volume < 0.0 {
+        -1.0
+    } else {
+        1.0
+    }
 }
 
 /// The share of `light`'s area strictly in front of the plane through `p` with normal `n`
