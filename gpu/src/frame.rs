@@ -86,7 +86,7 @@ impl FrameCamera {
     /// ```
     /// use glam::DVec3;
     /// use glam::dcamera::rh::{proj::directx, view};
-    /// use penumbra_gpu::frame::FrameCamera;
+    /// use penumbra_gpu::FrameCamera;
     ///
     /// let view = view::look_at_mat4(DVec3::new(0.0, 2.0, 5.0), DVec3::ZERO, DVec3::Y);
     /// let projection = directx::perspective_infinite_reverse(0.8, 4.0 / 3.0, 0.01);
@@ -95,7 +95,7 @@ impl FrameCamera {
     /// // A standard projection (finite far plane, depth 0 at the near plane) is refused.
     /// let standard = directx::perspective(0.8, 4.0 / 3.0, 0.01, 100.0);
     /// assert!(FrameCamera::from_matrices(&view, &standard, (320, 240)).is_err());
-    /// # Ok::<(), penumbra_gpu::frame::CameraError>(())
+    /// # Ok::<(), penumbra_gpu::CameraError>(())
     /// ```
     pub fn from_matrices(
         view: &DMat4,
@@ -152,9 +152,16 @@ impl FrameCamera {
         }
     }
 
+    /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera,
+    /// the near plane a thousandth of the distance from the eye that holds the scene.
+    pub fn of_scene(scene: &penumbra_geom::Scene) -> Self {
+        let radius = scene_radius(&eye_relative(scene.camera.eye, &scene.triangles()));
+        Self::for_scene(&scene.camera, radius)
+    }
+
     /// [`FrameCamera::from_camera`] with the near plane the one-shot renderers use: a
     /// thousandth of `scene_radius` (the distance from the eye that holds the scene).
-    pub fn for_scene(c: &Camera, scene_radius: f64) -> Self {
+    pub(crate) fn for_scene(c: &Camera, scene_radius: f64) -> Self {
         Self::from_camera(c, (scene_radius * NEAR_FRACTION).max(1e-6))
     }
 }

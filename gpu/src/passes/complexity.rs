@@ -336,7 +336,11 @@ impl ComplexityPass {
         frame_layout: &wgpu::BindGroupLayout,
         inputs: &wgpu::BindGroupLayout,
     ) -> Self {
-        Self::new(device, (frame_layout, inputs), ("count", COUNT_WGSL, "count"))
+        Self::new(
+            device,
+            (frame_layout, inputs),
+            ("count", COUNT_WGSL, "count"),
+        )
     }
 
     /// The pipeline of `entry` in `source`, prepended with [`COMPLEXITY_WGSL`].
