@@ -12,6 +12,7 @@ use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
 use crate::passes::{FrameBindings, bind_group, buffer};
+use crate::renderer::Pipelines;
 use crate::scene_data::occluder_tiles;
 use crate::timing::{Pass, Timer};
 
@@ -53,22 +54,7 @@ impl GpuScene {
             .as_ref()
             .expect("prepared by record");
         encoder.clear_buffer(final_buffer, 0, None);
-        let stencil_group = bind_group(
-            device,
-            "stencil counts",
-            &p.wedge.stencil_layout,
-            &[wgpu::BindingResource::TextureView(&gbuffer.stencil_view)],
-        );
-        let mut blend_inputs: Vec<wgpu::BindingResource> =
-            sil.iter().map(wgpu::BindingResource::TextureView).collect();
-        blend_inputs.push(wgpu::BindingResource::TextureView(&gbuffer.stencil_view));
-        blend_inputs.push(final_buffer.as_entire_binding());
-        let blend_inputs = bind_group(
-            device,
-            "blend inputs",
-            &p.blend.inputs_layout,
-            &blend_inputs,
-        );
+        let (stencil_group, blend_inputs) = blend_groups(device, p, gbuffer, sil, final_buffer);
         let masks = occluder_tiles(
             camera,
             &self.light,
@@ -138,6 +124,34 @@ impl GpuScene {
             timer.render(Pass::Resolve),
         );
     }
+}
+
+/// The wedge pass's group of the stencil counts and the blend's inputs (the silhouette buffer
+/// `sil`, the stencil counts and the final buffer).
+fn blend_groups(
+    device: &wgpu::Device,
+    p: &Pipelines,
+    gbuffer: &GBuffer,
+    sil: &[wgpu::TextureView],
+    final_buffer: &wgpu::Buffer,
+) -> (wgpu::BindGroup, wgpu::BindGroup) {
+    let stencil_group = bind_group(
+        device,
+        "stencil counts",
+        &p.wedge.stencil_layout,
+        &[wgpu::BindingResource::TextureView(&gbuffer.stencil_view)],
+    );
+    let mut blend_inputs: Vec<wgpu::BindingResource> =
+        sil.iter().map(wgpu::BindingResource::TextureView).collect();
+    blend_inputs.push(wgpu::BindingResource::TextureView(&gbuffer.stencil_view));
+    blend_inputs.push(final_buffer.as_entire_binding());
+    let blend_inputs = bind_group(
+        device,
+        "blend inputs",
+        &p.blend.inputs_layout,
+        &blend_inputs,
+    );
+    (stencil_group, blend_inputs)
 }
 
 /// Each group's tiles in one list, and its range of that list for the blend, uploaded and bound

@@ -19,7 +19,7 @@ pub struct ShadowUniforms {
     /// The light frustum in slopes: min x/z, min y/z, max x/z, max y/z.
     pub frustum: [f32; 4],
     /// Map width and height in texels; texels per side of a `fractional-disk` preprocessing cell
-    /// ([`fd_block`]).
+    /// (1 for the other techniques).
     pub map: [f32; 4],
     /// Projection near depth, nearest and farthest light depth of the scene, constant bias.
     pub depth: [f32; 4],
