@@ -28,6 +28,9 @@ mod scene_data;
 mod shadow_maps;
 mod timing;
 
+#[cfg(test)]
+mod docs_tests;
+
 pub use constants::{MAX_SAMPLES, MAX_TAPS};
 pub use context::{
     GpuContext, GpuError, OPTIONAL_FEATURES, REQUIRED_FEATURES, required_features, required_limits,
