@@ -28,7 +28,10 @@ fn the_gpu_documents_name_only_files_that_exist() {
     for doc in ["docs/gpu.md", "docs/shadow-maps.md"] {
         let text = std::fs::read_to_string(root.join(doc)).unwrap();
         for path in quoted_paths(&text) {
-            assert!(root.join(&path).exists(), "{doc} names {path}, which does not exist");
+            assert!(
+                root.join(&path).exists(),
+                "{doc} names {path}, which does not exist"
+            );
             named += 1;
         }
     }

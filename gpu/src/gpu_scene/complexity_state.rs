@@ -48,7 +48,7 @@ const DEFAULT_AXIS: u32 = 16;
 const FIRST_ENTRIES_PER_TILE: u32 = 64;
 
 /// What depth-complexity sampling keeps of a scene for the current light and transforms.
-pub(crate) struct ComplexityScene {
+pub(super) struct ComplexityScene {
     /// The open-rule shadow volumes' vertices (as `scene_data::volume_vertices`) and each mesh's
     /// range.
     volume: wgpu::Buffer,
@@ -61,12 +61,12 @@ pub(crate) struct ComplexityScene {
     crossing_count: u32,
     triangle_count: u32,
     /// Potential silhouette edges, and all edges, for reports.
-    pub(crate) potential: usize,
-    pub(crate) all_edges: usize,
+    pub(super) potential: usize,
+    pub(super) all_edges: usize,
 }
 
 /// The per-frame buffers of depth-complexity sampling at one image size and list capacity.
-pub(crate) struct ComplexityFrame {
+pub(super) struct ComplexityFrame {
     size: (u32, u32),
     capacity: u32,
     tile_ranges: wgpu::Buffer,
@@ -200,7 +200,7 @@ impl ComplexityFrame {
 }
 
 /// Everything a scene keeps for depth-complexity sampling.
-pub(crate) struct ComplexityState {
+pub(super) struct ComplexityState {
     /// What it built of the scene for the current light and transforms (`None`: not yet, or
     /// they changed since).
     scene: Option<ComplexityScene>,
@@ -215,20 +215,20 @@ pub(crate) struct ComplexityState {
 }
 
 /// What recording a depth-complexity frame reads of its scene, and where it counts its uploads.
-pub(crate) struct SceneParts<'a> {
-    pub(crate) ctx: &'a GpuContext,
-    pub(crate) pipelines: &'a Pipelines,
+pub(super) struct SceneParts<'a> {
+    pub(super) ctx: &'a GpuContext,
+    pub(super) pipelines: &'a Pipelines,
     /// The frame's group 0, written for this frame.
-    pub(crate) frame: &'a wgpu::BindGroup,
-    pub(crate) light: &'a RectLight,
-    pub(crate) meshes: &'a [StoredMesh],
-    pub(crate) uploads: &'a mut Uploads,
+    pub(super) frame: &'a wgpu::BindGroup,
+    pub(super) light: &'a RectLight,
+    pub(super) meshes: &'a [StoredMesh],
+    pub(super) uploads: &'a mut Uploads,
 }
 
 impl ComplexityState {
     /// The state of a new scene on a device of `device_type`: [`SOFTWARE_LOOP_BUDGET`] on a
     /// CPU adapter, no budget on a GPU.
-    pub(crate) fn new(device_type: wgpu::DeviceType) -> Self {
+    pub(super) fn new(device_type: wgpu::DeviceType) -> Self {
         ComplexityState {
             scene: None,
             frame: None,
@@ -243,15 +243,15 @@ impl ComplexityState {
     }
 
     /// Drops what was built for the old light or transforms.
-    pub(crate) fn light_changed(&mut self) {
+    pub(super) fn light_changed(&mut self) {
         self.scene = None;
     }
 
-    pub(crate) fn light_samples(&self) -> u32 {
+    pub(super) fn light_samples(&self) -> u32 {
         self.samples_per_axis * self.samples_per_axis
     }
 
-    pub(crate) fn set_light_samples(&mut self, samples: u32) -> Result<(), GpuError> {
+    pub(super) fn set_light_samples(&mut self, samples: u32) -> Result<(), GpuError> {
         let n = (samples as f64).sqrt().round() as u32;
         if samples == 0 || n * n != samples || n > MAX_AXIS {
             return Err(GpuError::LightSamples {
@@ -263,31 +263,31 @@ impl ComplexityState {
         Ok(())
     }
 
-    pub(crate) fn list_capacity(&self) -> u32 {
+    pub(super) fn list_capacity(&self) -> u32 {
         self.list_capacity
     }
 
-    pub(crate) fn set_list_capacity(&mut self, entries: u32) {
+    pub(super) fn set_list_capacity(&mut self, entries: u32) {
         self.list_capacity = entries.max(1);
     }
 
-    pub(crate) fn potential_edges(&self) -> (usize, usize) {
+    pub(super) fn potential_edges(&self) -> (usize, usize) {
         self.scene
             .as_ref()
             .map_or((0, 0), |c| (c.potential, c.all_edges))
     }
 
-    pub(crate) fn loop_budget(&self) -> u32 {
+    pub(super) fn loop_budget(&self) -> u32 {
         self.loop_budget
     }
 
-    pub(crate) fn set_loop_budget(&mut self, iterations: u32) {
+    pub(super) fn set_loop_budget(&mut self, iterations: u32) {
         self.loop_budget = iterations;
     }
 
     /// Waits for the last frame and reads its report, growing the list when it overflowed (a
     /// quarter more than it needed); `None` when no frame was recorded since the last call.
-    pub(crate) fn report(
+    pub(super) fn report(
         &mut self,
         ctx: &GpuContext,
     ) -> Result<Option<ComplexityReport>, GpuError> {
@@ -346,7 +346,7 @@ impl ComplexityState {
     /// Records the passes of depth-complexity sampling (the module's documentation lists them)
     /// for `camera`, reading `gbuffer`; without a target, only the edge lists, for
     /// [`ComplexityState::report`] to size the list.
-    pub(crate) fn record(
+    pub(super) fn record(
         &mut self,
         mut parts: SceneParts<'_>,
         encoder: &mut wgpu::CommandEncoder,

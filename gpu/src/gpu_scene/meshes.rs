@@ -6,18 +6,18 @@ use penumbra_geom::TriangleMesh;
 
 /// One mesh as stored: its own-space mesh, its vertices relative to `origin` in `f32`, and where
 /// it is.
-pub(crate) struct StoredMesh {
-    pub(crate) mesh: TriangleMesh,
+pub(super) struct StoredMesh {
+    pub(super) mesh: TriangleMesh,
     /// `penumbra_volumes::terminator::outward_sign` of the mesh in its own space.
-    pub(crate) outward: f64,
-    pub(crate) origin: DVec3,
-    pub(crate) transform: DMat4,
-    pub(crate) stored: Vec<[f32; 3]>,
+    pub(super) outward: f64,
+    pub(super) origin: DVec3,
+    pub(super) transform: DMat4,
+    pub(super) stored: Vec<[f32; 3]>,
 }
 
 impl StoredMesh {
     /// `mesh` with its vertices stored relative to `origin`, placed by `transform`.
-    pub(crate) fn new(mesh: &TriangleMesh, transform: DMat4, origin: DVec3, outward: f64) -> Self {
+    pub(super) fn new(mesh: &TriangleMesh, transform: DMat4, origin: DVec3, outward: f64) -> Self {
         StoredMesh {
             stored: mesh
                 .positions
@@ -33,7 +33,7 @@ impl StoredMesh {
 }
 
 /// The world-space meshes of `meshes` and their triangles.
-pub(crate) fn world(meshes: &[StoredMesh]) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
+pub(super) fn world(meshes: &[StoredMesh]) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
     let meshes: Vec<TriangleMesh> = meshes
         .iter()
         .map(|m| m.mesh.transformed(&m.transform))
@@ -50,7 +50,7 @@ pub(crate) fn world(meshes: &[StoredMesh]) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]
 }
 
 /// Centre of the bounding box of `positions` (the origin when there are none).
-pub(crate) fn centre(positions: &[DVec3]) -> DVec3 {
+pub(super) fn centre(positions: &[DVec3]) -> DVec3 {
     let (lo, hi) = positions
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {

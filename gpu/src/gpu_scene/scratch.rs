@@ -10,17 +10,17 @@ use crate::passes::{texture, view};
 /// The techniques' own targets at one image size, made the first time a frame needs them and
 /// kept while the size stays.
 #[derive(Default)]
-pub(crate) struct Scratch {
+pub(super) struct Scratch {
     size: (u32, u32),
     /// `wedges`: the per-part occlusion.
-    pub(crate) occlusion: Option<wgpu::TextureView>,
+    pub(super) occlusion: Option<wgpu::TextureView>,
     /// `wedges-blend`: the silhouette buffer's targets and the final buffer.
-    pub(crate) silhouettes: Option<(Vec<wgpu::TextureView>, wgpu::Buffer)>,
+    pub(super) silhouettes: Option<(Vec<wgpu::TextureView>, wgpu::Buffer)>,
 }
 
 impl Scratch {
     /// Makes what `technique` needs at `size`.
-    pub(crate) fn prepare(
+    pub(super) fn prepare(
         &mut self,
         device: &wgpu::Device,
         technique: Technique,

@@ -13,25 +13,25 @@ use crate::passes::wedge::WedgeInstance;
 use crate::scene_data::{ReceiverClusters, nearest_edges, volume_vertices, wedge_instances};
 
 /// The silhouettes' products for the current light and transforms.
-pub(crate) struct Shadows {
+pub(super) struct Shadows {
     /// Shadow-volume vertices ([`volume_vertices`]) and each blending unit's mesh and range.
-    pub(crate) volume: wgpu::Buffer,
-    pub(crate) volume_ranges: Vec<(u32, Range<u32>)>,
+    pub(super) volume: wgpu::Buffer,
+    pub(super) volume_ranges: Vec<(u32, Range<u32>)>,
     /// Wedge instances, on both sides, and each blending unit's range of them.
-    pub(crate) instances: Vec<WedgeInstance>,
-    pub(crate) instance_buffer: wgpu::Buffer,
-    pub(crate) instance_ranges: Vec<Range<u32>>,
+    pub(super) instances: Vec<WedgeInstance>,
+    pub(super) instance_buffer: wgpu::Buffer,
+    pub(super) instance_ranges: Vec<Range<u32>>,
     /// Each unit's nearest silhouette edge (light space), and the receivers' clusters.
-    pub(crate) nearest: Vec<f64>,
-    pub(crate) clusters: ReceiverClusters,
+    pub(super) nearest: Vec<f64>,
+    pub(super) clusters: ReceiverClusters,
     /// Silhouette edges, for reports.
-    pub(crate) wedges: usize,
+    pub(super) wedges: usize,
 }
 
 impl Shadows {
     /// The silhouettes' products of `volumes` (built for `light` and the meshes' current
     /// transforms; `world`: the scene's triangles), uploaded; and the bytes uploaded.
-    pub(crate) fn build(
+    pub(super) fn build(
         device: &wgpu::Device,
         meshes: &[StoredMesh],
         light: &RectLight,
