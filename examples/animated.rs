@@ -13,10 +13,10 @@ use std::time::Instant;
 use penumbra::geom::{RectLight, TriangleMesh};
 use penumbra::glam::dcamera::rh::{proj::directx, view};
 use penumbra::glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra::gpu::context::{OPTIONAL_FEATURES, required_features, required_limits};
-use penumbra::gpu::passes::depth::visibility_target;
-use penumbra::gpu::readback::read_r32f;
-use penumbra::gpu::{GpuContext, wgpu};
+use penumbra::gpu::{
+    GpuContext, OPTIONAL_FEATURES, read_r32f, required_features, required_limits,
+    visibility_target, wgpu,
+};
 use penumbra::{
     FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Technique, VisibilityImage,
 };

@@ -431,7 +431,7 @@ impl Renderer {
                 let out = match r.render_depth_complexity(scene, options.samples as u32) {
                     // A software device that would cut pixels short, or buffers beyond the
                     // device's: under `auto`, the CPU renders it.
-                    Err(GpuError::CutShort(why) | GpuError::TooLarge(why))
+                    Err(why @ (GpuError::CutShort { .. } | GpuError::TooLarge { .. }))
                         if self.backend == Backend::Auto =>
                     {
                         let mut frame = render_cpu(scene, technique, pattern, progress);
@@ -506,7 +506,7 @@ fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
 }
 
 /// Most light samples per pixel of depth-complexity sampling on the GPU.
-pub const MAX_GPU_SAMPLES: u32 = penumbra_gpu::constants::MAX_SAMPLES;
+pub const MAX_GPU_SAMPLES: u32 = penumbra_gpu::MAX_SAMPLES;
 
 /// Most blending units (caster patches, [`Volumes::unit_count`]) of a `wedges-blend` scene that
 /// `--backend auto` renders on the GPU; beyond, it renders on the CPU.

@@ -25,7 +25,7 @@ pub const NOISE_SIZE: usize = 64;
 pub const MAX_TAPS: usize = 64;
 
 /// Most light samples per pixel of depth-complexity sampling on the GPU (`N x N`, `N` at most
-/// [`MAX_AXIS`]): each invocation of the counting pass keeps one count per sample.
+/// 32): each invocation of the counting pass keeps one count per sample.
 pub const MAX_SAMPLES: u32 = MAX_AXIS * MAX_AXIS;
 
 /// Side of the square of pixels of one workgroup of depth-complexity sampling's counting pass:

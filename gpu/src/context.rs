@@ -33,26 +33,99 @@ pub enum GpuError {
     /// The adapter refused the device.
     #[error("the adapter refused a device: {0}")]
     RequestDevice(#[from] wgpu::RequestDeviceError),
-    /// A frame's inputs that do not fit together or that the passes cannot take.
-    #[error("{0}")]
-    Frame(String),
-    /// A frame that ran, but whose image the device may have cut short (see
-    /// `complexity::SOFTWARE_LOOP_BUDGET`).
-    #[error("{0}")]
-    CutShort(String),
-    /// A frame whose buffers would exceed the device's limits.
-    #[error("{0}")]
-    TooLarge(String),
+    /// A technique that a [`crate::GpuScene`] does not record: the shadow-map techniques and the
+    /// CPU references.
+    #[error(
+        "{technique}: a GpuScene records the volume techniques (hard, wedges, wedges-blend) and depth-complexity"
+    )]
+    NotRecordable {
+        /// The technique asked for.
+        technique: penumbra_geom::Technique,
+    },
+    /// A G-buffer or target whose size is not the camera's.
+    #[error(
+        "the camera's image is {} x {} pixels, the {what} {} x {}",
+        camera.0,
+        camera.1,
+        size.0,
+        size.1
+    )]
+    SizeMismatch {
+        /// The camera's image size in pixels.
+        camera: (u32, u32),
+        /// What has another size: `"G-buffer"` or `"target"`.
+        what: &'static str,
+        /// Its size.
+        size: (u32, u32),
+    },
+    /// A target that is not an `R32Float` render attachment.
+    #[error(
+        "the target is {format:?} with usage {usage:?}: it must be R32Float with RENDER_ATTACHMENT"
+    )]
+    TargetFormat {
+        /// The target's format.
+        format: wgpu::TextureFormat,
+        /// Its usages.
+        usage: wgpu::TextureUsages,
+    },
+    /// A number of light samples that depth-complexity sampling on the GPU does not take.
+    #[error(
+        "{samples} light samples: depth-complexity sampling on the GPU takes a perfect square up to {most} (the CPU takes up to 65536)"
+    )]
+    LightSamples {
+        /// The samples asked for.
+        samples: u32,
+        /// The most it takes ([`crate::MAX_SAMPLES`]).
+        most: u32,
+    },
+    /// A depth-complexity frame that ran, but that the device may have cut short: pixels that
+    /// need more loop iterations than a software device runs (see
+    /// [`crate::SOFTWARE_LOOP_BUDGET`]).
+    #[error(
+        "{adapter}: {pixels} pixels need more loop iterations than this software device runs ({budget} at most per invocation): their V would be wrong"
+    )]
+    CutShort {
+        /// The device, as [`GpuContext::describe`] names it.
+        adapter: String,
+        /// Pixels that may have been cut short.
+        pixels: u32,
+        /// Loop iterations an invocation may take.
+        budget: u32,
+    },
+    /// A depth-complexity frame whose storage buffers (V, or the edge list) would exceed one
+    /// binding of the device.
+    #[error(
+        "depth-complexity at {} x {} pixels needs a storage buffer of {bytes} bytes (V, or an edge list of {entries} entries), more than the device binds ({limit})",
+        size.0,
+        size.1
+    )]
+    TooLarge {
+        /// The image size in pixels.
+        size: (u32, u32),
+        /// Bytes of the largest buffer.
+        bytes: u64,
+        /// Entries of the edge list.
+        entries: u32,
+        /// The most bytes one storage binding may hold on the device.
+        limit: u64,
+    },
     /// A readback failed.
-    #[error("reading back from the GPU failed: {0}")]
-    Readback(String),
+    #[error("reading back from the GPU failed while {stage}: {reason}")]
+    Readback {
+        /// What it was doing: waiting for the device, or mapping the buffer.
+        stage: &'static str,
+        /// wgpu's reason.
+        reason: String,
+    },
 }
 
 /// A device and its queue, with what the adapter offered.
 ///
 /// On Linux with Mesa, the device-select layer (an implicit Vulkan layer) prints
-/// "XDG_RUNTIME_DIR is invalid or not set" when no display is reachable. It is harmless, and
-/// `NODEVICE_SELECT=1` in the environment turns it off; the `penumbra` command sets it.
+/// "error: XDG_RUNTIME_DIR is invalid or not set" when no display is reachable. It is harmless
+/// (the layer only reorders adapters, which [`GpuContext::new`] ranks itself), so
+/// [`GpuContext::new`] sets `NODEVICE_SELECT=1` before it creates its wgpu instance, unless the
+/// variable is already set.
 ///
 /// Cloning it is cheap: the device and the queue are shared handles.
 #[derive(Clone)]
@@ -111,6 +184,25 @@ fn rank(t: wgpu::DeviceType) -> u8 {
     }
 }
 
+/// Turns Mesa's device-select layer off (`NODEVICE_SELECT=1`) unless the environment says
+/// otherwise: the layer only reorders adapters, and prints an "error:" line on stderr when no
+/// display is reachable.
+fn quiet_device_select() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        if std::env::var_os("NODEVICE_SELECT").is_none() {
+            // SAFETY: the environment is written once, before this library creates its
+            // first wgpu instance (whose Vulkan loader reads it), and by nothing else of
+            // this library; a program that reads or writes the environment on other
+            // threads while it opens its first device should set the variable itself.
+            #[allow(unsafe_code)] // `set_var` is unsafe since edition 2024; see the line above.
+            unsafe {
+                std::env::set_var("NODEVICE_SELECT", "1")
+            };
+        }
+    });
+}
+
 impl GpuContext {
     /// Opens the best adapter (see the module documentation).
     pub fn new() -> Result<Self, GpuError> {
@@ -118,6 +210,7 @@ impl GpuContext {
     }
 
     async fn new_async() -> Result<Self, GpuError> {
+        quiet_device_select();
         let desc = wgpu::InstanceDescriptor::new_without_display_handle().with_env();
         let backends = desc.backends;
         let instance = wgpu::Instance::new(desc);

@@ -84,9 +84,9 @@ impl FrameCamera {
     /// otherwise), for an image of `size` pixels.
     ///
     /// ```
-    /// use DVec3;
+    /// use glam::DVec3;
     /// use glam::dcamera::rh::{proj::directx, view};
-    /// use penumbra_gpu::frame::FrameCamera;
+    /// use penumbra_gpu::FrameCamera;
     ///
     /// let view = view::look_at_mat4(DVec3::new(0.0, 2.0, 5.0), DVec3::ZERO, DVec3::Y);
     /// let projection = directx::perspective_infinite_reverse(0.8, 4.0 / 3.0, 0.01);
@@ -95,7 +95,7 @@ impl FrameCamera {
     /// // A standard projection (finite far plane, depth 0 at the near plane) is refused.
     /// let standard = directx::perspective(0.8, 4.0 / 3.0, 0.01, 100.0);
     /// assert!(FrameCamera::from_matrices(&view, &standard, (320, 240)).is_err());
-    /// # Ok::<(), penumbra_gpu::frame::CameraError>(())
+    /// # Ok::<(), penumbra_gpu::CameraError>(())
     /// ```
     pub fn from_matrices(
         view: &DMat4,
@@ -152,13 +152,22 @@ impl FrameCamera {
         }
     }
 
+    /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera,
+    /// with the near plane of [`FrameCamera::for_scene`].
+    pub fn of_scene(scene: &penumbra_geom::Scene) -> Self {
+        Self::for_scene(
+            &scene.camera,
+            &eye_relative(scene.camera.eye, &scene.triangles()),
+        )
+    }
+
     /// [`FrameCamera::from_camera`] with the near plane the one-shot renderers use for a scene
     /// whose eye-relative vertices ([`eye_relative`]) are `vertices`: a thousandth of the
     /// distance from the eye that holds the scene ([`scene_radius`]), or half the distance to
     /// the nearest triangle ([`nearest_distance`]) where that is closer (an eye just above a
     /// ground it looks along), so that no surface in view is clipped; the reversed depth keeps
     /// its relative precision however small the near plane.
-    pub fn for_scene(c: &Camera, vertices: &[[f32; 3]]) -> Self {
+    pub(crate) fn for_scene(c: &Camera, vertices: &[[f32; 3]]) -> Self {
         let radius = scene_radius(vertices);
         let near = (radius * NEAR_FRACTION)
             .min(0.5 * nearest_distance(vertices))

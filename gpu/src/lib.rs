@@ -3,36 +3,47 @@
 //! The device (any adapter, hardware first, Mesa's lavapipe otherwise), the depth pre-pass, the
 //! z-fail stencil pass of the shadow volumes, the penumbra-wedge pass, the blend pass and the
 //! resolve: `hard`, additive `wedges` and Forest et al.'s `wedges-blend`, each checked against the
-//! CPU oracle of `penumbra-volumes`. And the shadow-map techniques of the other papers
-//! ([`shadow_maps`]): `pcf`, `pcss`, `fractional-disk`, `mdsm` and `gaussian`.
+//! CPU oracle of `penumbra-volumes`; depth-complexity sampling; and the shadow-map techniques of
+//! the other papers ([`ShadowMapRenderer`]): `pcf`, `pcss`, `fractional-disk`, `mdsm` and
+//! `gaussian`.
 //!
-//! Two ways in: [`GpuRenderer::render`] renders a scene once and reads V back; [`GpuScene`]
-//! holds a scene on an application's own device and records each frame's passes into its
-//! command encoder and its own target ([`GBuffer`] and [`FrameCamera`] say what it needs).
+//! Every renderer is built once per device, its pipelines shared by every scene it renders:
+//! [`GpuRenderer::render`] renders a scene once by a volume technique and reads V back
+//! ([`GpuRenderer::render_depth_complexity`] by depth-complexity sampling);
+//! [`ShadowMapRenderer::render`] does so by one shadow-map technique; [`GpuScene`] holds a scene
+//! on an application's own device and records each frame's passes into its command encoder and
+//! its own target ([`GBuffer`] and [`FrameCamera`] say what it needs).
+//!
+//! Every public name is here, at the crate root; the modules are private.
 #![warn(missing_docs)]
 
-pub mod complexity;
-pub mod constants;
-pub mod context;
-pub mod frame;
-pub mod gpu_scene;
-pub mod light_frustum;
-pub mod passes;
-pub mod readback;
-mod record;
-mod render_once;
-pub mod renderer;
-pub mod scene_data;
-pub mod shadow_inputs;
-pub mod shadow_maps;
-pub mod timing;
+mod constants;
+mod context;
+mod frame;
+mod gpu_scene;
+mod passes;
+mod readback;
+mod renderer;
+mod scene_data;
+mod shadow_maps;
+mod timing;
 
-pub use context::{GpuContext, GpuError};
+#[cfg(test)]
+mod docs_tests;
+
+pub use constants::{MAX_SAMPLES, MAX_TAPS};
+pub use context::{
+    GpuContext, GpuError, OPTIONAL_FEATURES, REQUIRED_FEATURES, required_features, required_limits,
+};
 pub use frame::{CameraError, FrameCamera};
-pub use gpu_scene::{FrameInputs, GpuScene, Uploads};
-pub use passes::depth::GBuffer;
-pub use penumbra_volumes as volumes;
-pub use renderer::{GpuRenderer, PassTimes};
-pub use shadow_maps::ShadowMapRenderer;
+pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};
+pub use passes::depth::{GBuffer, visibility_target};
+pub use passes::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT};
+pub use readback::{read_r32f, read_texels};
+pub use renderer::{ComplexityImage, GpuRenderer};
+pub use shadow_maps::{
+    LightFrustum, MAX_SLOPE, ShadowMapRenderer, ShadowUniforms, multi_pass_kernel,
+};
+pub use timing::PassTimes;
 /// The wgpu this crate is built with: an application's device must come from the same version.
 pub use wgpu;

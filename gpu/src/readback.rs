@@ -70,7 +70,12 @@ pub fn read_texels(
 
 /// Maps a buffer whose copies were submitted, waits, and returns its bytes.
 pub fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-    let err = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
+    let err = |stage| {
+        move |e: &dyn std::fmt::Display| GpuError::Readback {
+            stage,
+            reason: e.to_string(),
+        }
+    };
     let slice = buffer.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -81,9 +86,15 @@ pub fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuE
             submission_index: None,
             timeout: None,
         })
-        .map_err(|e| err(&e))?;
-    rx.recv().map_err(|e| err(&e))?.map_err(|e| err(&e))?;
-    let bytes = slice.get_mapped_range().map_err(|e| err(&e))?.to_vec();
+        .map_err(|e| err("waiting for the device")(&e))?;
+    let mapping = "mapping the buffer";
+    rx.recv()
+        .map_err(|e| err(mapping)(&e))?
+        .map_err(|e| err(mapping)(&e))?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| err("viewing the mapped buffer")(&e))?
+        .to_vec();
     buffer.unmap();
     Ok(bytes)
 }

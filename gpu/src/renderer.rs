@@ -6,12 +6,21 @@
 //! resolve). Occluders whose screen tiles are disjoint share those three passes
 //! (`passes::blend::disjoint_groups`): their silhouette buffers cannot meet.
 //!
-//! A [`GpuRenderer`] is built once per device; [`crate::GpuScene`] records a scene's frames with
-//! it, and [`GpuRenderer::render`] renders a [`penumbra_geom::Scene`] once and reads V back.
+//! A [`GpuRenderer`] is built once per device; [`GpuScene`] records a scene's frames with it,
+//! and [`GpuRenderer::render`] renders a [`Scene`] once and reads V back: a [`GpuScene`]
+//! recorded for one frame.
 
 use std::sync::Arc;
 
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::{Scene, Technique};
+use penumbra_volumes::Volumes;
+
 use crate::context::{GpuContext, GpuError};
+use crate::frame::FrameCamera;
+use crate::gpu_scene::{FrameInputs, GpuScene};
+use crate::passes::depth::{GBuffer, visibility_target};
+use crate::passes::view;
 use crate::passes::{
     blend::BlendPass,
     complexity::{ComplexityPass, inputs_layout},
@@ -21,11 +30,7 @@ use crate::passes::{
     stencil::StencilPass,
     wedge::WedgePass,
 };
-pub use crate::scene_data::{
-    CLUSTER_TRIANGLES, ReceiverClusters, merged_solid, nearest_edges, occluder_tiles, screen_tiles,
-    volume_vertices, wedge_instances,
-};
-pub use crate::timing::PassTimes;
+use crate::timing::{PassTimes, Timer, read_frame};
 
 /// The pipelines of every pass, built once per device.
 pub(crate) struct Pipelines {
@@ -39,6 +44,22 @@ pub(crate) struct Pipelines {
     pub(crate) complexity_layout: wgpu::BindGroupLayout,
     pub(crate) edge_lists: ComplexityPass,
     pub(crate) count: ComplexityPass,
+}
+
+/// A depth-complexity image rendered once ([`GpuRenderer::render_depth_complexity`]).
+pub struct ComplexityImage {
+    /// V.
+    pub image: VisibilityImage,
+    /// The GPU time of each pass, where the device has timestamp queries.
+    pub times: Option<PassTimes>,
+    /// Potential silhouette edges of the scene's light.
+    pub potential_edges: usize,
+    /// All edges of the scene's meshes.
+    pub all_edges: usize,
+    /// Entries of the edge list the frame needed (`(tile, edge)` pairs), and the list's size.
+    pub list_entries: u32,
+    /// Entries the list held.
+    pub list_capacity: u32,
 }
 
 /// The volume techniques' pipelines on one device. Cloning it is cheap: the pipelines are
@@ -55,8 +76,8 @@ pub(crate) struct Pipelines {
 /// ```
 #[derive(Clone)]
 pub struct GpuRenderer {
-    pub(crate) ctx: GpuContext,
-    pub(crate) pipelines: Arc<Pipelines>,
+    ctx: GpuContext,
+    pipelines: Arc<Pipelines>,
 }
 
 impl GpuRenderer {
@@ -94,5 +115,118 @@ impl GpuRenderer {
     /// The device and queue it renders with.
     pub fn context(&self) -> &GpuContext {
         &self.ctx
+    }
+
+    /// The pipelines, which every [`GpuScene`] made with it shares.
+    pub(crate) fn pipelines(&self) -> &Arc<Pipelines> {
+        &self.pipelines
+    }
+
+    /// Renders V of `scene` by `technique` with the volumes and wedges of `volumes` (built for
+    /// `scene`).
+    pub fn render(
+        &self,
+        scene: &Scene,
+        volumes: &Volumes,
+        technique: Technique,
+    ) -> Result<VisibilityImage, GpuError> {
+        Ok(self.render_timed(scene, volumes, technique)?.0)
+    }
+
+    /// [`GpuRenderer::render`], with the GPU time of each pass when the device has timestamp
+    /// queries. An error if `technique` is not a volume technique (`hard`, `wedges`,
+    /// `wedges-blend`).
+    pub fn render_timed(
+        &self,
+        scene: &Scene,
+        volumes: &Volumes,
+        technique: Technique,
+    ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+        GpuScene::check_technique(technique)?;
+        let device = &self.ctx.device;
+        let (camera, gbuffer, visibility) = self.targets(scene);
+        let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
+        // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
+        let timer = Timer::new(
+            &self.ctx,
+            if technique == Technique::WedgesBlend {
+                2 + 3 * volumes.unit_count()
+            } else {
+                4
+            },
+        );
+        let mut enc = device.create_command_encoder(&Default::default());
+        gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
+        let inputs = FrameInputs { camera, technique };
+        gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
+        read_frame(&self.ctx, enc, &timer, &visibility)
+    }
+
+    /// Renders V of `scene` by depth-complexity sampling with `samples` light samples per pixel
+    /// (a perfect square up to 1024), with the GPU time of each pass and the potential
+    /// silhouette edges and all edges of the scene. The edge lists are recorded once alone first
+    /// to size the list ([`GpuScene::record_edge_lists`]); a frame whose list still overflowed
+    /// would be rendered again with the list grown.
+    pub fn render_depth_complexity(
+        &self,
+        scene: &Scene,
+        samples: u32,
+    ) -> Result<ComplexityImage, GpuError> {
+        let device = &self.ctx.device;
+        let (camera, gbuffer, visibility) = self.targets(scene);
+        // No outward signs: they serve the wedges' terminator and the shadow maps only.
+        let mut gpu_scene = GpuScene::of_scene(self, scene, |_| 0.0);
+        gpu_scene.set_light_samples(samples)?;
+        let inputs = FrameInputs {
+            camera,
+            technique: Technique::DepthComplexity,
+        };
+        // The edge lists alone first, to size the list: no frame then overflows.
+        let mut enc = device.create_command_encoder(&Default::default());
+        gpu_scene.record_edge_lists(&mut enc, &inputs, &gbuffer)?;
+        self.ctx.queue.submit([enc.finish()]);
+        gpu_scene.complexity_report()?;
+        loop {
+            // Depth, stencil, edge lists, count, resolve.
+            let timer = Timer::new(&self.ctx, 5);
+            let mut enc = device.create_command_encoder(&Default::default());
+            gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
+            gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
+            let (image, times) = read_frame(&self.ctx, enc, &timer, &visibility)?;
+            let report = gpu_scene
+                .complexity_report()?
+                .expect("a frame was recorded");
+            if report.cut_short > 0 {
+                return Err(GpuError::CutShort {
+                    adapter: self.ctx.describe(),
+                    pixels: report.cut_short,
+                    budget: gpu_scene.loop_budget(),
+                });
+            }
+            if !report.overflowed {
+                let (potential_edges, all_edges) = gpu_scene.potential_edges();
+                return Ok(ComplexityImage {
+                    image,
+                    times,
+                    potential_edges,
+                    all_edges,
+                    list_entries: report.demand,
+                    list_capacity: gpu_scene.edge_list_capacity(),
+                });
+            }
+        }
+    }
+
+    /// The camera of a one-shot frame of `scene` (near plane from the scene's extent around the
+    /// eye), its G-buffer and its V target.
+    fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
+        let device = &self.ctx.device;
+        let size = (scene.camera.width, scene.camera.height);
+        let camera = FrameCamera::of_scene(scene);
+        (
+            camera,
+            GBuffer::new(device, size),
+            visibility_target(device, size),
+        )
     }
 }

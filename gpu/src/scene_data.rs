@@ -416,4 +416,76 @@ mod tests {
             0
         );
     }
+
+    /// Every fixture scene, by name.
+    fn fixtures() -> Vec<(String, penumbra_geom::Scene)> {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
+        let mut v: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .map(|p| {
+                let name = p.file_stem().unwrap().to_string_lossy().into_owned();
+                (name, penumbra_geom::Scene::load(&p).unwrap())
+            })
+            .collect();
+        v.sort_by(|a, b| a.0.cmp(&b.0));
+        assert!(v.len() >= 13, "fixtures missing");
+        v
+    }
+
+    /// Every pixel where an occluder's silhouette buffer can be non-zero (its stencil count is,
+    /// or one of its wedges holds the receiver) lies in that occluder's screen tiles, which its
+    /// blend covers and which no other occluder of its group shares.
+    #[test]
+    fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
+        use crate::frame::eye_relative;
+        use penumbra_volumes::CpuRenderer;
+        for (name, scene) in fixtures() {
+            let cpu = CpuRenderer::new(&scene);
+            let world = scene.triangles();
+            let camera =
+                FrameCamera::for_scene(&scene.camera, &eye_relative(scene.camera.eye, &world));
+            let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
+            let masks = occluder_tiles(
+                &camera,
+                &scene.light,
+                &ReceiverClusters::new(&scene.light, &world),
+                &nearest_edges(&cpu.volumes),
+                &instances,
+                &ranges,
+            );
+            let cam = &scene.camera;
+            let (mut reached, mut tiles) = (0usize, 0usize);
+            for j in 0..cam.height {
+                for i in 0..cam.width {
+                    let Some(p) = cpu.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
+                        continue;
+                    };
+                    // Blending units (caster patches), as the stencil counts and wedges name
+                    // them.
+                    let mut units: Vec<u32> = cpu.stencil_counts(&p).iter().map(|c| c.0).collect();
+                    units.extend(
+                        cpu.wedges_containing(p.position)
+                            .iter()
+                            .map(|&w| cpu.volumes.wedges[w as usize].unit),
+                    );
+                    units.sort_unstable();
+                    units.dedup();
+                    for o in units {
+                        assert!(
+                            masks[o as usize].holds_pixel(i, j),
+                            "{name}: pixel ({i}, {j}) is reached by unit {o} but not in its tiles"
+                        );
+                        reached += 1;
+                    }
+                }
+            }
+            for m in &masks {
+                tiles += m.packed_tiles().len();
+            }
+            println!("{name:>18}: {reached} (pixel, occluder) pairs, {tiles} occluder tiles");
+            assert!(reached > 0, "{name}: no shadow to check");
+        }
+    }
 }

@@ -4,18 +4,16 @@
 //! in CI), as `gpu.rs` does.
 
 mod common;
-use common::{context, fixtures};
+use common::{context, fixtures, texture, view};
 
 use glam::DMat4;
 use penumbra_geom::image::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
-use penumbra_gpu::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
-use penumbra_gpu::frame::{FrameCamera, eye_relative};
-use penumbra_gpu::passes::depth::visibility_target;
-use penumbra_gpu::passes::view;
-use penumbra_gpu::readback::{read_r32f, read_texels};
 use penumbra_gpu::wgpu;
-use penumbra_gpu::{FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
+use penumbra_gpu::{
+    ComplexityReport, FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene,
+    SOFTWARE_LOOP_BUDGET, read_r32f, read_texels, visibility_target,
+};
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
 /// The share of pixels where `gpu` equals `cpu`, and the share that differ by more than
@@ -133,10 +131,7 @@ fn record_frame(
     gbuffer: &GBuffer,
 ) -> Result<(wgpu::CommandEncoder, wgpu::Texture), penumbra_gpu::GpuError> {
     let device = &ctx.device;
-    let camera = FrameCamera::for_scene(
-        &scene.camera,
-        &eye_relative(scene.camera.eye, &scene.triangles()),
-    );
+    let camera = FrameCamera::of_scene(scene);
     let target = visibility_target(device, gbuffer.size());
     let inputs = FrameInputs {
         camera,
@@ -239,7 +234,7 @@ fn pixels_beyond_the_loop_budget_are_reported() {
 
 /// A [`GBuffer`] whose depth target can be copied out (`GBuffer::new`'s, plus `COPY_SRC`).
 fn readable_gbuffer(device: &wgpu::Device, size: (u32, u32)) -> GBuffer {
-    use penumbra_gpu::passes::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, texture};
+    use penumbra_gpu::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT};
     let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
     let depth = texture(
         device,
@@ -383,6 +378,9 @@ fn an_edge_list_beyond_the_device_is_refused() {
     let Err(err) = record_frame(&ctx, &mut gpu_scene, &scene, &gbuffer) else {
         panic!("a 16 GB edge list was recorded");
     };
-    assert!(matches!(err, penumbra_gpu::GpuError::TooLarge(_)), "{err}");
+    assert!(
+        matches!(err, penumbra_gpu::GpuError::TooLarge { .. }),
+        "{err}"
+    );
     assert!(err.to_string().contains("4294967295 entries"), "{err}");
 }

@@ -1,19 +1,15 @@
 //! GPU tests. They need an adapter: in CI that is Mesa's lavapipe, and a missing adapter fails
 //! the run when `CI` is set; on a developer's machine without one they print a skip.
 
-use std::path::PathBuf;
-
 mod common;
 use common::{context, fixtures};
 
 use penumbra_geom::Scene;
 use penumbra_geom::image::compare;
 use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_gpu::frame::{FrameCamera, eye_relative};
-use penumbra_gpu::passes::fullscreen;
-use penumbra_gpu::renderer::{ReceiverClusters, nearest_edges, occluder_tiles, wedge_instances};
-use penumbra_gpu::shadow_maps::{ShadowUniforms, uniforms};
-use penumbra_gpu::{GpuRenderer, ShadowMapRenderer};
+use penumbra_gpu::{
+    GpuRenderer, LightFrustum, ShadowMapRenderer, ShadowUniforms, multi_pass_kernel,
+};
 use penumbra_params::{MdsmExtra, fractional_disk_samples};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::{CpuRenderer, Technique};
@@ -26,52 +22,6 @@ fn generated(scene: &Scene) -> bool {
             .iter()
             .any(|g| m.source.ends_with(g))
     })
-}
-
-#[test]
-fn every_wgsl_file_validates_with_naga() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/shaders");
-    let mut n = 0;
-    for e in std::fs::read_dir(&dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.extension().is_none_or(|x| x != "wgsl") {
-            continue;
-        }
-        // Each pass's shader is compiled after the shared constants and frame.wgsl
-        // (`passes::wgsl_source`), and the shadow-map techniques' with shadow.wgsl too
-        // (`passes::fullscreen::shadow_shader`).
-        let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
-        // And depth-complexity sampling's passes with complexity.wgsl
-        // (`passes::complexity::pipeline`).
-        let shadow = if fullscreen::SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
-            fullscreen::SHADOW_WGSL
-        } else if ["edge_lists", "count", "complexity"].contains(&stem.as_str()) {
-            penumbra_gpu::passes::complexity::COMPLEXITY_WGSL
-        } else {
-            ""
-        };
-        let src = penumbra_gpu::passes::wgsl_source(&format!(
-            "{shadow}\n{}",
-            std::fs::read_to_string(&p).unwrap()
-        ));
-        if p.ends_with("frame.wgsl") || p.ends_with("shadow.wgsl") || stem == "complexity" {
-            continue;
-        }
-        let module = naga::front::wgsl::parse_str(&src)
-            .unwrap_or_else(|e| panic!("{}: {}", p.display(), e.emit_to_string(&src)));
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module)
-        .unwrap_or_else(|e| panic!("{}: {e:?}", p.display()));
-        n += 1;
-    }
-    assert!(
-        n >= 3,
-        "expected the pass shaders in {}, found {n}",
-        dir.display()
-    );
 }
 
 #[test]
@@ -133,66 +83,6 @@ fn gpu_matches_cpu(t: Technique) {
     }
 }
 
-/// Every pixel where an occluder's silhouette buffer can be non-zero (its stencil count is, or
-/// one of its wedges holds the receiver) lies in that occluder's screen tiles, which its blend
-/// covers and which no other occluder of its group shares. On the CPU: no adapter needed.
-#[test]
-fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
-    for (name, scene) in fixtures() {
-        let cpu = CpuRenderer::new(&scene);
-        let world = scene.triangles();
-        let camera = FrameCamera::for_scene(&scene.camera, &eye_relative(scene.camera.eye, &world));
-        let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
-        let masks = occluder_tiles(
-            &camera,
-            &scene.light,
-            &ReceiverClusters::new(&scene.light, &world),
-            &nearest_edges(&cpu.volumes),
-            &instances,
-            &ranges,
-        );
-        let cam = &scene.camera;
-        let (mut reached, mut tiles) = (0usize, 0usize);
-        for j in 0..cam.height {
-            for i in 0..cam.width {
-                let Some(p) = cpu.tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
-                    continue;
-                };
-                // Blending units (caster patches), as the stencil counts and wedges name them.
-                let mut units: Vec<u32> = cpu.stencil_counts(&p).iter().map(|c| c.0).collect();
-                units.extend(
-                    cpu.wedges_containing(p.position)
-                        .iter()
-                        .map(|&w| cpu.volumes.wedges[w as usize].unit),
-                );
-                units.sort_unstable();
-                units.dedup();
-                for o in units {
-                    assert!(
-                        masks[o as usize].holds_pixel(i, j),
-                        "{name}: pixel ({i}, {j}) is reached by unit {o} but not in its tiles"
-                    );
-                    reached += 1;
-                }
-            }
-        }
-        for m in &masks {
-            tiles += m.packed_tiles().len();
-        }
-        println!("{name:>18}: {reached} (pixel, occluder) pairs, {tiles} occluder tiles");
-        assert!(reached > 0, "{name}: no shadow to check");
-    }
-}
-
-/// The memory bound of Forest et al. 2006: four `RGBA32F`, 64 bytes per pixel, for the silhouette and
-/// final buffers of `wedges-blend` together.
-#[test]
-fn blend_visibility_buffers_take_at_most_64_bytes_per_pixel() {
-    let bytes = penumbra_gpu::passes::blend::bytes_per_pixel();
-    assert!(bytes <= 64, "{bytes} bytes per pixel");
-    assert_eq!(bytes, 40 + 24);
-}
-
 const SHADOW_MAP_TECHNIQUES: [Technique; 5] = [
     Technique::Pcf,
     Technique::Pcss,
@@ -222,7 +112,7 @@ fn screen_reach(t: Technique, p: &penumbra_params::TechniqueParams) -> i64 {
     let g = &p.gaussian;
     match (t, g.variant) {
         (Technique::Gaussian, GaussianVariant::Multi) => (0..g.passes)
-            .map(|k| (penumbra_gpu::shadow_maps::multi_pass_kernel(k, g.max_kernel) as i64 - 1) / 2)
+            .map(|k| (multi_pass_kernel(k, g.max_kernel) as i64 - 1) / 2)
             .sum(),
         (Technique::Gaussian, _) => (g.max_kernel as i64 - 1) / 2,
         _ => 0,
@@ -401,12 +291,11 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-/// Uniforms for a probe over a `size`-texel square map.
-fn probe_uniforms(t: Technique, size: u32) -> ShadowUniforms {
+/// Uniforms of `r`'s technique for a probe over a `size`-texel square map.
+fn probe_uniforms(r: &ShadowMapRenderer, size: u32) -> ShadowUniforms {
     let (_, scene) = fixtures().swap_remove(0);
-    let frustum =
-        penumbra_gpu::shadow_maps::LightFrustum::fit(&scene.light, &scene.triangles()).unwrap();
-    let mut u = uniforms(&scene, &frustum, t, &scene.params);
+    let frustum = LightFrustum::fit(&scene.light, &scene.triangles()).unwrap();
+    let mut u = r.uniforms(&scene, &frustum);
     u.map = [size as f32, size as f32, 1.0, 0.0];
     u
 }
@@ -434,7 +323,7 @@ fn mdsm_pcf_reaches_n_k_plus_1_distinct_values() {
     ] {
         for ks in [2u32, 3, 4] {
             let radius = 1;
-            let mut u = probe_uniforms(Technique::Mdsm, SIZE);
+            let mut u = probe_uniforms(&r, SIZE);
             u.iparams = [n, ks, radius, (extra == MdsmExtra::Max) as u32];
             u.params[1] = LEVELS as f32;
             let w = SIZE - ks - 2 * radius + 1;
@@ -469,7 +358,7 @@ fn mdsm_pcf_reaches_n_k_plus_1_distinct_values() {
 fn fractional_disk_sample_count_follows_eq_2() {
     let Some(ctx) = context() else { return };
     let r = ShadowMapRenderer::new(&ctx, Technique::FractionalDisk);
-    let mut u = probe_uniforms(Technique::FractionalDisk, 4);
+    let mut u = probe_uniforms(&r, 4);
     let (a, cap) = (2.0, 50);
     u.params[0] = a as f32;
     u.iparams[0] = cap;

@@ -8,14 +8,15 @@ use std::path::Path;
 mod common;
 use common::context;
 
+use common::{texture, view as texture_view};
 use glam::dcamera::rh::{proj::directx, view};
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra_geom::image::{VisibilityImage, compare};
 use penumbra_geom::{Camera, RectLight, Scene, Technique, TriangleMesh};
-use penumbra_gpu::passes::depth::visibility_target;
-use penumbra_gpu::passes::view as texture_view;
-use penumbra_gpu::readback::read_r32f;
-use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
+use penumbra_gpu::{
+    FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene, read_r32f,
+    visibility_target,
+};
 use penumbra_volumes::CpuRenderer;
 
 const SIZE: (u32, u32) = (96, 72);
@@ -222,14 +223,13 @@ fn frames_that_do_not_fit_are_refused() {
     let gbuffer = GBuffer::new(&ctx.device, SIZE);
     let small = GBuffer::new(&ctx.device, (SIZE.0, SIZE.1 - 1));
     let target = visibility_target(&ctx.device, SIZE);
-    let rgba = ctx
-        .device
-        .create_texture(&penumbra_gpu::passes::texture_descriptor(
-            "rgba",
-            SIZE,
-            wgpu::TextureFormat::Rgba8Unorm,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        ));
+    let rgba = texture(
+        &ctx.device,
+        "rgba",
+        SIZE,
+        wgpu::TextureFormat::Rgba8Unorm,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     let err = scene.record_depth(&mut enc, &camera, &small).unwrap_err();
     assert!(err.to_string().contains("96 x 71"), "{err}");

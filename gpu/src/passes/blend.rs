@@ -2,7 +2,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-pub use crate::constants::{FINAL_WORDS, MAX_WORKGROUPS, TILE};
+use crate::constants::{MAX_WORKGROUPS, TILE};
 
 /// Formats of the silhouette buffer's targets: signed area per part (added), the inner
 /// half-wedges' cover of each part's border (added), one rectangle per part in 8 bits per
@@ -22,12 +22,13 @@ pub const SILHOUETTE_ADDED: usize = 2;
 
 /// Bytes per pixel of the visibility buffers of `wedges-blend`: one silhouette buffer and the
 /// final buffer.
-pub fn bytes_per_pixel() -> u64 {
+#[cfg(test)]
+fn bytes_per_pixel() -> u64 {
     let silhouette: u64 = SILHOUETTE_FORMATS
         .iter()
         .map(|f| f.block_copy_size(None).unwrap_or(0) as u64)
         .sum();
-    silhouette + 4 * FINAL_WORDS
+    silhouette + 4 * crate::constants::FINAL_WORDS
 }
 
 /// A set of the screen's [`TILE`]-pixel tiles: where one silhouette can shadow, or a group's
@@ -105,7 +106,8 @@ impl TileMask {
     }
 
     /// Whether it holds the tile of pixel `(x, y)`.
-    pub fn holds_pixel(&self, x: u32, y: u32) -> bool {
+    #[cfg(test)]
+    pub(crate) fn holds_pixel(&self, x: u32, y: u32) -> bool {
         let (tx, ty) = (x / TILE, y / TILE);
         tx < self.size[0] && ty < self.size[1] && self.holds((ty * self.size[0] + tx) as usize)
     }
@@ -347,5 +349,14 @@ mod tests {
         }
         let members: Vec<Vec<usize>> = groups.into_iter().map(|g| g.0).collect();
         assert_eq!(members, [vec![0, 2, 4], vec![1], vec![5]]);
+    }
+
+    /// The memory bound of Forest et al. 2006: four `RGBA32F`, 64 bytes per pixel, for the
+    /// silhouette and final buffers of `wedges-blend` together.
+    #[test]
+    fn blend_visibility_buffers_take_at_most_64_bytes_per_pixel() {
+        let bytes = bytes_per_pixel();
+        assert!(bytes <= 64, "{bytes} bytes per pixel");
+        assert_eq!(bytes, 40 + 24);
     }
 }

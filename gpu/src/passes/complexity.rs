@@ -12,6 +12,13 @@ use penumbra_volumes::potential::PotentialEdges;
 /// WGSL declarations shared by the edge-list and the counting pass.
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
 
+/// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), then the pass
+/// (`count.wgsl`), one shader in two files.
+pub const COUNT_WGSL: &str = concat!(
+    include_str!("../shaders/count_regions.wgsl"),
+    include_str!("../shaders/count.wgsl")
+);
+
 /// A potential silhouette edge (`struct Edge`): light-space ends, its faces' range and the
 /// plane through it and the light's centre.
 #[repr(C)]
@@ -329,8 +336,11 @@ impl ComplexityPass {
         frame_layout: &wgpu::BindGroupLayout,
         inputs: &wgpu::BindGroupLayout,
     ) -> Self {
-        let source = include_str!("../shaders/count.wgsl");
-        Self::new(device, (frame_layout, inputs), ("count", source, "count"))
+        Self::new(
+            device,
+            (frame_layout, inputs),
+            ("count", COUNT_WGSL, "count"),
+        )
     }
 
     /// The pipeline of `entry` in `source`, prepended with [`COMPLEXITY_WGSL`].

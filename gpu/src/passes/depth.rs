@@ -83,7 +83,7 @@ pub struct MeshDraws<'a> {
 }
 
 /// What the passes read of the camera's view of the scene, one texel per pixel, as the depth
-/// pre-pass writes it ([`DepthPass::record`]). An application that renders these itself must
+/// pre-pass writes it ([`crate::GpuScene::record_depth`]). An application that renders these itself must
 /// match the formats, usages and conventions below.
 ///
 /// - `depth`: [`DEPTH_FORMAT`] (`Depth32FloatStencil8`), usage `RENDER_ATTACHMENT |
@@ -93,8 +93,8 @@ pub struct MeshDraws<'a> {
 /// - `position`: [`POSITION_FORMAT`] (`Rgba32Float`), usage `RENDER_ATTACHMENT |
 ///   TEXTURE_BINDING`; the surface point minus the eye (world axes), `w` 0 where nothing was
 ///   hit and non-zero where a surface was. The depth pre-pass stores there the bits of the
-///   triangle's index in the scene plus [`crate::constants::TRIANGLE_BIAS`] (a positive normal
-///   number), which depth-complexity sampling reads to leave the receiver's own triangle out; any
+///   triangle's index in the scene plus `0x0080_0000` (the bits of the smallest normal `f32`, so
+///   that they make a positive normal number), which depth-complexity sampling reads to leave the receiver's own triangle out; any
 ///   other non-zero `w` (such as 1) names no triangle, and the receiver's triangle is then left
 ///   out as every face it lies in is, by its distance.
 /// - `normal`: [`NORMAL_FORMAT`] (`Rgba16Float`), same usage; the surface's normal facing the

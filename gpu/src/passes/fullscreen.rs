@@ -4,13 +4,14 @@
 //! share one bind group (group 1): the technique's uniforms, the receivers' positions and
 //! normals, and four input images.
 
-pub use crate::constants::BIG;
+use crate::constants::BIG;
 
 /// The declarations shared by the shadow-map techniques' shaders.
 pub const SHADOW_WGSL: &str = include_str!("../shaders/shadow.wgsl");
 
 /// The shaders compiled with [`SHADOW_WGSL`] prepended (file stems in `src/shaders`).
-pub const SHADOW_MAP_SHADERS: &[&str] = &[
+#[cfg(test)]
+pub(crate) const SHADOW_MAP_SHADERS: &[&str] = &[
     "light_map",
     "pcf",
     "pcss",

@@ -8,6 +8,9 @@ pub mod resolve;
 pub mod stencil;
 pub mod wedge;
 
+#[cfg(test)]
+mod shaders_tests;
+
 /// The shared declarations of `shaders/frame.wgsl`.
 pub const FRAME_WGSL: &str = include_str!("../shaders/frame.wgsl");
 

@@ -25,6 +25,39 @@ pub struct ResolvePass {
     pub final_layout: wgpu::BindGroupLayout,
 }
 
+/// The resolve pipeline of vertex entry `vertex` ("vs", or "vs_counted" for the draws that
+/// resolve one stencil count each) and fragment entry `entry` of `module`, where the stencil test
+/// `compare` passes.
+fn pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    (vertex, entry): (&str, &str),
+    compare: wgpu::CompareFunction,
+    layout: &wgpu::PipelineLayout,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vertex),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: Default::default(),
+        depth_stencil: Some(super::stencil_test(compare)),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &[Some(VISIBILITY_FORMAT.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 impl ResolvePass {
     /// Builds the pipelines.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
@@ -64,65 +97,49 @@ impl ResolvePass {
             ],
             immediate_size: 0,
         });
-        // `vertex`: "vs", or "vs_counted" for the draws that resolve one stencil count each.
-        let make = |vertex: &str,
-                    entry: &str,
-                    compare: wgpu::CompareFunction,
-                    layout: &wgpu::PipelineLayout| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(entry),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vertex),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: Some(super::stencil_test(compare)),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &[Some(VISIBILITY_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
         ResolvePass {
-            unshadowed: make("vs", "fs_unshadowed", wgpu::CompareFunction::Equal, &layout),
-            shadowed: make(
-                "vs",
-                "fs_shadowed",
+            unshadowed: pipeline(
+                device,
+                &module,
+                ("vs", "fs_unshadowed"),
+                wgpu::CompareFunction::Equal,
+                &layout,
+            ),
+            shadowed: pipeline(
+                device,
+                &module,
+                ("vs", "fs_shadowed"),
                 wgpu::CompareFunction::NotEqual,
                 &layout,
             ),
-            wedges_equal: make(
-                "vs_counted",
-                "fs_wedges",
+            wedges_equal: pipeline(
+                device,
+                &module,
+                ("vs_counted", "fs_wedges"),
                 wgpu::CompareFunction::Equal,
                 &wedge_layout,
             ),
             // Passes where MAX_COUNT <= stencil.
-            wedges_at_least: make(
-                "vs_counted",
-                "fs_wedges",
+            wedges_at_least: pipeline(
+                device,
+                &module,
+                ("vs_counted", "fs_wedges"),
                 wgpu::CompareFunction::LessEqual,
                 &wedge_layout,
             ),
             // The blended buffer already holds the hard shadows: count 0, every pixel.
-            blended: make(
-                "vs",
-                "fs_blended",
+            blended: pipeline(
+                device,
+                &module,
+                ("vs", "fs_blended"),
                 wgpu::CompareFunction::Always,
                 &blended_layout,
             ),
             // V computed already, one value per pixel.
-            copied: make(
-                "vs",
-                "fs_copied",
+            copied: pipeline(
+                device,
+                &module,
+                ("vs", "fs_copied"),
                 wgpu::CompareFunction::Always,
                 &blended_layout,
             ),

@@ -103,6 +103,66 @@ pub struct WedgeDraws<'a> {
     pub ranges: &'a [std::ops::Range<u32>],
 }
 
+/// The wedge pipeline of fragment entry `entry` in `module`, writing `targets`: the unit cube's
+/// back faces, one instance per wedge, behind Lengyel's depth test.
+fn pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    layout: &wgpu::PipelineLayout,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[
+                Some(wgpu::VertexBufferLayout {
+                    array_stride: 12,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                }),
+                Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<WedgeInstance>() as u64,
+                    step_mode: wgpu::VertexStepMode::Instance,
+                    attributes: &wgpu::vertex_attr_array![
+                        1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4,
+                        5 => Float32x4, 6 => Float32x4, 7 => Float32x4
+                    ],
+                }),
+            ],
+        },
+        primitive: wgpu::PrimitiveState {
+            front_face: wgpu::FrontFace::Ccw,
+            // Back faces only: one fragment per pixel whose ray meets the box, wherever the
+            // camera is.
+            cull_mode: Some(wgpu::Face::Front),
+            ..Default::default()
+        },
+        // Lengyel's depth test (Forest et al. 2006, section 4.2): a receiver behind the solid's back
+        // face (reversed z: a greater depth than the face's) is outside the wedge.
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: super::DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 impl WedgePass {
     /// Builds the pipeline; `position_layout` is the receiver texture's layout (group 1).
     pub fn new(
@@ -164,62 +224,15 @@ impl WedgePass {
                 blend(f, op)
             })
             .collect();
-        let make = |entry: &str,
-                    targets: &[Option<wgpu::ColorTargetState>],
-                    layout: &wgpu::PipelineLayout| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(entry),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: 12,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                        }),
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<WedgeInstance>() as u64,
-                            step_mode: wgpu::VertexStepMode::Instance,
-                            attributes: &wgpu::vertex_attr_array![
-                                1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4,
-                                5 => Float32x4, 6 => Float32x4, 7 => Float32x4
-                            ],
-                        }),
-                    ],
-                },
-                primitive: wgpu::PrimitiveState {
-                    front_face: wgpu::FrontFace::Ccw,
-                    // Back faces only: one fragment per pixel whose ray meets the box, wherever the
-                    // camera is.
-                    cull_mode: Some(wgpu::Face::Front),
-                    ..Default::default()
-                },
-                // Lengyel's depth test (Forest et al. 2006, section 4.2): a receiver behind the solid's back
-                // face (reversed z: a greater depth than the face's) is outside the wedge.
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: super::DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
         WedgePass {
-            pipeline: make("fs", std::slice::from_ref(&add), &layout),
-            silhouette: make("fs_silhouette", &silhouette, &silhouette_layout),
+            pipeline: pipeline(device, &module, "fs", std::slice::from_ref(&add), &layout),
+            silhouette: pipeline(
+                device,
+                &module,
+                "fs_silhouette",
+                &silhouette,
+                &silhouette_layout,
+            ),
             stencil_layout,
         }
     }

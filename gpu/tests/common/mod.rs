@@ -38,3 +38,35 @@ pub fn fixtures() -> Vec<(String, Scene)> {
     assert!(v.len() >= 13, "fixtures missing");
     v
 }
+
+/// The view of all of `texture`.
+#[allow(dead_code)] // Not every test file that shares this module uses it.
+pub fn view(texture: &penumbra_gpu::wgpu::Texture) -> penumbra_gpu::wgpu::TextureView {
+    texture.create_view(&Default::default())
+}
+
+/// A 2D texture of `size` texels, one mip level, one sample.
+#[allow(dead_code)] // Not every test file that shares this module uses it.
+pub fn texture(
+    device: &penumbra_gpu::wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: penumbra_gpu::wgpu::TextureFormat,
+    usage: penumbra_gpu::wgpu::TextureUsages,
+) -> penumbra_gpu::wgpu::Texture {
+    use penumbra_gpu::wgpu;
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}

@@ -1,5 +1,5 @@
 //! Depth-complexity sampling on the GPU (Forest, Barthe & Paulin, "Accurate Shadows by Depth
-//! Complexity Sampling", 2008), recorded by a [`GpuScene`]: exact soft shadows, equal to the CPU
+//! Complexity Sampling", 2008), recorded by a [`super::GpuScene`]: exact soft shadows, equal to the CPU
 //! oracle (`penumbra_volumes::depth_complexity`) sample for sample up to `f32` rounding.
 //!
 //! After the depth pre-pass, a frame takes four passes:
@@ -17,33 +17,38 @@
 //!
 //! The list is a storage buffer sized from an earlier frame's demand. A frame that needs more
 //! loses nothing: the counting pass reads every edge for the tiles whose range did not fit, and
-//! [`GpuScene::complexity_report`] reads the demand back after the frame and grows the list.
+//! [`super::GpuScene::complexity_report`] reads the demand back after the frame and grows the list.
+//!
+//! [`ComplexityState`] is all a scene keeps for it: what it built of the scene for the current
+//! light and transforms, the frame's buffers, and its settings.
 
 use std::ops::Range;
 
-use penumbra_geom::{HalfEdgeMesh, Technique};
+use penumbra_geom::{HalfEdgeMesh, RectLight};
 use penumbra_volumes::potential::PotentialEdges;
 use penumbra_volumes::shadow_volume::{ShadowVolume, VolumeVertex};
 use penumbra_volumes::silhouette::Silhouette;
 
+use super::meshes::{StoredMesh, world};
+use super::uploads::Uploads;
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
-use crate::context::GpuError;
-use crate::gpu_scene::{FrameInputs, GpuScene};
+use crate::context::{GpuContext, GpuError};
+use crate::frame::FrameCamera;
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
+use crate::renderer::Pipelines;
 use crate::timing::{Pass, Timer};
 
-/// Light samples per axis of a new [`GpuScene`] (256 samples per pixel).
-pub const DEFAULT_AXIS: u32 = 16;
+/// Light samples per axis of a new scene (256 samples per pixel).
+const DEFAULT_AXIS: u32 = 16;
 
-/// Entries of the edge list per tile of a new [`GpuScene`], before any frame told how many it
-/// needs.
-pub const FIRST_ENTRIES_PER_TILE: u32 = 64;
+/// Entries of the edge list per tile of a new scene, before any frame told how many it needs.
+const FIRST_ENTRIES_PER_TILE: u32 = 64;
 
 /// What depth-complexity sampling keeps of a scene for the current light and transforms.
-pub(crate) struct ComplexityScene {
+pub(super) struct ComplexityScene {
     /// The open-rule shadow volumes' vertices (as `scene_data::volume_vertices`) and each mesh's
     /// range.
     volume: wgpu::Buffer,
@@ -56,12 +61,12 @@ pub(crate) struct ComplexityScene {
     crossing_count: u32,
     triangle_count: u32,
     /// Potential silhouette edges, and all edges, for reports.
-    pub(crate) potential: usize,
-    pub(crate) all_edges: usize,
+    pub(super) potential: usize,
+    pub(super) all_edges: usize,
 }
 
 /// The per-frame buffers of depth-complexity sampling at one image size and list capacity.
-pub(crate) struct ComplexityFrame {
+pub(super) struct ComplexityFrame {
     size: (u32, u32),
     capacity: u32,
     tile_ranges: wgpu::Buffer,
@@ -70,21 +75,13 @@ pub(crate) struct ComplexityFrame {
     demand_readback: wgpu::Buffer,
     params: wgpu::Buffer,
     visibility: wgpu::Buffer,
-    /// Whether the last recorded frame's report awaits [`GpuScene::complexity_report`].
+    /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
     pending: bool,
 }
 
 /// Tiles per row and rows of tiles of an image of `size` pixels.
 fn tiles((w, h): (u32, u32)) -> (u32, u32) {
     (w.div_ceil(TILE), h.div_ceil(TILE))
-}
-
-/// Bytes of the buffers of a frame of `size` pixels with an edge list of `capacity` entries: V
-/// (4 per pixel), a range per tile (8), the list (4 per entry), the frame's report and its
-/// readback (16).
-pub fn frame_bytes(size: (u32, u32), capacity: u32) -> u64 {
-    let (tx, ty) = tiles(size);
-    4 * size.0 as u64 * size.1 as u64 + 8 * (tx * ty) as u64 + 4 * capacity as u64 + 16
 }
 
 /// Loop iterations an invocation of the counting pass may take on a software device before its
@@ -95,23 +92,8 @@ pub fn frame_bytes(size: (u32, u32), capacity: u32) -> u64 {
 /// limit ([`ComplexityReport::cut_short`]).
 pub const SOFTWARE_LOOP_BUDGET: u32 = 65_000;
 
-/// A depth-complexity image rendered once ([`crate::GpuRenderer::render_depth_complexity`]).
-pub struct ComplexityImage {
-    /// V.
-    pub image: penumbra_geom::image::VisibilityImage,
-    /// The GPU time of each pass, where the device has timestamp queries.
-    pub times: Option<crate::PassTimes>,
-    /// Potential silhouette edges of the scene's light.
-    pub potential_edges: usize,
-    /// All edges of the scene's meshes.
-    pub all_edges: usize,
-    /// Entries of the edge list the frame needed (`(tile, edge)` pairs), and the list's size.
-    pub list_entries: u32,
-    /// Entries the list held.
-    pub list_capacity: u32,
-}
-
-/// What a depth-complexity frame reports once it has run ([`GpuScene::complexity_report`]).
+/// What a depth-complexity frame reports once it has run
+/// ([`GpuScene::complexity_report`](super::GpuScene::complexity_report)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ComplexityReport {
     /// Entries the frame's edge list needed.
@@ -125,15 +107,17 @@ pub struct ComplexityReport {
 }
 
 impl ComplexityScene {
-    fn build(scene: &GpuScene) -> (Self, u64) {
-        let device = &scene.ctx.device;
-        let (meshes, world) = scene.world();
-        let c = scene.light.center;
+    /// Builds and uploads what the passes read of `meshes` lit by `light`; and the bytes
+    /// uploaded.
+    fn build(device: &wgpu::Device, meshes: &[StoredMesh], light: &RectLight) -> (Self, u64) {
+        let stored = meshes;
+        let (meshes, world) = world(stored);
+        let c = light.center;
         let mut vol: Vec<[f32; 4]> = Vec::new();
         let mut volume_ranges = Vec::with_capacity(meshes.len());
         let half_edge: Vec<HalfEdgeMesh> = meshes.iter().map(HalfEdgeMesh::build).collect();
-        let triangles = light_triangles(&scene.light, &world, &neighbours(&half_edge));
-        for (mi, (mesh, stored)) in half_edge.iter().zip(&scene.meshes).enumerate() {
+        let triangles = light_triangles(light, &world, &neighbours(&half_edge));
+        for (mi, (mesh, stored)) in half_edge.iter().zip(stored).enumerate() {
             // Every triangle casts, facing the centre either way: the stencil then counts each
             // triangle the segment to the centre crosses.
             let sil = Silhouette::build_as(mesh, c, false);
@@ -155,7 +139,7 @@ impl ComplexityScene {
             }
             volume_ranges.push((mi as u32, start..vol.len() as u32));
         }
-        let potential = PotentialEdges::build_half_edge(&half_edge, &scene.light);
+        let potential = PotentialEdges::build_half_edge(&half_edge, light);
         let (edges, faces, crossings) = gpu_edges(&potential);
         let storage = wgpu::BufferUsages::STORAGE;
         let bytes = std::mem::size_of_val(vol.as_slice())
@@ -215,71 +199,103 @@ impl ComplexityFrame {
     }
 }
 
-impl GpuScene {
-    /// Light samples per pixel of depth-complexity sampling (`N x N`).
-    pub fn light_samples(&self) -> u32 {
+/// Everything a scene keeps for depth-complexity sampling.
+pub(super) struct ComplexityState {
+    /// What it built of the scene for the current light and transforms (`None`: not yet, or
+    /// they changed since).
+    scene: Option<ComplexityScene>,
+    /// The frame's buffers at the last frame's size and list capacity.
+    frame: Option<ComplexityFrame>,
+    /// Light samples per axis, `N`.
+    samples_per_axis: u32,
+    /// Entries of the edge list from the next frame on (0: not yet sized).
+    list_capacity: u32,
+    /// Loop iterations an invocation may take before its pixel is reported cut short.
+    loop_budget: u32,
+}
+
+/// What recording a depth-complexity frame reads of its scene, and where it counts its uploads.
+pub(super) struct SceneParts<'a> {
+    pub(super) ctx: &'a GpuContext,
+    pub(super) pipelines: &'a Pipelines,
+    /// The frame's group 0, written for this frame.
+    pub(super) frame: &'a wgpu::BindGroup,
+    pub(super) light: &'a RectLight,
+    pub(super) meshes: &'a [StoredMesh],
+    pub(super) uploads: &'a mut Uploads,
+}
+
+impl ComplexityState {
+    /// The state of a new scene on a device of `device_type`: [`SOFTWARE_LOOP_BUDGET`] on a
+    /// CPU adapter, no budget on a GPU.
+    pub(super) fn new(device_type: wgpu::DeviceType) -> Self {
+        ComplexityState {
+            scene: None,
+            frame: None,
+            samples_per_axis: DEFAULT_AXIS,
+            list_capacity: 0,
+            loop_budget: if device_type == wgpu::DeviceType::Cpu {
+                SOFTWARE_LOOP_BUDGET
+            } else {
+                u32::MAX
+            },
+        }
+    }
+
+    /// Drops what was built for the old light or transforms.
+    pub(super) fn light_changed(&mut self) {
+        self.scene = None;
+    }
+
+    pub(super) fn light_samples(&self) -> u32 {
         self.samples_per_axis * self.samples_per_axis
     }
 
-    /// Takes `samples` light samples per pixel in depth-complexity sampling from the next frame
-    /// on: a perfect square up to [`crate::constants::MAX_SAMPLES`] (1024), in the correlated
-    /// multi-jittered pattern of the CPU oracle (`penumbra_volumes::SamplePattern`).
-    pub fn set_light_samples(&mut self, samples: u32) -> Result<(), GpuError> {
+    pub(super) fn set_light_samples(&mut self, samples: u32) -> Result<(), GpuError> {
         let n = (samples as f64).sqrt().round() as u32;
         if samples == 0 || n * n != samples || n > MAX_AXIS {
-            return Err(GpuError::Frame(format!(
-                "{samples} light samples: depth-complexity sampling on the GPU takes a perfect \
-                 square up to {} (the CPU takes up to 65536)",
-                MAX_AXIS * MAX_AXIS
-            )));
+            return Err(GpuError::LightSamples {
+                samples,
+                most: MAX_AXIS * MAX_AXIS,
+            });
         }
         self.samples_per_axis = n;
         Ok(())
     }
 
-    /// Records the depth pre-pass and the edge-list pass of the depth-complexity frame `inputs`
-    /// into `gbuffer`, and nothing else: submitted, [`GpuScene::complexity_report`] then sizes
-    /// the list for that frame before it is recorded, so that even the first frame fits.
-    pub fn record_edge_lists(
-        &mut self,
-        encoder: &mut wgpu::CommandEncoder,
-        inputs: &FrameInputs,
-        gbuffer: &GBuffer,
-    ) -> Result<(), GpuError> {
-        self.record_depth(encoder, &inputs.camera, gbuffer)?;
-        self.record_complexity(encoder, inputs, gbuffer, None, &Timer::disabled())
-    }
-
-    /// Entries the depth-complexity edge list holds; 0 until the first frame sized it
-    /// ([`FIRST_ENTRIES_PER_TILE`] per tile).
-    pub fn edge_list_capacity(&self) -> u32 {
+    pub(super) fn list_capacity(&self) -> u32 {
         self.list_capacity
     }
 
-    /// Makes the depth-complexity edge list hold `entries` from the next frame on. Frames grow
-    /// it as they need ([`GpuScene::complexity_report`]); this sets where it starts.
-    pub fn set_edge_list_capacity(&mut self, entries: u32) {
+    pub(super) fn set_list_capacity(&mut self, entries: u32) {
         self.list_capacity = entries.max(1);
     }
 
-    /// Potential silhouette edges of the current light and transforms and all edges of the
-    /// meshes; `(0, 0)` until a depth-complexity frame needed them.
-    pub fn potential_edges(&self) -> (usize, usize) {
-        self.complexity
+    pub(super) fn potential_edges(&self) -> (usize, usize) {
+        self.scene
             .as_ref()
             .map_or((0, 0), |c| (c.potential, c.all_edges))
     }
 
-    /// After the last depth-complexity frame was submitted: waits for it and reads its report,
-    /// growing the edge list to what the frame needed when it overflowed (a quarter more, so
-    /// that a frame that needs a little more does not overflow again). `None` when no
-    /// depth-complexity frame was recorded since the last call.
-    pub fn complexity_report(&mut self) -> Result<Option<ComplexityReport>, GpuError> {
-        let Some(frame) = self.complexity_frame.as_mut().filter(|f| f.pending) else {
+    pub(super) fn loop_budget(&self) -> u32 {
+        self.loop_budget
+    }
+
+    pub(super) fn set_loop_budget(&mut self, iterations: u32) {
+        self.loop_budget = iterations;
+    }
+
+    /// Waits for the last frame and reads its report, growing the list when it overflowed (a
+    /// quarter more than it needed); `None` when no frame was recorded since the last call.
+    pub(super) fn report(
+        &mut self,
+        ctx: &GpuContext,
+    ) -> Result<Option<ComplexityReport>, GpuError> {
+        let Some(frame) = self.frame.as_mut().filter(|f| f.pending) else {
             return Ok(None);
         };
         frame.pending = false;
-        let bytes = crate::readback::map_read(&self.ctx, &frame.demand_readback)?;
+        let bytes = crate::readback::map_read(ctx, &frame.demand_readback)?;
         let word = |k: usize| u32::from_le_bytes(bytes[4 * k..4 * k + 4].try_into().expect("4"));
         let report = ComplexityReport {
             demand: word(0),
@@ -292,61 +308,58 @@ impl GpuScene {
         Ok(Some(report))
     }
 
-    /// The loop iterations an invocation of the counting pass may take before its pixel is
-    /// reported as cut short: [`SOFTWARE_LOOP_BUDGET`] on a CPU adapter (llvmpipe), unlimited
-    /// on a GPU.
-    pub fn loop_budget(&self) -> u32 {
-        self.loop_budget
-    }
-
-    /// Sets [`GpuScene::loop_budget`] (for a software device with another limit).
-    pub fn set_loop_budget(&mut self, iterations: u32) {
-        self.loop_budget = iterations;
-    }
-
-    /// Records the passes of depth-complexity sampling (the module's documentation lists them);
-    /// without a target, only the edge lists, for [`GpuScene::complexity_report`] to size the
-    /// list.
-    pub(crate) fn record_complexity(
-        &mut self,
-        encoder: &mut wgpu::CommandEncoder,
-        inputs: &FrameInputs,
-        gbuffer: &GBuffer,
-        target: Option<&wgpu::TextureView>,
-        timer: &Timer,
-    ) -> Result<(), GpuError> {
-        debug_assert_eq!(inputs.technique, Technique::DepthComplexity);
-        let size = inputs.camera.size;
-        if self.complexity.is_none() {
-            let (data, bytes) = ComplexityScene::build(self);
-            self.uploads.shadows += bytes;
-            self.complexity = Some(data);
+    /// Builds what the frame of `size` pixels needs and is not there yet: the scene's part, the
+    /// list's first size, the frame's buffers. An error when V or the list would not fit one
+    /// storage binding of the device.
+    fn prepare(&mut self, parts: &mut SceneParts<'_>, size: (u32, u32)) -> Result<(), GpuError> {
+        let device = &parts.ctx.device;
+        if self.scene.is_none() {
+            let (data, bytes) = ComplexityScene::build(device, parts.meshes, parts.light);
+            parts.uploads.shadows += bytes;
+            self.scene = Some(data);
         }
         let (tx, ty) = tiles(size);
         if self.list_capacity == 0 {
             self.list_capacity = (tx * ty).saturating_mul(FIRST_ENTRIES_PER_TILE);
         }
-        let device = &self.ctx.device;
         // V and the list are storage buffers: each must fit one binding.
         let limit = device.limits().max_storage_buffer_binding_size;
         let largest = (4 * size.0 as u64 * size.1 as u64).max(4 * self.list_capacity as u64);
         if largest > limit {
-            return Err(GpuError::TooLarge(format!(
-                "depth-complexity at {} x {} pixels needs a storage buffer of {largest} bytes \
-                 (V, or an edge list of {} entries), more than the device binds ({limit})",
-                size.0, size.1, self.list_capacity
-            )));
+            return Err(GpuError::TooLarge {
+                size,
+                bytes: largest,
+                entries: self.list_capacity,
+                limit,
+            });
         }
         if self
-            .complexity_frame
+            .frame
             .as_ref()
             .is_none_or(|f| f.size != size || f.capacity != self.list_capacity)
         {
-            self.complexity_frame = Some(ComplexityFrame::new(device, size, self.list_capacity));
+            self.frame = Some(ComplexityFrame::new(device, size, self.list_capacity));
         }
-        let data = self.complexity.as_ref().expect("built above");
-        let frame = self.complexity_frame.as_mut().expect("made above");
-        let p = &self.pipelines;
+        Ok(())
+    }
+
+    /// Records the passes of depth-complexity sampling (the module's documentation lists them)
+    /// for `camera`, reading `gbuffer`; without a target, only the edge lists, for
+    /// [`ComplexityState::report`] to size the list.
+    pub(super) fn record(
+        &mut self,
+        mut parts: SceneParts<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &FrameCamera,
+        gbuffer: &GBuffer,
+        target: Option<&wgpu::TextureView>,
+        timer: &Timer,
+    ) -> Result<(), GpuError> {
+        let size = camera.size;
+        self.prepare(&mut parts, size)?;
+        let (tx, ty) = tiles(size);
+        let data = self.scene.as_ref().expect("built in prepare");
+        let frame = self.frame.as_mut().expect("made in prepare");
         let mut params = ComplexityParams {
             edges: data.edge_count,
             crossings: data.crossing_count,
@@ -357,14 +370,16 @@ impl GpuScene {
             budget: self.loop_budget,
             ..Default::default()
         };
-        params.set_camera(&inputs.camera, &self.light);
-        self.ctx
+        params.set_camera(camera, parts.light);
+        let (device, p) = (&parts.ctx.device, parts.pipelines);
+        parts
+            .ctx
             .queue
             .write_buffer(&frame.params, 0, bytemuck::bytes_of(&params));
-        self.uploads.frame += std::mem::size_of::<ComplexityParams>() as u64;
+        parts.uploads.frame += std::mem::size_of::<ComplexityParams>() as u64;
         let position = p.resolve.receivers(device, gbuffer);
         let bindings = FrameBindings {
-            frame: &self.frame,
+            frame: parts.frame,
             depth: &gbuffer.depth_view,
             position: &position,
         };
@@ -377,28 +392,11 @@ impl GpuScene {
                 timer.render(Pass::Stencil),
             );
         }
-        let group = bind_group(
-            device,
-            "depth-complexity inputs",
-            &p.complexity_layout,
-            &[
-                wgpu::BindingResource::TextureView(&gbuffer.position_view),
-                wgpu::BindingResource::TextureView(&gbuffer.stencil_view),
-                data.edges.as_entire_binding(),
-                data.faces.as_entire_binding(),
-                data.crossings.as_entire_binding(),
-                frame.tile_ranges.as_entire_binding(),
-                frame.list.as_entire_binding(),
-                frame.demand.as_entire_binding(),
-                frame.params.as_entire_binding(),
-                frame.visibility.as_entire_binding(),
-                data.triangles.as_entire_binding(),
-            ],
-        );
+        let group = frame.inputs(device, p, data, gbuffer);
         encoder.clear_buffer(&frame.demand, 0, None);
         p.edge_lists.record(
             encoder,
-            (&self.frame, &group),
+            (parts.frame, &group),
             (tx, ty),
             timer.compute(Pass::EdgeLists),
         );
@@ -409,7 +407,7 @@ impl GpuScene {
         };
         p.count.record(
             encoder,
-            (&self.frame, &group),
+            (parts.frame, &group),
             (size.0.div_ceil(COUNT_GROUP), size.1.div_ceil(COUNT_GROUP)),
             timer.compute(Pass::Count),
         );
@@ -428,5 +426,35 @@ impl GpuScene {
             timer.render(Pass::Resolve),
         );
         Ok(())
+    }
+}
+
+impl ComplexityFrame {
+    /// Group 1 of both compute passes (`passes::complexity::inputs_layout`).
+    fn inputs(
+        &self,
+        device: &wgpu::Device,
+        p: &Pipelines,
+        data: &ComplexityScene,
+        gbuffer: &GBuffer,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            device,
+            "depth-complexity inputs",
+            &p.complexity_layout,
+            &[
+                wgpu::BindingResource::TextureView(&gbuffer.position_view),
+                wgpu::BindingResource::TextureView(&gbuffer.stencil_view),
+                data.edges.as_entire_binding(),
+                data.faces.as_entire_binding(),
+                data.crossings.as_entire_binding(),
+                self.tile_ranges.as_entire_binding(),
+                self.list.as_entire_binding(),
+                self.demand.as_entire_binding(),
+                self.params.as_entire_binding(),
+                self.visibility.as_entire_binding(),
+                data.triangles.as_entire_binding(),
+            ],
+        )
     }
 }

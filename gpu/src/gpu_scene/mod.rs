@@ -4,39 +4,34 @@
 //! volumes and wedges depend on the light and on where the meshes are: they are rebuilt on the
 //! CPU and uploaded again only in frames where the light or a mesh's transform changed.
 
+mod complexity;
+mod complexity_state;
+mod meshes;
+mod record;
+mod record_blend;
+mod scratch;
+mod shadows;
+mod uploads;
+
 use std::ops::Range;
+use std::sync::Arc;
 
 use glam::{DMat4, DVec3};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::terminator::outward_sign;
 
-use crate::context::{GpuContext, GpuError};
+use crate::context::GpuContext;
 use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
-use crate::passes::blend::{FINAL_WORDS, SILHOUETTE_FORMATS};
-use crate::passes::wedge::{OCCLUSION_FORMAT, WedgeInstance, unit_cube};
-use crate::passes::{buffer, texture, view};
+use crate::passes::buffer;
+use crate::passes::wedge::unit_cube;
 use crate::renderer::{GpuRenderer, Pipelines};
-use crate::scene_data::{ReceiverClusters, nearest_edges, volume_vertices, wedge_instances};
-
-/// Bytes written to the GPU's buffers, by kind ([`GpuScene::take_uploads`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Uploads {
-    /// The meshes' vertices: written when the scene is made, never again.
-    pub geometry: u64,
-    /// Shadow volumes and wedge instances: written in frames where the light or a mesh's
-    /// transform changed.
-    pub shadows: u64,
-    /// The frame: uniforms and model matrices when they changed, and the blend's tile lists.
-    pub frame: u64,
-}
-
-impl Uploads {
-    /// All bytes.
-    pub fn total(&self) -> u64 {
-        self.geometry + self.shadows + self.frame
-    }
-}
+use complexity_state::ComplexityState;
+pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
+use meshes::{StoredMesh, centre, world};
+use scratch::Scratch;
+use shadows::Shadows;
+pub use uploads::Uploads;
 
 /// What a frame renders: the camera and the technique.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,33 +41,6 @@ pub struct FrameInputs {
     /// A volume technique (`hard`, `wedges` or `wedges-blend`) or `depth-complexity` (with
     /// [`GpuScene::light_samples`] samples per pixel).
     pub technique: Technique,
-}
-
-/// One mesh as stored: its own-space mesh, its vertices relative to `origin` in `f32`, and where
-/// it is.
-pub(crate) struct StoredMesh {
-    pub(crate) mesh: TriangleMesh,
-    /// `penumbra_volumes::terminator::outward_sign` of the mesh in its own space.
-    pub(crate) outward: f64,
-    pub(crate) origin: DVec3,
-    pub(crate) transform: DMat4,
-    pub(crate) stored: Vec<[f32; 3]>,
-}
-
-/// The silhouettes' products for the current light and transforms.
-pub(crate) struct Shadows {
-    /// Shadow-volume vertices ([`volume_vertices`]) and each blending unit's mesh and range.
-    pub(crate) volume: wgpu::Buffer,
-    pub(crate) volume_ranges: Vec<(u32, Range<u32>)>,
-    /// Wedge instances, on both sides, and each blending unit's range of them.
-    pub(crate) instances: Vec<WedgeInstance>,
-    pub(crate) instance_buffer: wgpu::Buffer,
-    pub(crate) instance_ranges: Vec<Range<u32>>,
-    /// Each unit's nearest silhouette edge (light space), and the receivers' clusters.
-    pub(crate) nearest: Vec<f64>,
-    pub(crate) clusters: ReceiverClusters,
-    /// Silhouette edges, for reports.
-    pub(crate) wedges: usize,
 }
 
 /// A scene on the GPU: its meshes uploaded once, each with a transform, and the light, both of
@@ -85,96 +53,27 @@ pub(crate) struct Shadows {
 /// to the eye by a matrix composed in `f64` each frame, so precision follows the mesh's size and
 /// its distance to the eye, not where the world's origin lies.
 pub struct GpuScene {
-    pub(crate) ctx: GpuContext,
-    pub(crate) pipelines: std::sync::Arc<Pipelines>,
-    pub(crate) meshes: Vec<StoredMesh>,
-    pub(crate) vertices: wgpu::Buffer,
-    pub(crate) vertex_ranges: Vec<Range<u32>>,
-    pub(crate) light: RectLight,
-    pub(crate) shadows: Option<Shadows>,
-    pub(crate) uniforms: wgpu::Buffer,
-    pub(crate) models: wgpu::Buffer,
-    pub(crate) frame: wgpu::BindGroup,
+    ctx: GpuContext,
+    pipelines: Arc<Pipelines>,
+    meshes: Vec<StoredMesh>,
+    /// Every mesh's triangles' corners, as stored, and each mesh's range of them.
+    vertices: wgpu::Buffer,
+    vertex_ranges: Vec<Range<u32>>,
+    light: RectLight,
+    /// Built for the current light and transforms; `None` until a frame needs them.
+    shadows: Option<Shadows>,
+    uniforms: wgpu::Buffer,
+    models: wgpu::Buffer,
+    /// The frame's group 0: `uniforms` and `models`.
+    frame: wgpu::BindGroup,
     /// What `uniforms` and `models` hold.
     written: Option<(FrameUniforms, Vec<ModelMatrix>)>,
-    pub(crate) cube: wgpu::Buffer,
-    pub(crate) scratch: Scratch,
-    pub(crate) uploads: Uploads,
-    /// Depth-complexity sampling: what it keeps of the scene (dropped with `shadows`), its
-    /// frame's buffers, its samples per axis and its edge list's entries (0: not yet sized).
-    pub(crate) complexity: Option<crate::complexity::ComplexityScene>,
-    pub(crate) complexity_frame: Option<crate::complexity::ComplexityFrame>,
-    pub(crate) samples_per_axis: u32,
-    pub(crate) list_capacity: u32,
-    pub(crate) loop_budget: u32,
-}
-
-/// The techniques' own targets at one image size, made the first time a frame needs them and
-/// kept while the size stays.
-#[derive(Default)]
-pub(crate) struct Scratch {
-    size: (u32, u32),
-    /// `wedges`: the per-part occlusion.
-    pub(crate) occlusion: Option<wgpu::TextureView>,
-    /// `wedges-blend`: the silhouette buffer's targets and the final buffer.
-    pub(crate) silhouettes: Option<(Vec<wgpu::TextureView>, wgpu::Buffer)>,
-}
-
-impl Scratch {
-    /// Makes what `technique` needs at `size`.
-    pub(crate) fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        technique: Technique,
-        size: (u32, u32),
-    ) {
-        if self.size != size {
-            *self = Scratch {
-                size,
-                ..Default::default()
-            };
-        }
-        let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        match technique {
-            Technique::Wedges if self.occlusion.is_none() => {
-                self.occlusion = Some(view(&texture(
-                    device,
-                    "occlusion",
-                    size,
-                    OCCLUSION_FORMAT,
-                    sampled,
-                )));
-            }
-            Technique::WedgesBlend if self.silhouettes.is_none() => {
-                let targets = SILHOUETTE_FORMATS
-                    .iter()
-                    .map(|&f| view(&texture(device, "silhouette", size, f, sampled)))
-                    .collect();
-                let final_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("final buffer"),
-                    size: 4 * FINAL_WORDS * (size.0 as u64) * (size.1 as u64),
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                self.silhouettes = Some((targets, final_buffer));
-            }
-            _ => {}
-        }
-    }
-}
-
-/// Centre of the bounding box of `positions` (the origin when there are none).
-fn centre(positions: &[DVec3]) -> DVec3 {
-    let (lo, hi) = positions
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        });
-    if lo.x <= hi.x {
-        (lo + hi) * 0.5
-    } else {
-        DVec3::ZERO
-    }
+    /// The unit cube each wedge instance is drawn from.
+    cube: wgpu::Buffer,
+    scratch: Scratch,
+    uploads: Uploads,
+    /// Depth-complexity sampling's own state.
+    complexity: ComplexityState,
 }
 
 impl GpuScene {
@@ -204,7 +103,7 @@ impl GpuScene {
     /// let inputs = FrameInputs { camera, technique: Technique::WedgesBlend };
     /// let gbuffer = GBuffer::new(&ctx.device, size);
     /// // The application's own R32Float target (RENDER_ATTACHMENT).
-    /// let target = penumbra_gpu::passes::depth::visibility_target(&ctx.device, size);
+    /// let target = penumbra_gpu::visibility_target(&ctx.device, size);
     /// let view = target.create_view(&Default::default());
     ///
     /// let mut encoder = ctx.device.create_command_encoder(&Default::default());
@@ -230,37 +129,37 @@ impl GpuScene {
 
     /// [`GpuScene::new`] with each mesh's vertices stored relative to the given origin, and its
     /// outward sign given.
-    pub(crate) fn with_origins(
+    fn with_origins(
         renderer: &GpuRenderer,
         meshes: &[(&TriangleMesh, DMat4, DVec3, f64)],
         light: RectLight,
     ) -> Self {
-        let device = &renderer.ctx.device;
-        let mut uploads = Uploads::default();
-        let mut corners: Vec<[f32; 3]> = Vec::new();
-        let mut vertex_ranges = Vec::with_capacity(meshes.len());
+        let ctx = renderer.context();
+        let device = &ctx.device;
         let stored: Vec<StoredMesh> = meshes
             .iter()
             .map(|&(mesh, transform, origin, outward)| {
-                let stored: Vec<[f32; 3]> = mesh
-                    .positions
-                    .iter()
-                    .map(|&p| (p - origin).as_vec3().to_array())
-                    .collect();
-                let start = corners.len() as u32;
-                corners.extend(mesh.triangles.iter().flatten().map(|&i| stored[i as usize]));
-                vertex_ranges.push(start..corners.len() as u32);
-                StoredMesh {
-                    outward,
-                    mesh: mesh.clone(),
-                    origin,
-                    transform,
-                    stored,
-                }
+                StoredMesh::new(mesh, transform, origin, outward)
             })
             .collect();
+        let mut corners: Vec<[f32; 3]> = Vec::new();
+        let mut vertex_ranges = Vec::with_capacity(meshes.len());
+        for m in &stored {
+            let start = corners.len() as u32;
+            corners.extend(
+                m.mesh
+                    .triangles
+                    .iter()
+                    .flatten()
+                    .map(|&i| m.stored[i as usize]),
+            );
+            vertex_ranges.push(start..corners.len() as u32);
+        }
         let vertices = buffer(device, "meshes", &corners, wgpu::BufferUsages::VERTEX);
-        uploads.geometry += std::mem::size_of_val(corners.as_slice()) as u64;
+        let uploads = Uploads {
+            geometry: std::mem::size_of_val(corners.as_slice()) as u64,
+            ..Default::default()
+        };
         let copy = wgpu::BufferUsages::COPY_DST;
         let uniforms = buffer(
             device,
@@ -275,7 +174,8 @@ impl GpuScene {
             &vec![identity; stored.len().max(1)],
             wgpu::BufferUsages::STORAGE | copy,
         );
-        let frame = frame_group(device, &renderer.pipelines.frame_layout, &uniforms, &models);
+        let pipelines = renderer.pipelines().clone();
+        let frame = frame_group(device, &pipelines.frame_layout, &uniforms, &models);
         let cube = buffer(
             device,
             "unit cube",
@@ -283,8 +183,9 @@ impl GpuScene {
             wgpu::BufferUsages::VERTEX,
         );
         GpuScene {
-            ctx: renderer.ctx.clone(),
-            pipelines: renderer.pipelines.clone(),
+            complexity: ComplexityState::new(ctx.info.device_type),
+            ctx: ctx.clone(),
+            pipelines,
             meshes: stored,
             vertices,
             vertex_ranges,
@@ -297,15 +198,6 @@ impl GpuScene {
             cube,
             scratch: Scratch::default(),
             uploads,
-            complexity: None,
-            complexity_frame: None,
-            samples_per_axis: crate::complexity::DEFAULT_AXIS,
-            list_capacity: 0,
-            loop_budget: if renderer.ctx.info.device_type == wgpu::DeviceType::Cpu {
-                crate::complexity::SOFTWARE_LOOP_BUDGET
-            } else {
-                u32::MAX
-            },
         }
     }
 
@@ -313,8 +205,15 @@ impl GpuScene {
     /// exact layout) with the silhouettes' products of `volumes`, built for `scene`.
     pub(crate) fn for_scene(renderer: &GpuRenderer, scene: &Scene, volumes: &Volumes) -> Self {
         let mut s = Self::of_scene(renderer, scene, |i| volumes.occluders[i].outward);
-        let world = scene.triangles();
-        s.shadows = Some(s.build_shadows(volumes, &world));
+        let (shadows, bytes) = Shadows::build(
+            &s.ctx.device,
+            &s.meshes,
+            &s.light,
+            volumes,
+            &scene.triangles(),
+        );
+        s.uploads.shadows += bytes;
+        s.shadows = Some(shadows);
         s
     }
 
@@ -355,7 +254,7 @@ impl GpuScene {
         if m.transform != transform {
             m.transform = transform;
             self.shadows = None;
-            self.complexity = None;
+            self.complexity.light_changed();
         }
     }
 
@@ -369,7 +268,7 @@ impl GpuScene {
         if self.light != light {
             self.light = light;
             self.shadows = None;
-            self.complexity = None;
+            self.complexity.light_changed();
         }
     }
 
@@ -384,57 +283,26 @@ impl GpuScene {
         self.shadows.as_ref().map_or(0, |s| s.wedges)
     }
 
-    /// The world-space meshes and their triangles.
-    pub(crate) fn world(&self) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
-        let meshes: Vec<TriangleMesh> = self
-            .meshes
-            .iter()
-            .map(|m| m.mesh.transformed(&m.transform))
-            .collect();
-        let triangles = meshes
-            .iter()
-            .flat_map(|m| {
-                m.triangles
-                    .iter()
-                    .map(|t| t.map(|i| m.positions[i as usize]))
-            })
-            .collect();
-        (meshes, triangles)
-    }
-
-    /// The silhouettes' products of `volumes` (built for the current light and transforms;
-    /// `world`: the scene's triangles), uploaded.
-    fn build_shadows(&mut self, volumes: &Volumes, world: &[[DVec3; 3]]) -> Shadows {
-        let device = &self.ctx.device;
-        let stored: Vec<&[[f32; 3]]> = self.meshes.iter().map(|m| m.stored.as_slice()).collect();
-        let (vol, ranges) = volume_vertices(volumes, &stored);
-        let (instances, instance_ranges) = wedge_instances(&self.light, world, volumes);
-        self.uploads.shadows += (std::mem::size_of_val(vol.as_slice())
-            + std::mem::size_of_val(instances.as_slice())) as u64;
-        Shadows {
-            volume: buffer(device, "volume triangles", &vol, wgpu::BufferUsages::VERTEX),
-            volume_ranges: ranges,
-            instance_buffer: buffer(device, "wedges", &instances, wgpu::BufferUsages::VERTEX),
-            instances,
-            instance_ranges,
-            nearest: nearest_edges(volumes),
-            clusters: ReceiverClusters::new(&self.light, world),
-            wedges: volumes.wedges.len(),
-        }
-    }
-
     /// The silhouettes' products, rebuilt if the light or a transform changed.
-    pub(crate) fn shadows(&mut self) -> &Shadows {
+    fn shadows(&mut self) -> &Shadows {
         if self.shadows.is_none() {
-            let (meshes, world) = self.world();
+            let (meshes, world) = world(&self.meshes);
             let volumes = Volumes::build_meshes(&meshes, &self.light);
-            self.shadows = Some(self.build_shadows(&volumes, &world));
+            let (shadows, bytes) = Shadows::build(
+                &self.ctx.device,
+                &self.meshes,
+                &self.light,
+                &volumes,
+                &world,
+            );
+            self.uploads.shadows += bytes;
+            self.shadows = Some(shadows);
         }
         self.shadows.as_ref().expect("built above")
     }
 
     /// Writes the frame's uniforms and model matrices for `camera` where they changed.
-    pub(crate) fn write_frame(&mut self, camera: &FrameCamera) {
+    fn write_frame(&mut self, camera: &FrameCamera) {
         let uniforms = FrameUniforms::new(camera, &self.light);
         let models: Vec<ModelMatrix> = self
             .meshes
@@ -460,17 +328,5 @@ impl GpuScene {
             self.uploads.frame += std::mem::size_of_val(models.as_slice()) as u64;
         }
         self.written = Some((uniforms, models));
-    }
-}
-
-/// Checks that `technique` is one [`GpuScene::record`] renders.
-pub(crate) fn check_technique(technique: Technique) -> Result<(), GpuError> {
-    if technique.on_either() {
-        Ok(())
-    } else {
-        Err(GpuError::Frame(format!(
-            "{technique}: a GpuScene records the volume techniques (hard, wedges, wedges-blend) \
-             and depth-complexity"
-        )))
     }
 }

@@ -1,0 +1,64 @@
+//! A [`super::GpuScene`]'s meshes as stored: each in its own space, its vertices relative to an
+//! origin in `f32`, and where it is in the world.
+
+use glam::{DMat4, DVec3};
+use penumbra_geom::TriangleMesh;
+
+/// One mesh as stored: its own-space mesh, its vertices relative to `origin` in `f32`, and where
+/// it is.
+pub(super) struct StoredMesh {
+    pub(super) mesh: TriangleMesh,
+    /// `penumbra_volumes::terminator::outward_sign` of the mesh in its own space.
+    pub(super) outward: f64,
+    pub(super) origin: DVec3,
+    pub(super) transform: DMat4,
+    pub(super) stored: Vec<[f32; 3]>,
+}
+
+impl StoredMesh {
+    /// `mesh` with its vertices stored relative to `origin`, placed by `transform`.
+    pub(super) fn new(mesh: &TriangleMesh, transform: DMat4, origin: DVec3, outward: f64) -> Self {
+        StoredMesh {
+            stored: mesh
+                .positions
+                .iter()
+                .map(|&p| (p - origin).as_vec3().to_array())
+                .collect(),
+            mesh: mesh.clone(),
+            outward,
+            origin,
+            transform,
+        }
+    }
+}
+
+/// The world-space meshes of `meshes` and their triangles.
+pub(super) fn world(meshes: &[StoredMesh]) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
+    let meshes: Vec<TriangleMesh> = meshes
+        .iter()
+        .map(|m| m.mesh.transformed(&m.transform))
+        .collect();
+    let triangles = meshes
+        .iter()
+        .flat_map(|m| {
+            m.triangles
+                .iter()
+                .map(|t| t.map(|i| m.positions[i as usize]))
+        })
+        .collect();
+    (meshes, triangles)
+}
+
+/// Centre of the bounding box of `positions` (the origin when there are none).
+pub(super) fn centre(positions: &[DVec3]) -> DVec3 {
+    let (lo, hi) = positions
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    if lo.x <= hi.x {
+        (lo + hi) * 0.5
+    } else {
+        DVec3::ZERO
+    }
+}

@@ -1,0 +1,184 @@
+//! Recording a frame of a [`GpuScene`]: the depth pre-pass, then the passes of the technique
+//! into the application's visibility target.
+
+use penumbra_geom::Technique;
+
+use super::{FrameInputs, GpuScene};
+use crate::context::GpuError;
+use crate::frame::FrameCamera;
+use crate::passes::depth::{GBuffer, MeshDraws};
+use crate::passes::resolve::ResolveInput;
+use crate::passes::wedge::{WedgeDraws, WedgeOutput};
+use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group};
+use crate::timing::{Pass, Timer};
+
+/// Checks that `camera` (the camera's size) is the size of `what`.
+fn same_size(camera: (u32, u32), what: &'static str, other: (u32, u32)) -> Result<(), GpuError> {
+    if camera == other {
+        Ok(())
+    } else {
+        Err(GpuError::SizeMismatch {
+            camera,
+            what,
+            size: other,
+        })
+    }
+}
+
+impl GpuScene {
+    /// Records the depth pre-pass of the frame seen by `camera` into `gbuffer`: depth, stencil
+    /// cleared, eye-relative positions and normals ([`GBuffer`] documents them). An application
+    /// that renders these itself skips it.
+    pub fn record_depth(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &FrameCamera,
+        gbuffer: &GBuffer,
+    ) -> Result<(), GpuError> {
+        self.record_depth_timed(encoder, camera, gbuffer, &Timer::disabled())
+    }
+
+    pub(crate) fn record_depth_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &FrameCamera,
+        gbuffer: &GBuffer,
+        timer: &Timer,
+    ) -> Result<(), GpuError> {
+        same_size(camera.size, "G-buffer", gbuffer.size())?;
+        self.write_frame(camera);
+        self.pipelines.depth.record(
+            encoder,
+            &self.frame,
+            MeshDraws {
+                vertices: &self.vertices,
+                ranges: &self.vertex_ranges,
+            },
+            gbuffer,
+            timer.render(Pass::Depth),
+        );
+        Ok(())
+    }
+
+    /// Records the passes of `inputs.technique` for the frame seen by `inputs.camera`, reading
+    /// `gbuffer` (filled by [`GpuScene::record_depth`] or by the application) and writing V into
+    /// `target`: a view of a whole `R32Float` texture of the camera's size with usage
+    /// `RENDER_ATTACHMENT`. Rebuilds the silhouettes, volumes and wedges first when the light or
+    /// a transform changed since they were last built.
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &FrameInputs,
+        gbuffer: &GBuffer,
+        target: &wgpu::TextureView,
+    ) -> Result<(), GpuError> {
+        self.record_timed(encoder, inputs, gbuffer, target, &Timer::disabled())
+    }
+
+    pub(crate) fn record_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &FrameInputs,
+        gbuffer: &GBuffer,
+        target: &wgpu::TextureView,
+        timer: &Timer,
+    ) -> Result<(), GpuError> {
+        let technique = inputs.technique;
+        Self::check_technique(technique)?;
+        let camera = &inputs.camera;
+        same_size(camera.size, "G-buffer", gbuffer.size())?;
+        let t = target.texture();
+        same_size(camera.size, "target", (t.width(), t.height()))?;
+        if t.format() != VISIBILITY_FORMAT
+            || !t.usage().contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+        {
+            return Err(GpuError::TargetFormat {
+                format: t.format(),
+                usage: t.usage(),
+            });
+        }
+        self.write_frame(camera);
+        if technique == Technique::DepthComplexity {
+            return self.record_complexity(encoder, camera, gbuffer, Some(target), timer);
+        }
+        self.shadows();
+        self.scratch
+            .prepare(&self.ctx.device, technique, camera.size);
+        if technique == Technique::WedgesBlend {
+            self.record_blend(encoder, camera, gbuffer, target, timer);
+        } else {
+            self.record_additive(encoder, technique, gbuffer, target, timer);
+        }
+        Ok(())
+    }
+
+    /// Checks that `technique` is one [`GpuScene::record`] renders.
+    pub(crate) fn check_technique(technique: Technique) -> Result<(), GpuError> {
+        if technique.on_either() {
+            Ok(())
+        } else {
+            Err(GpuError::NotRecordable { technique })
+        }
+    }
+
+    /// Records `hard` (every volume's stencil count, then the hard shadow) or additive
+    /// `wedges` (the same, with every wedge's occlusion over it), with the shadows built and the
+    /// scratch targets prepared.
+    fn record_additive(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        technique: Technique,
+        gbuffer: &GBuffer,
+        target: &wgpu::TextureView,
+        timer: &Timer,
+    ) {
+        let shadows = self.shadows.as_ref().expect("built by record");
+        let p = &self.pipelines;
+        let device = &self.ctx.device;
+        let position = p.resolve.receivers(device, gbuffer);
+        let bindings = FrameBindings {
+            frame: &self.frame,
+            depth: &gbuffer.depth_view,
+            position: &position,
+        };
+        p.stencil.record(
+            encoder,
+            bindings,
+            &shadows.volume,
+            &shadows.volume_ranges,
+            timer.render(Pass::Stencil),
+        );
+        let group;
+        let input = if technique == Technique::Hard {
+            ResolveInput::Hard
+        } else {
+            let occlusion = self.scratch.occlusion.as_ref().expect("prepared by record");
+            let all_instances = 0..shadows.instances.len() as u32;
+            p.wedge.record(
+                encoder,
+                bindings,
+                WedgeDraws {
+                    cube: &self.cube,
+                    wedges: &shadows.instance_buffer,
+                    ranges: std::slice::from_ref(&all_instances),
+                },
+                WedgeOutput::Additive(occlusion),
+                timer.render(Pass::Wedge),
+            );
+            group = bind_group(
+                device,
+                "occlusion",
+                &p.resolve.texture_layout,
+                &[wgpu::BindingResource::TextureView(occlusion)],
+            );
+            ResolveInput::Additive(&group)
+        };
+        p.resolve.record(
+            encoder,
+            bindings,
+            input,
+            target,
+            timer.render(Pass::Resolve),
+        );
+    }
+}

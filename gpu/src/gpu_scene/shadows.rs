@@ -1,0 +1,58 @@
+//! The silhouettes' products of a [`super::GpuScene`] for its current light and transforms: the
+//! shadow volumes' and wedges' vertex data, uploaded, and what groups the occluders.
+
+use std::ops::Range;
+
+use glam::DVec3;
+use penumbra_geom::RectLight;
+use penumbra_volumes::Volumes;
+
+use super::meshes::StoredMesh;
+use crate::passes::buffer;
+use crate::passes::wedge::WedgeInstance;
+use crate::scene_data::{ReceiverClusters, nearest_edges, volume_vertices, wedge_instances};
+
+/// The silhouettes' products for the current light and transforms.
+pub(super) struct Shadows {
+    /// Shadow-volume vertices ([`volume_vertices`]) and each blending unit's mesh and range.
+    pub(super) volume: wgpu::Buffer,
+    pub(super) volume_ranges: Vec<(u32, Range<u32>)>,
+    /// Wedge instances, on both sides, and each blending unit's range of them.
+    pub(super) instances: Vec<WedgeInstance>,
+    pub(super) instance_buffer: wgpu::Buffer,
+    pub(super) instance_ranges: Vec<Range<u32>>,
+    /// Each unit's nearest silhouette edge (light space), and the receivers' clusters.
+    pub(super) nearest: Vec<f64>,
+    pub(super) clusters: ReceiverClusters,
+    /// Silhouette edges, for reports.
+    pub(super) wedges: usize,
+}
+
+impl Shadows {
+    /// The silhouettes' products of `volumes` (built for `light` and the meshes' current
+    /// transforms; `world`: the scene's triangles), uploaded; and the bytes uploaded.
+    pub(super) fn build(
+        device: &wgpu::Device,
+        meshes: &[StoredMesh],
+        light: &RectLight,
+        volumes: &Volumes,
+        world: &[[DVec3; 3]],
+    ) -> (Shadows, u64) {
+        let stored: Vec<&[[f32; 3]]> = meshes.iter().map(|m| m.stored.as_slice()).collect();
+        let (vol, ranges) = volume_vertices(volumes, &stored);
+        let (instances, instance_ranges) = wedge_instances(light, world, volumes);
+        let bytes = (std::mem::size_of_val(vol.as_slice())
+            + std::mem::size_of_val(instances.as_slice())) as u64;
+        let shadows = Shadows {
+            volume: buffer(device, "volume triangles", &vol, wgpu::BufferUsages::VERTEX),
+            volume_ranges: ranges,
+            instance_buffer: buffer(device, "wedges", &instances, wgpu::BufferUsages::VERTEX),
+            instances,
+            instance_ranges,
+            nearest: nearest_edges(volumes),
+            clusters: ReceiverClusters::new(light, world),
+            wedges: volumes.wedges.len(),
+        };
+        (shadows, bytes)
+    }
+}

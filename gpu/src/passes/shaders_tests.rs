@@ -1,0 +1,54 @@
+//! Every WGSL file parses and validates with naga, as the passes compile it.
+
+use std::path::PathBuf;
+
+use super::complexity::{COMPLEXITY_WGSL, COUNT_WGSL};
+use super::fullscreen::{SHADOW_MAP_SHADERS, SHADOW_WGSL};
+use super::wgsl_source;
+
+#[test]
+fn every_wgsl_file_validates_with_naga() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/shaders");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "wgsl") {
+            continue;
+        }
+        let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
+        // Declarations compiled ahead of the passes' shaders, and the counting pass's first
+        // part: each is validated in the shaders that take it.
+        if ["frame", "shadow", "complexity", "count_regions"].contains(&stem.as_str()) {
+            continue;
+        }
+        // Each pass's shader is compiled after the shared constants and frame.wgsl
+        // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
+        // (`fullscreen::shadow_shader`), depth-complexity sampling's passes with
+        // complexity.wgsl, and the counting pass from its two files (`complexity::COUNT_WGSL`).
+        let file = std::fs::read_to_string(&p).unwrap();
+        let source = if SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
+            format!("{SHADOW_WGSL}\n{file}")
+        } else if stem == "count" {
+            format!("{COMPLEXITY_WGSL}\n{COUNT_WGSL}")
+        } else if stem == "edge_lists" {
+            format!("{COMPLEXITY_WGSL}\n{file}")
+        } else {
+            file
+        };
+        let src = wgsl_source(&source);
+        let module = naga::front::wgsl::parse_str(&src)
+            .unwrap_or_else(|e| panic!("{}: {}", p.display(), e.emit_to_string(&src)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}: {e:?}", p.display()));
+        n += 1;
+    }
+    assert!(
+        n >= 3,
+        "expected the pass shaders in {}, found {n}",
+        dir.display()
+    );
+}
