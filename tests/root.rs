@@ -8,6 +8,7 @@ mod fixtures;
 mod fuzz;
 mod light_inside;
 mod light_plane;
+mod outside_crate;
 mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;
