@@ -25,6 +25,7 @@ use penumbra_gpu::GpuError;
 
 use crate::error::{MissingGpu, RenderError};
 use crate::options::RenderOptions;
+use crate::runs::Runs;
 
 /// Where the techniques that run on both the GPU and the CPU (`hard`, `wedges`,
 /// `wedges-blend`, `depth-complexity`) run. The shadow-map techniques always need a GPU; the
@@ -68,33 +69,6 @@ const CPU_BYTES_PER_PIXEL: u64 = 16;
 /// positions (16), normals (8), V (4), the silhouette buffer (56), the final buffer (8), the
 /// readback (4) and V on the CPU (4), with room.
 const GPU_BYTES_PER_PIXEL: u64 = 128;
-
-/// Where a technique can run at all.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Runs {
-    /// The shadow-map techniques.
-    GpuOnly,
-    /// The volume techniques and depth-complexity sampling.
-    Either,
-    /// The references.
-    CpuOnly,
-}
-
-/// Where `technique` can run at all.
-pub(crate) fn runs(technique: Technique) -> Runs {
-    if technique.needs_gpu() {
-        Runs::GpuOnly
-    } else if technique.cpu_only() {
-        Runs::CpuOnly
-    } else {
-        Runs::Either
-    }
-}
-
-/// Whether `technique` evaluates N light samples per pixel (and so may jitter them).
-pub(crate) fn takes_samples(technique: Technique) -> bool {
-    technique.takes_samples()
-}
 
 /// The processor a render runs on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -250,7 +224,7 @@ pub trait Machine {
 /// assert!(check(Technique::Reference, Backend::Gpu).is_err());
 /// ```
 pub fn check(technique: Technique, backend: Backend) -> Result<(), RenderError> {
-    match (runs(technique), backend) {
+    match (Runs::of(technique), backend) {
         (Runs::GpuOnly, Backend::Cpu) => Err(RenderError::NeedsGpu {
             technique,
             missing: MissingGpu::CpuChosen,
@@ -268,7 +242,7 @@ pub(crate) fn place_technique(
     gpu: &mut dyn FnMut() -> Result<GpuOffer, MissingGpu>,
 ) -> Result<(Placement, Reason, Option<GpuOffer>), RenderError> {
     check(technique, backend)?;
-    match (runs(technique), backend) {
+    match (Runs::of(technique), backend) {
         (Runs::GpuOnly, _) => match gpu() {
             Ok(offer) => Ok((Placement::Gpu, Reason::GpuOnlyTechnique, Some(offer))),
             Err(missing) => Err(RenderError::NeedsGpu { technique, missing }),
@@ -363,7 +337,7 @@ fn gpu_limits(
     }
     let max_side = offer.max_texture_side;
     if width > max_side || height > max_side {
-        if !auto || runs(technique) == Runs::GpuOnly {
+        if !auto || Runs::of(technique) == Runs::GpuOnly {
             return Err(RenderError::TooLargeForGpu {
                 technique,
                 width,

@@ -6,7 +6,7 @@ use std::fmt;
 use penumbra_geom::{Scene, Technique, VisibilityImage};
 use penumbra_gpu::PassTimes;
 
-use crate::backend::{Runs, runs};
+use crate::runs::Runs;
 
 /// A rendered image, with where it was made.
 pub struct Frame {
@@ -57,7 +57,7 @@ impl fmt::Display for Warning {
 /// light's centre, for the techniques built from the light's centre (hard, wedges, shadow
 /// maps).
 pub(crate) fn warnings(scene: &Scene, technique: Technique) -> Vec<Warning> {
-    if !(technique.is_volume() || runs(technique) == Runs::GpuOnly) {
+    if !(technique.is_volume() || Runs::of(technique) == Runs::GpuOnly) {
         return Vec::new();
     }
     scene

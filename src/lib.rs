@@ -69,6 +69,7 @@ mod error;
 mod frame;
 mod options;
 mod renderer;
+mod runs;
 
 pub use glam;
 pub use penumbra_geom as geom;
@@ -89,3 +90,4 @@ pub use error::{MissingGpu, RenderError};
 pub use frame::{Frame, Warning};
 pub use options::{MAX_SAMPLES, RenderOptions};
 pub use renderer::Renderer;
+pub use runs::Runs;

@@ -4,7 +4,6 @@
 use penumbra_geom::Technique;
 use penumbra_volumes::SamplePattern;
 
-use crate::backend::takes_samples;
 use crate::error::RenderError;
 
 /// The most light samples per pixel (256 x 256): beyond, a 320 x 240 reference would take hours
@@ -72,7 +71,7 @@ impl RenderOptions {
     /// ```
     pub fn pattern_for(&self, technique: Technique) -> Result<SamplePattern, RenderError> {
         let pattern = self.pattern()?;
-        if self.jitter && !takes_samples(technique) {
+        if self.jitter && !technique.takes_samples() {
             return Err(RenderError::NoSamples { technique });
         }
         Ok(pattern)

@@ -8,10 +8,11 @@ use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
 use penumbra_volumes::{SamplePattern, Volumes};
 
-use crate::backend::{self, Backend, Choice, GpuOffer, Machine, Placement, Reason, Request, Runs};
+use crate::backend::{self, Backend, Choice, GpuOffer, Machine, Placement, Reason, Request};
 use crate::error::{MissingGpu, RenderError};
 use crate::frame::{self, Frame};
 use crate::options::RenderOptions;
+use crate::runs::Runs;
 
 /// Whether the GPU has been looked for yet, and what was found.
 enum GpuState {
@@ -225,7 +226,7 @@ impl Renderer {
             detail,
             warnings: Vec::new(),
         };
-        if backend::runs(technique) == Runs::GpuOnly {
+        if Runs::of(technique) == Runs::GpuOnly {
             let i = match self
                 .shadow_maps
                 .iter()

@@ -93,7 +93,7 @@ fn techniques_run_where_they_can_and_the_back_end_chosen_is_obeyed() {
     for t in Technique::ALL {
         let mut gpu = Fake::with_gpu(false);
         let mut none = Fake::without_gpu();
-        match runs(t) {
+        match Runs::of(t) {
             Runs::GpuOnly => {
                 assert_eq!(placed(t, Backend::Auto, SMALL, &mut gpu), Gpu);
                 assert_eq!(placed(t, Backend::Gpu, SMALL, &mut gpu), Gpu);

@@ -1,7 +1,7 @@
 //! The library's errors in the command's words: each names the flag that set what went wrong,
 //! and says which flag would make it work.
 
-use penumbra::{MAX_SAMPLES, MissingGpu, RenderError};
+use penumbra::{MAX_SAMPLES, MissingGpu, RenderError, Runs};
 
 /// `error` as the command tells it. `samples_flag` is the flag that gave the light samples
 /// (`--samples`, or `accuracy`'s `--technique-samples`).
@@ -19,7 +19,7 @@ pub(crate) fn render_error(error: RenderError, samples_flag: &str) -> anyhow::Er
         } => format!("--backend cpu: {technique} is a shadow-map technique and runs on a GPU only"),
         RenderError::CpuOnly { .. } => format!("--backend gpu: {error}"),
         RenderError::GpuSamples { .. } => format!("{error}; --backend cpu renders it"),
-        RenderError::TooLargeForGpu { technique, .. } if !technique.needs_gpu() => {
+        RenderError::TooLargeForGpu { technique, .. } if Runs::of(*technique) != Runs::GpuOnly => {
             format!("{error}; --backend cpu renders it")
         }
         _ => return error.into(),
