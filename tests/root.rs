@@ -6,6 +6,7 @@ mod depth_complexity;
 mod far_light;
 mod fixtures;
 mod fuzz;
+mod layout;
 mod light_inside;
 mod light_plane;
 mod outside_crate;
