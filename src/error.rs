@@ -3,6 +3,7 @@
 use std::sync::Arc;
 
 use penumbra_geom::Technique;
+use penumbra_geom::range::RangeError;
 use penumbra_gpu::GpuError;
 
 /// Why a render could not run.
@@ -45,8 +46,8 @@ pub enum RenderError {
     /// refuses those of scene files with their line).
     #[error("{problem}")]
     OutOfRange {
-        /// The first value outside the range, described ([`crate::Scene::out_of_range`]).
-        problem: String,
+        /// The first value outside the range ([`crate::Scene::out_of_range`]).
+        problem: RangeError,
     },
     /// The GPU back end chosen, and no GPU.
     #[error("no GPU: {missing}")]

@@ -77,6 +77,7 @@ pub use penumbra_geom::camera::CameraError;
 pub use penumbra_geom::image::ImageError;
 pub use penumbra_geom::image::{Comparison, compare};
 pub use penumbra_geom::mesh::MeshError;
+pub use penumbra_geom::range::RangeError;
 pub use penumbra_geom::{
     Camera, RectLight, Scene, SceneError, Technique, TriangleMesh, VisibilityImage,
 };
