@@ -10,7 +10,6 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use penumbra::geom::{RectLight, TriangleMesh};
 use penumbra::glam::dcamera::rh::{proj::directx, view};
 use penumbra::glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra::gpu::context::{OPTIONAL_FEATURES, required_features, required_limits};
@@ -18,7 +17,8 @@ use penumbra::gpu::passes::depth::visibility_target;
 use penumbra::gpu::readback::read_r32f;
 use penumbra::gpu::{GpuContext, wgpu};
 use penumbra::{
-    FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Technique, VisibilityImage,
+    FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, RectLight, Technique, TriangleMesh,
+    VisibilityImage,
 };
 
 const FRAMES: usize = 120;
