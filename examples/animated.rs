@@ -10,15 +10,15 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use penumbra::geom::{RectLight, TriangleMesh};
 use penumbra::glam::dcamera::rh::{proj::directx, view};
 use penumbra::glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra::gpu::{
-    GpuContext, OPTIONAL_FEATURES, read_r32f, required_features, required_limits,
-    visibility_target, wgpu,
+    GpuContext, OPTIONAL_FEATURES, quiet_device_select, read_r32f, required_features,
+    required_limits, visibility_target, wgpu,
 };
 use penumbra::{
-    FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Technique, VisibilityImage,
+    FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, RectLight, Technique, TriangleMesh,
+    VisibilityImage,
 };
 
 const FRAMES: usize = 120;
@@ -26,6 +26,8 @@ const SIZE: (u32, u32) = (256, 192);
 
 /// The application's device, made as any wgpu application makes one, with what the passes need.
 fn device() -> Result<(wgpu::Device, wgpu::Queue), Box<dyn std::error::Error>> {
+    // Without a display, Mesa's device-select layer prints an "error:" line: turn it off.
+    quiet_device_select();
     let instance =
         wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
     let adapter = pollster::block_on(instance.request_adapter(&Default::default()))?;

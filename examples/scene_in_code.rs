@@ -6,10 +6,10 @@
 
 use std::path::PathBuf;
 
-use penumbra::geom::image::compare;
-use penumbra::geom::{Camera, RectLight, TriangleMesh};
 use penumbra::glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+use penumbra::{
+    Backend, Camera, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh, compare,
+};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::env::args().nth(1).map_or_else(

@@ -18,11 +18,37 @@
 //! let mut renderer = Renderer::new(Backend::Auto);
 //! let exact = renderer.render(&scene, Technique::DepthComplexity, &RenderOptions::default())?;
 //! let wedges = renderer.render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
-//! let c = penumbra::geom::image::compare(&wedges, &exact)?;
+//! let c = penumbra::compare(&wedges, &exact)?;
 //! assert!(c.penumbra.pixels > 1000 && c.all.mae < 0.05);
 //! let out = std::env::temp_dir().join(format!("nonmanifold-{}.exr", std::process::id()));
 //! exact.write_exr(&out)?;
 //! # std::fs::remove_file(out)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! A scene made in code needs only this crate's names: a [`Camera`], a [`RectLight`], and
+//! [`TriangleMesh`]es placed by `glam` matrices (re-exported as [`glam`]).
+//!
+//! ```
+//! use penumbra::glam::{DMat4, DVec2, DVec3};
+//! use penumbra::{Backend, Camera, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh};
+//!
+//! let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
+//! let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(1.0));
+//! let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
+//! let ground = TriangleMesh::from_raw(
+//!     std::path::Path::new("ground"),
+//!     &corners.map(|[x, z]| DVec3::new(x, 0.0, z)),
+//!     &[[0, 1, 2], [0, 2, 3]],
+//! )?;
+//! let ball = DMat4::from_translation(DVec3::new(0.0, 1.0, 0.0)) * DMat4::from_scale(DVec3::splat(0.5));
+//! let scene = Scene::new(camera, light)
+//!     .with_mesh("ground", &ground, DMat4::IDENTITY)
+//!     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), ball);
+//! let v = Renderer::new(Backend::Cpu).render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
+//! // The ball's shadow falls straight below it, in the middle of the image; the corners are lit.
+//! assert_eq!(v.get(0, 47), 1.0);
+//! assert!(v.data.iter().any(|&x| x == 0.0));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -32,15 +58,37 @@
 //! [`GpuScene::record`] writes V into a texture the application owns, in its own command
 //! encoder ([`GBuffer`] documents the depth and position inputs; `examples/animated.rs` is a
 //! whole program, and `docs/gpu.md` the reference).
+//!
+//! Where each render runs, GPU or CPU, is one policy: [`backend`] states its rules and
+//! [`backend::choose`] applies them.
 #![warn(missing_docs)]
 
-mod render;
+pub mod backend;
+mod cpu;
+mod error;
+mod frame;
+mod options;
+mod renderer;
+mod runs;
 
 pub use glam;
 pub use penumbra_geom as geom;
-pub use penumbra_geom::{Scene, Technique, VisibilityImage};
+pub use penumbra_geom::camera::CameraError;
+pub use penumbra_geom::image::ImageError;
+pub use penumbra_geom::image::{Comparison, compare};
+pub use penumbra_geom::mesh::MeshError;
+pub use penumbra_geom::range::RangeError;
+pub use penumbra_geom::{
+    Camera, RectLight, Scene, SceneError, Technique, TriangleMesh, VisibilityImage,
+};
 pub use penumbra_gpu as gpu;
 pub use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Uploads};
 pub use penumbra_params as params;
 pub use penumbra_volumes as volumes;
-pub use render::{Backend, Frame, MAX_SAMPLES, RenderError, RenderOptions, Renderer};
+
+pub use backend::{Backend, MAX_GPU_BLEND_UNITS, MAX_GPU_SAMPLES};
+pub use error::{MissingGpu, RenderError};
+pub use frame::{Frame, Warning};
+pub use options::{MAX_SAMPLES, RenderOptions};
+pub use renderer::Renderer;
+pub use runs::Runs;

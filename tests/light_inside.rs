@@ -45,6 +45,9 @@ fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
         .render_frame(scene, technique, &RenderOptions::default(), None, &|_| {})
         .unwrap()
         .warnings
+        .iter()
+        .map(ToString::to_string)
+        .collect()
 }
 
 #[test]

@@ -92,7 +92,8 @@ fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
                 panic!("the GPU rendered {} samples", o.samples);
             };
             assert!(matches!(err, RenderError::GpuSamples { .. }), "{err}");
-            assert!(err.to_string().contains("--backend cpu"), "{err}");
+            // The library names no command-line flag; the command adds its own words.
+            assert!(!err.to_string().contains("--"), "{err}");
         }
     }
 }
@@ -123,7 +124,7 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
         let err = Renderer::new(Backend::Cpu)
             .render(&scene, t, &RenderOptions::default())
             .unwrap_err();
-        assert!(matches!(err, RenderError::OutOfRange(_)), "{t}: {err}");
+        assert!(matches!(err, RenderError::OutOfRange { .. }), "{t}: {err}");
         assert!(err.to_string().contains("mesh 0 (far)"), "{err}");
     }
     let mut wide = base.clone();
@@ -145,7 +146,8 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
         .render(&tilted, Technique::WedgesBlend, &RenderOptions::default())
         .unwrap_err();
     assert!(
-        matches!(err, RenderError::OutOfRange(_)) && err.to_string().contains("not unit length"),
+        matches!(err, RenderError::OutOfRange { .. })
+            && err.to_string().contains("not unit length"),
         "{err}"
     );
 }

@@ -23,93 +23,187 @@ pub fn within_coordinates(v: DVec3) -> bool {
     v.abs().max_element() <= MAX_COORDINATE
 }
 
+/// The first value of a scene outside the supported range, or that the scene loader would refuse
+/// of a scene file ([`Scene::out_of_range`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RangeError {
+    /// The light's normal is not unit length.
+    #[error("the light's normal {normal} is not unit length (|n| = {})", .normal.length())]
+    LightNormal {
+        /// The normal.
+        normal: DVec3,
+    },
+    /// The light's tangent is not unit length.
+    #[error("the light's tangent {tangent} is not unit length (|t| = {})", .tangent.length())]
+    LightTangent {
+        /// The tangent.
+        tangent: DVec3,
+    },
+    /// The light's tangent is not orthogonal to its normal.
+    #[error("the light's tangent {tangent} is not orthogonal to its normal {normal}")]
+    LightNotOrthogonal {
+        /// The tangent.
+        tangent: DVec3,
+        /// The normal.
+        normal: DVec3,
+    },
+    /// The light's bitangent is not normal x tangent.
+    #[error("the light's bitangent {bitangent} is not normal x tangent {expected}")]
+    LightBitangent {
+        /// The bitangent.
+        bitangent: DVec3,
+        /// normal x tangent.
+        expected: DVec3,
+    },
+    /// The light's sides are not two positive finite lengths.
+    #[error("the light's size {size} must be two positive finite lengths")]
+    LightSize {
+        /// The sides.
+        size: glam::DVec2,
+    },
+    /// An image of no pixels.
+    #[error("the image size {width}x{height} is empty")]
+    EmptyImage {
+        /// The image's width.
+        width: u32,
+        /// The image's height.
+        height: u32,
+    },
+    /// A camera frame that is not three orthogonal unit vectors.
+    #[error(
+        "the camera's frame (forward {forward}, right {right}, up {up}) is not three orthogonal unit vectors: build it with Camera::look_at"
+    )]
+    CameraFrame {
+        /// The forward vector.
+        forward: DVec3,
+        /// The right vector.
+        right: DVec3,
+        /// The up vector.
+        up: DVec3,
+    },
+    /// A shadow-map parameter outside its range.
+    #[error("shadow-map parameter {error}")]
+    Param {
+        /// The parameter and why.
+        error: penumbra_params::ParamError,
+    },
+    /// The eye beyond [`MAX_COORDINATE`].
+    #[error(
+        "the eye at {eye} lies outside the supported range (coordinates up to {MAX_COORDINATE:e})"
+    )]
+    Eye {
+        /// The eye.
+        eye: DVec3,
+    },
+    /// The light's centre or sides beyond [`MAX_COORDINATE`].
+    #[error(
+        "the light at {center} of size {size} lies outside the supported range (coordinates and sides up to {MAX_COORDINATE:e})"
+    )]
+    Light {
+        /// The light's centre.
+        center: DVec3,
+        /// Its sides.
+        size: glam::DVec2,
+    },
+    /// A field of view outside [[`MIN_FOV_DEG`], [`MAX_FOV_DEG`]].
+    #[error(
+        "a field of view of {degrees} degrees lies outside the supported range [{MIN_FOV_DEG}, {MAX_FOV_DEG}]"
+    )]
+    FieldOfView {
+        /// The vertical field of view, in degrees.
+        degrees: f64,
+    },
+    /// A mesh vertex beyond [`MAX_COORDINATE`].
+    #[error(
+        "mesh {mesh} ({name}) has a vertex at {at}, outside the supported range (coordinates up to {MAX_COORDINATE:e})"
+    )]
+    Vertex {
+        /// The mesh's index in the scene.
+        mesh: usize,
+        /// The mesh's name.
+        name: String,
+        /// The vertex.
+        at: DVec3,
+    },
+}
+
 impl Scene {
     /// The first value of the scene outside the supported range of `docs/scene-format.md`
-    /// ("Supported range"), described, or `None` when all are inside: the scene loader refuses
-    /// such scenes with their line, and a renderer refuses a scene made in code the same way.
+    /// ("Supported range"), or `None` when all are inside: the scene loader refuses such scenes
+    /// with their line, and a renderer refuses a scene made in code the same way.
     ///
     /// It also holds a scene made in code to what the loader checks of a file: a light whose
     /// normal and tangent are unit and orthogonal (and its bitangent their cross product) with
     /// two positive sides, a camera frame of unit orthogonal vectors and a non-empty image, and
     /// shadow-map parameters within their ranges.
-    pub fn out_of_range(&self) -> Option<String> {
+    pub fn out_of_range(&self) -> Option<RangeError> {
         if let Some(why) = self.invalid_frames() {
             return Some(why);
         }
-        if let Err(e) = self.params.validate() {
-            return Some(format!("shadow-map parameter {e}"));
+        if let Err(error) = self.params.validate() {
+            return Some(RangeError::Param { error });
         }
         let coordinate = |v: DVec3| !within_coordinates(v);
         if coordinate(self.camera.eye) {
-            return Some(format!(
-                "the eye at {} lies outside the supported range (coordinates up to {MAX_COORDINATE:e})",
-                self.camera.eye
-            ));
+            return Some(RangeError::Eye {
+                eye: self.camera.eye,
+            });
         }
         if coordinate(self.light.center) || !(self.light.size.max_element() <= MAX_COORDINATE) {
-            return Some(format!(
-                "the light at {} of size {} lies outside the supported range (coordinates and sides up to {MAX_COORDINATE:e})",
-                self.light.center, self.light.size
-            ));
+            return Some(RangeError::Light {
+                center: self.light.center,
+                size: self.light.size,
+            });
         }
         if !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&self.camera.fov_y_deg) {
-            return Some(format!(
-                "a field of view of {} degrees lies outside the supported range [{MIN_FOV_DEG}, {MAX_FOV_DEG}]",
-                self.camera.fov_y_deg
-            ));
+            return Some(RangeError::FieldOfView {
+                degrees: self.camera.fov_y_deg,
+            });
         }
-        for (index, m) in self.meshes.iter().enumerate() {
-            if let Some(v) = m.mesh.positions.iter().find(|v| coordinate(**v)) {
-                return Some(format!(
-                    "mesh {index} ({}) has a vertex at {v}, outside the supported range (coordinates up to {MAX_COORDINATE:e})",
-                    m.source.display()
-                ));
+        for (mesh, m) in self.meshes.iter().enumerate() {
+            if let Some(&at) = m.mesh.positions.iter().find(|v| coordinate(**v)) {
+                return Some(RangeError::Vertex {
+                    mesh,
+                    name: m.source.display().to_string(),
+                    at,
+                });
             }
         }
         None
     }
 
     /// What the scene loader would refuse in the light's and the camera's frames.
-    fn invalid_frames(&self) -> Option<String> {
+    fn invalid_frames(&self) -> Option<RangeError> {
         let unit = |v: DVec3| (v.length() - 1.0).abs() <= UNIT_TOLERANCE;
         let orthogonal = |a: DVec3, b: DVec3| a.dot(b).abs() <= UNIT_TOLERANCE;
         let l = &self.light;
         if !unit(l.normal) {
-            return Some(format!(
-                "the light's normal {} is not unit length (|n| = {})",
-                l.normal,
-                l.normal.length()
-            ));
+            return Some(RangeError::LightNormal { normal: l.normal });
         }
         if !unit(l.tangent) {
-            return Some(format!(
-                "the light's tangent {} is not unit length (|t| = {})",
-                l.tangent,
-                l.tangent.length()
-            ));
+            return Some(RangeError::LightTangent { tangent: l.tangent });
         }
         if !orthogonal(l.normal, l.tangent) {
-            return Some(format!(
-                "the light's tangent {} is not orthogonal to its normal {}",
-                l.tangent, l.normal
-            ));
+            return Some(RangeError::LightNotOrthogonal {
+                tangent: l.tangent,
+                normal: l.normal,
+            });
         }
         if !((l.bitangent - l.normal.cross(l.tangent)).length() <= UNIT_TOLERANCE) {
-            return Some(format!(
-                "the light's bitangent {} is not normal x tangent {}",
-                l.bitangent,
-                l.normal.cross(l.tangent)
-            ));
+            return Some(RangeError::LightBitangent {
+                bitangent: l.bitangent,
+                expected: l.normal.cross(l.tangent),
+            });
         }
         if !(l.size.x > 0.0 && l.size.y > 0.0 && l.size.is_finite()) {
-            return Some(format!(
-                "the light's size {} must be two positive finite lengths",
-                l.size
-            ));
+            return Some(RangeError::LightSize { size: l.size });
         }
         let c = &self.camera;
         if c.width == 0 || c.height == 0 {
-            return Some(format!("the image size {}x{} is empty", c.width, c.height));
+            return Some(RangeError::EmptyImage {
+                width: c.width,
+                height: c.height,
+            });
         }
         let frame = [c.forward, c.right, c.true_up];
         if !frame.iter().all(|&v| unit(v))
@@ -117,10 +211,11 @@ impl Scene {
             || !orthogonal(c.forward, c.true_up)
             || !orthogonal(c.right, c.true_up)
         {
-            return Some(format!(
-                "the camera's frame (forward {}, right {}, up {}) is not three orthogonal unit vectors: build it with Camera::look_at",
-                c.forward, c.right, c.true_up
-            ));
+            return Some(RangeError::CameraFrame {
+                forward: c.forward,
+                right: c.right,
+                up: c.true_up,
+            });
         }
         None
     }
@@ -178,7 +273,8 @@ mod tests {
             break_it(&mut s);
             let why = s
                 .out_of_range()
-                .unwrap_or_else(|| panic!("{want}: accepted"));
+                .unwrap_or_else(|| panic!("{want}: accepted"))
+                .to_string();
             assert!(why.contains(want), "{want}: {why}");
         }
     }

@@ -186,8 +186,9 @@ fn rank(t: wgpu::DeviceType) -> u8 {
 
 /// Turns Mesa's device-select layer off (`NODEVICE_SELECT=1`) unless the environment says
 /// otherwise: the layer only reorders adapters, and prints an "error:" line on stderr when no
-/// display is reachable.
-fn quiet_device_select() {
+/// display is reachable. [`GpuContext::new`] calls it; an application that makes its own wgpu
+/// instance may call it first.
+pub fn quiet_device_select() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         if std::env::var_os("NODEVICE_SELECT").is_none() {

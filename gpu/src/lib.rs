@@ -33,7 +33,8 @@ mod docs_tests;
 
 pub use constants::{MAX_SAMPLES, MAX_TAPS};
 pub use context::{
-    GpuContext, GpuError, OPTIONAL_FEATURES, REQUIRED_FEATURES, required_features, required_limits,
+    GpuContext, GpuError, OPTIONAL_FEATURES, REQUIRED_FEATURES, quiet_device_select,
+    required_features, required_limits,
 };
 pub use frame::{CameraError, FrameCamera};
 pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};

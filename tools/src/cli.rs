@@ -4,10 +4,10 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::builder::TypedValueParser as _;
-use clap::{Parser, Subcommand, ValueEnum};
-use penumbra::Technique;
+use clap::{Parser, Subcommand};
 use penumbra::geom::Scene;
 use penumbra::params::{Kind, PARAMS, Param, Value};
+use penumbra::{Backend, Technique};
 
 #[derive(Parser)]
 #[command(
@@ -113,24 +113,33 @@ impl ParamArgs {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub(crate) enum Backend {
-    /// The GPU when an adapter exists, else the CPU.
-    Auto,
-    /// wgpu (fails without an adapter).
-    Gpu,
-    /// The CPU evaluation of the `volumes` crate.
-    Cpu,
-}
+/// The back ends by their names on the command line, with their help.
+const BACKENDS: [(&str, Backend, &str); 3] = [
+    (
+        "auto",
+        Backend::Auto,
+        "The GPU when an adapter exists, else the CPU",
+    ),
+    ("gpu", Backend::Gpu, "wgpu (fails without an adapter)"),
+    (
+        "cpu",
+        Backend::Cpu,
+        "The CPU evaluation of the `volumes` crate",
+    ),
+];
 
-impl From<Backend> for penumbra::Backend {
-    fn from(b: Backend) -> Self {
-        match b {
-            Backend::Auto => penumbra::Backend::Auto,
-            Backend::Gpu => penumbra::Backend::Gpu,
-            Backend::Cpu => penumbra::Backend::Cpu,
-        }
-    }
+/// Parses the library's [`Backend`] by its name, listing every name (with its help).
+pub(crate) fn backend_parser() -> impl clap::builder::TypedValueParser<Value = Backend> {
+    clap::builder::PossibleValuesParser::new(
+        BACKENDS.map(|(name, _, help)| clap::builder::PossibleValue::new(name).help(help)),
+    )
+    .map(|name| {
+        BACKENDS
+            .into_iter()
+            .find(|(n, _, _)| *n == name)
+            .expect("one of the possible values")
+            .1
+    })
 }
 
 #[derive(Subcommand)]
@@ -157,7 +166,7 @@ pub(crate) enum Command {
         png: Option<PathBuf>,
         /// Where the volume techniques (`hard`, `wedges`, `wedges-blend`) run; the references
         /// always run on the CPU, the shadow-map techniques on the GPU.
-        #[arg(long, value_enum, default_value = "auto")]
+        #[arg(long, value_parser = backend_parser(), default_value = "auto")]
         backend: Backend,
         #[command(flatten)]
         params: ParamArgs,
@@ -221,7 +230,7 @@ pub(crate) enum Command {
         )]
         techniques: Vec<Technique>,
         /// Where the volume techniques run.
-        #[arg(long, value_enum, default_value = "auto")]
+        #[arg(long, value_parser = backend_parser(), default_value = "auto")]
         backend: Backend,
         #[command(flatten)]
         params: ParamArgs,
@@ -250,7 +259,7 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 1)]
         rounds: usize,
         /// Where to run it.
-        #[arg(long, value_enum, default_value = "auto")]
+        #[arg(long, value_parser = backend_parser(), default_value = "auto")]
         backend: Backend,
         /// Light samples per pixel for `reference` and `depth-complexity`.
         #[arg(long, default_value_t = 256)]

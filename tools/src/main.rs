@@ -4,14 +4,14 @@
 mod cli;
 mod commands;
 mod fixtures;
+mod outputs;
+mod words;
 
-use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use clap::Parser;
 use penumbra::RenderOptions;
-use penumbra::geom::Scene;
 
 use cli::{Cli, Command};
 use commands::{accuracy, bench, compare, geometry, probe, render};
@@ -62,7 +62,9 @@ fn remove_temporaries_on_signal() {
 /// Turns off Mesa's device-select layer, an implicit Vulkan layer that connects to a Wayland or
 /// X11 display to choose a default GPU and, on a machine without one, prints "XDG_RUNTIME_DIR is
 /// invalid or not set" twice per instance. The command chooses its adapter itself
-/// (`penumbra_gpu::GpuContext`), so the layer has nothing to add. A value the user set is kept.
+/// (`penumbra_gpu::GpuContext`), so the layer has nothing to add. The library sets the same
+/// when it creates its wgpu instance with the variable unset; the command sets it first, while
+/// it has one thread, so that the library finds it set. A value the user set is kept.
 fn quiet_device_select() {
     if std::env::var_os("NODEVICE_SELECT").is_none() {
         // Safe: no other thread exists yet to read the environment concurrently.
@@ -88,7 +90,7 @@ fn run(cli: Cli) -> Result<()> {
             &scene,
             technique,
             &out,
-            Sampling { samples, jitter },
+            RenderOptions { samples, jitter },
             png.as_deref(),
             backend,
             &params,
@@ -120,7 +122,7 @@ fn run(cli: Cli) -> Result<()> {
             &technique,
             bench::Timing { frames, rounds },
             backend,
-            Sampling { samples, jitter },
+            RenderOptions { samples, jitter },
             json,
             &params,
         ),
@@ -135,7 +137,7 @@ fn run(cli: Cli) -> Result<()> {
         } => accuracy::accuracy(
             &scenes,
             samples,
-            Sampling {
+            RenderOptions {
                 samples: technique_samples,
                 jitter,
             },
@@ -150,91 +152,4 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
-}
-
-/// `n` where `samples = n * n` (the library's check, [`RenderOptions::pattern`]), or an error
-/// naming the flag.
-fn samples_per_axis(samples: usize) -> Result<usize> {
-    let options = RenderOptions {
-        samples,
-        jitter: false,
-    };
-    match options.pattern() {
-        Ok(p) => Ok(p.per_axis),
-        Err(_) => {
-            bail!(
-                "--samples {samples} must be a positive perfect square (64, 256, 1024, ...) up to {}",
-                penumbra::MAX_SAMPLES
-            )
-        }
-    }
-}
-
-/// The same file, whether or not it exists yet. Two existing paths are the same file when they
-/// reach the same inode: through a symbolic link (the image writers write through links) or as
-/// two hard links of one file. A path that does not exist yet is compared by its canonical folder
-/// and name.
-fn same_file(a: &Path, b: &Path) -> bool {
-    if let (Some(x), Some(y)) = (identity(a), identity(b)) {
-        return x == y;
-    }
-    let canon = |p: &Path| -> Option<PathBuf> {
-        let parent = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        Some(parent.canonicalize().ok()?.join(p.file_name()?))
-    };
-    match (canon(a), canon(b)) {
-        (Some(x), Some(y)) => x == y,
-        _ => a == b,
-    }
-}
-
-/// The device and inode of the file a path reaches, following symbolic links; `None` where
-/// nothing is there (or the platform has no inodes: then the canonical path stands for it).
-fn identity(p: &Path) -> Option<(u64, u64)> {
-    let m = std::fs::metadata(p).ok()?;
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        Some((m.dev(), m.ino()))
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = m;
-        None
-    }
-}
-
-/// Refuses outputs that would overwrite an input or each other, or that are not regular files
-/// (or links to one).
-fn check_outputs(inputs: &[PathBuf], outputs: &[&Path]) -> Result<()> {
-    for (k, out) in outputs.iter().enumerate() {
-        // Before any work: a directory, device, FIFO or socket is refused, not replaced.
-        penumbra::geom::image::output_target(out)?;
-        if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
-            bail!(
-                "output {} is an input of this run ({}); refusing to overwrite it",
-                out.display(),
-                i.display()
-            );
-        }
-        if outputs[..k].iter().any(|o| same_file(o, out)) {
-            bail!("output {} is named twice", out.display());
-        }
-    }
-    Ok(())
-}
-
-fn load_scene(path: &Path) -> Result<Scene> {
-    Ok(Scene::load(path)?)
-}
-
-/// Light samples per pixel of the sampled techniques, and whether `depth-complexity` jitters
-/// them as the reference does.
-#[derive(Clone, Copy, Debug)]
-struct Sampling {
-    samples: usize,
-    jitter: bool,
 }

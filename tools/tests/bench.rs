@@ -118,7 +118,7 @@ fn bench_refuses_bad_arguments() {
         (
             "bench-cpu-only",
             &["--technique", "wedges,reference", "--backend", "gpu"][..],
-            "Reference runs on the CPU only",
+            "--backend gpu: reference runs on the CPU only",
         ),
     ] {
         let (d, out) = bench_case(name, args);

@@ -5,33 +5,35 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use penumbra::geom::image::{self};
 use penumbra::volumes::Volumes;
-use penumbra::{RenderOptions, Renderer, Technique};
+use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
 
-use crate::cli::{Backend, ParamArgs};
-use crate::{Sampling, load_scene, samples_per_axis};
+use crate::cli::ParamArgs;
+use crate::words::{InCommandWords, render_error};
 
 pub(crate) fn accuracy(
     dir: &Path,
     samples: usize,
-    sampling: Sampling,
+    sampling: RenderOptions,
     techniques: &[Technique],
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
-    samples_per_axis(samples)?;
-    samples_per_axis(sampling.samples)?;
     let truth_options = RenderOptions {
         samples,
         jitter: false,
     };
+    truth_options.pattern().in_command_words()?;
+    sampling
+        .pattern()
+        .map_err(|e| render_error(e, "--technique-samples"))?;
     // Each technique's back end, decided (and any GPU opened) before the first render: the
     // back end asked for where a technique can take it, the CPU for the CPU-only techniques and
     // the truth.
-    let mut renderer = Renderer::new(backend.into());
+    let mut renderer = Renderer::new(backend);
     let mut cpu = Renderer::new(penumbra::Backend::Cpu);
     for &t in techniques {
         if !t.cpu_only() {
-            renderer.uses_gpu(t)?;
+            renderer.uses_gpu(t).in_command_words()?;
         }
     }
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -60,14 +62,16 @@ pub(crate) fn accuracy(
     );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for path in scenes {
-        let mut scene = load_scene(&path)?;
+        let mut scene = Scene::load(&path)?;
         params.apply(&mut scene)?;
         let name = path
             .file_stem()
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        let truth = cpu.render(&scene, Technique::Reference, &truth_options)?;
+        let truth = cpu
+            .render(&scene, Technique::Reference, &truth_options)
+            .in_command_words()?;
         // Built before the timed renders.
         let volumes = Volumes::build(&scene);
         for &t in techniques {
@@ -82,7 +86,8 @@ pub(crate) fn accuracy(
                 &mut renderer
             };
             let img = r
-                .render_frame(&scene, t, &options, Some(&volumes), &|_| {})?
+                .render_frame(&scene, t, &options, Some(&volumes), &|_| {})
+                .map_err(|e| render_error(e, "--technique-samples"))?
                 .image;
             let secs = start.elapsed().as_secs_f64();
             let c = image::compare(&img, &truth)?;

@@ -5,10 +5,10 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use penumbra::gpu::PassTimes;
 use penumbra::volumes::Volumes;
-use penumbra::{RenderOptions, Renderer, Technique};
+use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
 
-use crate::cli::{Backend, ParamArgs};
-use crate::{Sampling, load_scene, samples_per_axis};
+use crate::cli::ParamArgs;
+use crate::words::InCommandWords;
 
 pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
@@ -51,7 +51,7 @@ pub(crate) fn bench(
     techniques: &[Technique],
     timing: Timing,
     backend: Backend,
-    sampling: Sampling,
+    options: RenderOptions,
     json: bool,
     params: &ParamArgs,
 ) -> Result<()> {
@@ -61,11 +61,9 @@ pub(crate) fn bench(
     if timing.rounds == 0 {
         bail!("--rounds must be at least 1");
     }
-    if let Some(t) = techniques
-        .iter()
-        .find(|t| backend == Backend::Gpu && t.cpu_only())
-    {
-        bail!("--backend gpu: {t:?} runs on the CPU only (the GPU renders the volume techniques)");
+    // Before any technique is timed, each in a process of its own.
+    for &t in techniques {
+        penumbra::backend::check(t, backend).in_command_words()?;
     }
     let technique = match techniques {
         [] => bail!("--technique: name at least one technique"),
@@ -77,7 +75,7 @@ pub(crate) fn bench(
         technique,
         timing.frames,
         backend,
-        sampling,
+        options,
         params,
     )?;
     if json {
@@ -99,26 +97,23 @@ pub(crate) fn bench_one(
     technique: Technique,
     frames: usize,
     backend: Backend,
-    sampling: Sampling,
+    options: RenderOptions,
     params: &ParamArgs,
 ) -> Result<serde_json::Value> {
-    samples_per_axis(sampling.samples)?;
-    let options = RenderOptions {
-        samples: sampling.samples,
-        jitter: sampling.jitter,
-    };
-    let mut scene = load_scene(scene_path)?;
+    options.pattern_for(technique).in_command_words()?;
+    let mut scene = Scene::load(scene_path)?;
     params.apply(&mut scene)?;
-    let mut renderer = Renderer::new(backend.into());
-    let on_gpu = renderer.uses_gpu(technique)?;
+    let mut renderer = Renderer::new(backend);
+    let on_gpu = renderer.uses_gpu(technique).in_command_words()?;
     // Built once, outside the timed frames: the frames time the GPU's work.
     let volumes = (on_gpu && technique.is_volume()).then(|| Volumes::build(&scene));
     let mut wall = Vec::new();
     let mut passes: Vec<PassTimes> = Vec::new();
     for k in 0..=frames {
         let start = std::time::Instant::now();
-        let frame =
-            renderer.render_frame(&scene, technique, &options, volumes.as_ref(), &|_| {})?;
+        let frame = renderer
+            .render_frame(&scene, technique, &options, volumes.as_ref(), &|_| {})
+            .in_command_words()?;
         if k > 0 {
             wall.push(start.elapsed().as_secs_f64() * 1e3);
             passes.extend(frame.times);

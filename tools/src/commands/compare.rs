@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use penumbra::geom::image::{self, VisibilityImage};
 
-use crate::check_outputs;
+use crate::outputs::check_outputs;
 
 pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) -> Result<()> {
     if let Some(h) = heatmap {

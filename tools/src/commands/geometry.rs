@@ -3,12 +3,11 @@
 use std::path::Path;
 
 use anyhow::Result;
-
-use crate::load_scene;
+use penumbra::Scene;
 
 /// Volume geometry counts of a scene, as `fixtures/expected/*.json` records them.
 pub(crate) fn geometry(scene_path: &Path, json: bool) -> Result<()> {
-    let scene = load_scene(scene_path)?;
+    let scene = Scene::load(scene_path)?;
     let v = penumbra_volumes::Volumes::build(&scene);
     let g = penumbra_volumes::render::GeometryCounts::of(&v);
     if json {

@@ -3,11 +3,12 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
+use penumbra::geom::Rng;
 use penumbra::geom::reference::{self, Tracer};
-use penumbra::geom::{Rng, Scene};
 use penumbra::volumes::{DepthComplexity, SamplePattern};
+use penumbra::{RenderOptions, Scene};
 
-use crate::{load_scene, samples_per_axis};
+use crate::words::InCommandWords;
 
 pub(crate) fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
     let (x, y) = s
@@ -33,8 +34,14 @@ pub(crate) fn parse_pixel(s: &str, scene: &Scene) -> Result<(u32, u32)> {
 }
 
 pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()> {
-    let per_axis = samples_per_axis(samples)?;
-    let scene = load_scene(scene_path)?;
+    let per_axis = RenderOptions {
+        samples,
+        jitter: false,
+    }
+    .pattern()
+    .in_command_words()?
+    .per_axis;
+    let scene = Scene::load(scene_path)?;
     let (x, y) = parse_pixel(pixel, &scene)?;
     let tracer = Tracer::new(&scene);
     let dir = scene.camera.ray_dir(x, y);

@@ -4,26 +4,23 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra::{RenderOptions, Renderer, Technique};
+use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
 
-use crate::cli::{Backend, ParamArgs};
-use crate::{Sampling, check_outputs, load_scene, samples_per_axis};
+use crate::cli::ParamArgs;
+use crate::outputs::check_outputs;
+use crate::words::InCommandWords;
 
 pub(crate) fn render(
     scene_path: &Path,
     technique: Technique,
     out: &Path,
-    sampling: Sampling,
+    options: RenderOptions,
     png: Option<&Path>,
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
-    samples_per_axis(sampling.samples)?;
-    if sampling.jitter && !technique.takes_samples() {
-        bail!(
-            "--jitter: {technique:?} takes no light samples (depth-complexity does; the reference always jitters)"
-        );
-    }
+    // The renderer's own check of the options, asked before the scene is loaded.
+    options.pattern_for(technique).in_command_words()?;
     // `--out` is always an OpenEXR file: one named as another format would mislead its readers.
     let ext = out
         .extension()
@@ -40,7 +37,7 @@ pub(crate) fn render(
     outputs.extend(png);
     // Checked before and after loading: the scene names the meshes.
     check_outputs(&[scene_path.to_path_buf()], &outputs)?;
-    let mut scene = load_scene(scene_path)?;
+    let mut scene = Scene::load(scene_path)?;
     params.apply(&mut scene)?;
     check_outputs(&scene.input_files(), &outputs)?;
     // Missing folders are made before the render (so that one that cannot be made fails
@@ -48,7 +45,7 @@ pub(crate) fn render(
     let mut created: Vec<PathBuf> = Vec::new();
     let made = make_folders(&outputs, &mut created);
     let result =
-        made.and_then(|()| draw(scene_path, &scene, technique, out, sampling, png, backend));
+        made.and_then(|()| draw(scene_path, &scene, technique, out, options, png, backend));
     match result {
         Ok(summary) => {
             for d in &created {
@@ -95,10 +92,10 @@ fn make_folders(outputs: &[&Path], created: &mut Vec<PathBuf>) -> Result<()> {
 /// Renders `scene` into `out` (and `png`); returns the summary line.
 fn draw(
     scene_path: &Path,
-    scene: &penumbra::Scene,
+    scene: &Scene,
     technique: Technique,
     out: &Path,
-    sampling: Sampling,
+    options: RenderOptions,
     png: Option<&Path>,
     backend: Backend,
 ) -> Result<String> {
@@ -111,12 +108,9 @@ fn draw(
     bar.set_message(format!("{technique:?}"));
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(rows);
-    let options = RenderOptions {
-        samples: sampling.samples,
-        jitter: sampling.jitter,
-    };
-    let frame =
-        Renderer::new(backend.into()).render_frame(scene, technique, &options, None, &progress)?;
+    let frame = Renderer::new(backend)
+        .render_frame(scene, technique, &options, None, &progress)
+        .in_command_words()?;
     let (img, triangles, detail) = (
         frame.image,
         scene.triangle_count(),

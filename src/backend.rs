@@ -1,0 +1,361 @@
+//! Where a render runs: the one policy [`crate::Renderer`] consults for each render, given the
+//! technique, the back end asked for, the options, the image's size and what the machine offers
+//! (a GPU, found or not, with its limits; the scene's blending units; the memory available).
+//!
+//! The rules, in the order they apply:
+//!
+//! 1. The technique: the shadow-map techniques run on a GPU only, the references on the CPU
+//!    only; the others (`hard`, `wedges`, `wedges-blend`, `depth-complexity`) on either.
+//! 2. The back end: [`Backend::Cpu`] and [`Backend::Gpu`] are obeyed or the render is refused;
+//!    [`Backend::Auto`] takes the GPU where one opens.
+//! 3. Under [`Backend::Auto`], the CPU renders what the GPU cannot or renders slowly: more
+//!    depth-complexity samples than [`MAX_GPU_SAMPLES`] or jittered ones, depth-complexity on a
+//!    software adapter, an image wider than the GPU's textures, `wedges-blend` with more than
+//!    [`MAX_GPU_BLEND_UNITS`] blending units. Under [`Backend::Gpu`] the first and third are
+//!    refused.
+//! 4. An image the memory available would not hold is refused, before anything is allocated.
+//! 5. Under [`Backend::Auto`], a GPU depth-complexity render that the device would cut short,
+//!    or whose buffers exceed the device's, is rendered again on the CPU
+//!    ([`Choice::cpu_after`]).
+
+use std::fmt;
+
+use penumbra_geom::Technique;
+use penumbra_gpu::GpuError;
+
+use crate::error::{MissingGpu, RenderError};
+use crate::options::RenderOptions;
+use crate::runs::Runs;
+
+/// Where the techniques that run on both the GPU and the CPU (`hard`, `wedges`,
+/// `wedges-blend`, `depth-complexity`) run. The shadow-map techniques always need a GPU; the
+/// references always run on the CPU.
+///
+/// ```
+/// use penumbra::{Backend, RenderError, Renderer, Technique};
+///
+/// let mut cpu = Renderer::new(Backend::Cpu);
+/// assert!(!cpu.uses_gpu(Technique::WedgesBlend)?);
+/// assert!(matches!(cpu.uses_gpu(Technique::Pcss), Err(RenderError::NeedsGpu { .. })));
+/// let mut gpu = Renderer::new(Backend::Gpu);
+/// assert!(matches!(gpu.uses_gpu(Technique::Reference), Err(RenderError::CpuOnly { .. })));
+/// # Ok::<(), RenderError>(())
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Backend {
+    /// The GPU when an adapter exists (Mesa's lavapipe counts), else the CPU.
+    #[default]
+    Auto,
+    /// The GPU; an error without an adapter.
+    Gpu,
+    /// The CPU.
+    Cpu,
+}
+
+/// Most light samples per pixel of depth-complexity sampling on the GPU.
+pub const MAX_GPU_SAMPLES: u32 = penumbra_gpu::MAX_SAMPLES;
+
+/// Most blending units (caster patches, [`penumbra_volumes::Volumes::unit_count`]) of a
+/// `wedges-blend` scene that [`Backend::Auto`] renders on the GPU; beyond, it renders on the
+/// CPU. The GPU blends one silhouette after the other, a few passes each; with thousands of them
+/// over few pixels the CPU, whose cost grows with the silhouettes covering each pixel, is far
+/// quicker.
+pub const MAX_GPU_BLEND_UNITS: usize = 1024;
+
+/// Bytes per pixel a CPU render holds: V (4) and the row buffers around it, with room.
+const CPU_BYTES_PER_PIXEL: u64 = 16;
+
+/// Bytes per pixel a GPU render holds on the device and in the readback: depth-stencil (8),
+/// positions (16), normals (8), V (4), the silhouette buffer (56), the final buffer (8), the
+/// readback (4) and V on the CPU (4), with room.
+const GPU_BYTES_PER_PIXEL: u64 = 128;
+
+/// The processor a render runs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// The GPU.
+    Gpu,
+    /// The CPU.
+    Cpu,
+}
+
+/// Why the policy placed a render where it did.
+#[derive(Clone, Debug)]
+pub enum Reason {
+    /// The back end asked for (under [`Backend::Auto`], the GPU found) renders it.
+    Chosen,
+    /// Only a GPU renders the technique (the shadow maps).
+    GpuOnlyTechnique,
+    /// Only the CPU renders the technique (the references).
+    CpuOnlyTechnique,
+    /// Under [`Backend::Auto`]: no GPU.
+    NoGpu {
+        /// Why there is none.
+        missing: MissingGpu,
+    },
+    /// Under [`Backend::Auto`]: depth-complexity samples that the GPU does not take.
+    GpuSamples {
+        /// The samples asked for.
+        samples: usize,
+        /// Whether jittered.
+        jitter: bool,
+        /// The most the GPU takes.
+        max: u32,
+    },
+    /// Under [`Backend::Auto`]: depth-complexity on a software adapter, on which it takes 18 to
+    /// 22 times the CPU renderer's time (`docs/benchmarks.md`).
+    SoftwareAdapter {
+        /// The adapter's description.
+        adapter: String,
+    },
+    /// Under [`Backend::Auto`]: an image wider or taller than the GPU's textures.
+    TooLargeForGpu {
+        /// The GPU's largest texture side.
+        max_side: u32,
+    },
+    /// Under [`Backend::Auto`]: `wedges-blend` with more blending units than
+    /// [`MAX_GPU_BLEND_UNITS`].
+    ManyBlendUnits {
+        /// The scene's blending units.
+        units: usize,
+    },
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Reason::Chosen => f.write_str("the back end chosen"),
+            Reason::GpuOnlyTechnique => f.write_str("a shadow-map technique runs on a GPU only"),
+            Reason::CpuOnlyTechnique => f.write_str("the references run on the CPU only"),
+            Reason::NoGpu { missing } => write!(f, "no GPU: {missing}"),
+            Reason::GpuSamples {
+                samples,
+                jitter,
+                max,
+            } => write!(
+                f,
+                "the GPU takes up to {max} multi-jittered samples, not {samples}{}",
+                if *jitter { " jittered" } else { "" }
+            ),
+            Reason::SoftwareAdapter { adapter } => write!(
+                f,
+                "{adapter} is a software adapter, on which the CPU renders depth-complexity faster"
+            ),
+            Reason::TooLargeForGpu { max_side } => write!(
+                f,
+                "the GPU's textures are at most {max_side} pixels on a side"
+            ),
+            Reason::ManyBlendUnits { units } => write!(
+                f,
+                "{units} blending units, more than the GPU blends quickly ({MAX_GPU_BLEND_UNITS})"
+            ),
+        }
+    }
+}
+
+/// What the policy decided for one render.
+#[derive(Clone, Debug)]
+pub struct Choice {
+    /// Where it runs.
+    pub placement: Placement,
+    /// Why there.
+    pub reason: Reason,
+    backend: Backend,
+    technique: Technique,
+}
+
+impl Choice {
+    /// Whether a GPU render that failed with `error` is rendered again on the CPU: under
+    /// [`Backend::Auto`], depth-complexity sampling that a software device would cut short, or
+    /// whose buffers exceed the device's.
+    pub fn cpu_after(&self, error: &GpuError) -> bool {
+        self.backend == Backend::Auto
+            && self.technique == Technique::DepthComplexity
+            && matches!(error, GpuError::CutShort { .. } | GpuError::TooLarge { .. })
+    }
+}
+
+/// What a render asks of the policy.
+#[derive(Clone, Copy, Debug)]
+pub struct Request<'a> {
+    /// The technique.
+    pub technique: Technique,
+    /// The back end asked for.
+    pub backend: Backend,
+    /// The options.
+    pub options: &'a RenderOptions,
+    /// The image's width in pixels.
+    pub width: u32,
+    /// The image's height in pixels.
+    pub height: u32,
+}
+
+/// What an open GPU offers a render.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GpuOffer {
+    /// The adapter's description (`GpuContext::describe`).
+    pub adapter: String,
+    /// Whether the adapter is a software one (Mesa's lavapipe).
+    pub software: bool,
+    /// The largest texture side it takes.
+    pub max_texture_side: u32,
+}
+
+/// What the machine offers the policy, each looked at only when a rule needs it.
+pub trait Machine {
+    /// The GPU, opened on first call; why there is none otherwise.
+    fn gpu(&mut self) -> Result<GpuOffer, MissingGpu>;
+    /// The scene's blending units ([`penumbra_volumes::Volumes::unit_count`]).
+    fn blend_units(&mut self) -> usize;
+    /// The bytes this process can still allocate, where known
+    /// ([`penumbra_geom::memory::available`]).
+    fn available_memory(&mut self) -> Option<u64>;
+}
+
+/// Whether `technique` can run under `backend` at all, by the first two rules, without looking
+/// for a GPU: a shadow-map technique not on the CPU back end, a reference not on the GPU one.
+///
+/// ```
+/// use penumbra::backend::check;
+/// use penumbra::{Backend, Technique};
+///
+/// assert!(check(Technique::Pcss, Backend::Auto).is_ok());
+/// assert!(check(Technique::Pcss, Backend::Cpu).is_err());
+/// assert!(check(Technique::Reference, Backend::Gpu).is_err());
+/// ```
+pub fn check(technique: Technique, backend: Backend) -> Result<(), RenderError> {
+    match (Runs::of(technique), backend) {
+        (Runs::GpuOnly, Backend::Cpu) => Err(RenderError::NeedsGpu {
+            technique,
+            missing: MissingGpu::CpuChosen,
+        }),
+        (Runs::CpuOnly, Backend::Gpu) => Err(RenderError::CpuOnly { technique }),
+        _ => Ok(()),
+    }
+}
+
+/// Where `technique` runs under `backend` by the first two rules (the technique, the back end),
+/// opening the GPU if it may use one; an error where it cannot run at all.
+pub(crate) fn place_technique(
+    technique: Technique,
+    backend: Backend,
+    gpu: &mut dyn FnMut() -> Result<GpuOffer, MissingGpu>,
+) -> Result<(Placement, Reason, Option<GpuOffer>), RenderError> {
+    check(technique, backend)?;
+    match (Runs::of(technique), backend) {
+        (Runs::GpuOnly, _) => match gpu() {
+            Ok(offer) => Ok((Placement::Gpu, Reason::GpuOnlyTechnique, Some(offer))),
+            Err(missing) => Err(RenderError::NeedsGpu { technique, missing }),
+        },
+        (Runs::CpuOnly, _) => Ok((Placement::Cpu, Reason::CpuOnlyTechnique, None)),
+        (Runs::Either, Backend::Cpu) => Ok((Placement::Cpu, Reason::Chosen, None)),
+        (Runs::Either, Backend::Auto) => match gpu() {
+            Ok(offer) => Ok((Placement::Gpu, Reason::Chosen, Some(offer))),
+            Err(missing) => Ok((Placement::Cpu, Reason::NoGpu { missing }, None)),
+        },
+        (Runs::Either, Backend::Gpu) => match gpu() {
+            Ok(offer) => Ok((Placement::Gpu, Reason::Chosen, Some(offer))),
+            Err(missing) => Err(RenderError::NoGpu { missing }),
+        },
+    }
+}
+
+/// Where the render `request` asks for runs, and why; an error where it cannot run. The rules
+/// are the module's.
+pub fn choose(request: &Request, machine: &mut dyn Machine) -> Result<Choice, RenderError> {
+    let Request {
+        technique,
+        backend,
+        width,
+        height,
+        ..
+    } = *request;
+    let (mut placement, mut reason, offer) =
+        place_technique(technique, backend, &mut || machine.gpu())?;
+    if let Some(offer) = offer {
+        if let Some(why) = gpu_limits(request, offer, machine)? {
+            placement = Placement::Cpu;
+            reason = why;
+        }
+    }
+    let per_pixel = match placement {
+        Placement::Gpu => GPU_BYTES_PER_PIXEL,
+        Placement::Cpu => CPU_BYTES_PER_PIXEL,
+    };
+    let needed = width as u64 * height as u64 * per_pixel;
+    if let Some(available) = machine.available_memory().filter(|&a| needed > a) {
+        return Err(RenderError::OutOfMemory {
+            width,
+            height,
+            needed,
+            available,
+        });
+    }
+    Ok(Choice {
+        placement,
+        reason,
+        backend,
+        technique,
+    })
+}
+
+/// The third rule, for a render the first two placed on the GPU that `offer` describes: why the
+/// CPU renders it instead (under [`Backend::Auto`]), `None` where the GPU does, or an error.
+fn gpu_limits(
+    request: &Request,
+    offer: GpuOffer,
+    machine: &mut dyn Machine,
+) -> Result<Option<Reason>, RenderError> {
+    let Request {
+        technique,
+        backend,
+        options,
+        width,
+        height,
+    } = *request;
+    let auto = backend == Backend::Auto;
+    let counting = technique == Technique::DepthComplexity;
+    if counting && (options.jitter || options.samples > MAX_GPU_SAMPLES as usize) {
+        let (samples, jitter, max) = (options.samples, options.jitter, MAX_GPU_SAMPLES);
+        if !auto {
+            return Err(RenderError::GpuSamples {
+                samples,
+                jitter,
+                max,
+            });
+        }
+        return Ok(Some(Reason::GpuSamples {
+            samples,
+            jitter,
+            max,
+        }));
+    }
+    if counting && offer.software && auto {
+        return Ok(Some(Reason::SoftwareAdapter {
+            adapter: offer.adapter,
+        }));
+    }
+    let max_side = offer.max_texture_side;
+    if width > max_side || height > max_side {
+        if !auto || Runs::of(technique) == Runs::GpuOnly {
+            return Err(RenderError::TooLargeForGpu {
+                technique,
+                width,
+                height,
+                max_side,
+                adapter: offer.adapter,
+            });
+        }
+        return Ok(Some(Reason::TooLargeForGpu { max_side }));
+    }
+    if auto && technique == Technique::WedgesBlend {
+        let units = machine.blend_units();
+        if units > MAX_GPU_BLEND_UNITS {
+            return Ok(Some(Reason::ManyBlendUnits { units }));
+        }
+    }
+    Ok(None)
+}
+
+#[cfg(test)]
+mod backend_tests;

@@ -1,0 +1,266 @@
+//! The back-end policy on a machine made up for each case: every rule, and what each back end
+//! does where it applies.
+
+use std::cell::Cell;
+
+use super::*;
+
+/// A machine with or without a GPU, counting what the policy looked at.
+struct Fake {
+    gpu: Option<GpuOffer>,
+    units: usize,
+    memory: Option<u64>,
+    opened: Cell<usize>,
+    counted: Cell<usize>,
+}
+
+impl Fake {
+    fn with_gpu(software: bool) -> Self {
+        Fake {
+            gpu: Some(GpuOffer {
+                adapter: "test adapter".into(),
+                software,
+                max_texture_side: 8192,
+            }),
+            ..Fake::without_gpu()
+        }
+    }
+
+    fn without_gpu() -> Self {
+        Fake {
+            gpu: None,
+            units: 10,
+            memory: None,
+            opened: Cell::new(0),
+            counted: Cell::new(0),
+        }
+    }
+}
+
+impl Machine for Fake {
+    fn gpu(&mut self) -> Result<GpuOffer, MissingGpu> {
+        self.opened.set(self.opened.get() + 1);
+        self.gpu.clone().ok_or(MissingGpu::CpuChosen)
+    }
+
+    fn blend_units(&mut self) -> usize {
+        self.counted.set(self.counted.get() + 1);
+        self.units
+    }
+
+    fn available_memory(&mut self) -> Option<u64> {
+        self.memory
+    }
+}
+
+fn ask(
+    technique: Technique,
+    backend: Backend,
+    options: RenderOptions,
+    machine: &mut Fake,
+) -> Result<Choice, RenderError> {
+    choose(
+        &Request {
+            technique,
+            backend,
+            options: &options,
+            width: 320,
+            height: 240,
+        },
+        machine,
+    )
+}
+
+fn placed(
+    technique: Technique,
+    backend: Backend,
+    options: RenderOptions,
+    machine: &mut Fake,
+) -> Placement {
+    ask(technique, backend, options, machine)
+        .unwrap_or_else(|e| panic!("{technique} on {backend:?}: {e}"))
+        .placement
+}
+
+const SMALL: RenderOptions = RenderOptions {
+    samples: 16,
+    jitter: false,
+};
+
+#[test]
+fn techniques_run_where_they_can_and_the_back_end_chosen_is_obeyed() {
+    use Placement::{Cpu, Gpu};
+    for t in Technique::ALL {
+        let mut gpu = Fake::with_gpu(false);
+        let mut none = Fake::without_gpu();
+        match Runs::of(t) {
+            Runs::GpuOnly => {
+                assert_eq!(placed(t, Backend::Auto, SMALL, &mut gpu), Gpu);
+                assert_eq!(placed(t, Backend::Gpu, SMALL, &mut gpu), Gpu);
+                for (backend, machine) in [(Backend::Cpu, &mut gpu), (Backend::Auto, &mut none)] {
+                    let err = ask(t, backend, SMALL, machine).unwrap_err();
+                    assert!(matches!(err, RenderError::NeedsGpu { .. }), "{t}: {err}");
+                }
+            }
+            Runs::CpuOnly => {
+                assert_eq!(placed(t, Backend::Auto, SMALL, &mut gpu), Cpu);
+                assert_eq!(placed(t, Backend::Cpu, SMALL, &mut gpu), Cpu);
+                let err = ask(t, Backend::Gpu, SMALL, &mut gpu).unwrap_err();
+                assert!(matches!(err, RenderError::CpuOnly { .. }), "{t}: {err}");
+                // The references never open the GPU.
+                assert_eq!(gpu.opened.get(), 0, "{t}");
+            }
+            Runs::Either => {
+                assert_eq!(placed(t, Backend::Auto, SMALL, &mut gpu), Gpu);
+                assert_eq!(placed(t, Backend::Gpu, SMALL, &mut gpu), Gpu);
+                assert_eq!(placed(t, Backend::Cpu, SMALL, &mut gpu), Cpu);
+                assert_eq!(placed(t, Backend::Auto, SMALL, &mut none), Cpu);
+                let err = ask(t, Backend::Gpu, SMALL, &mut none).unwrap_err();
+                assert!(matches!(err, RenderError::NoGpu { .. }), "{t}: {err}");
+            }
+        }
+    }
+}
+
+#[test]
+fn depth_complexity_goes_to_the_cpu_under_auto_where_the_gpu_is_slow_or_cannot() {
+    let dc = Technique::DepthComplexity;
+    let many = RenderOptions {
+        samples: 4096,
+        jitter: false,
+    };
+    let jittered = RenderOptions {
+        samples: 16,
+        jitter: true,
+    };
+    for options in [many, jittered] {
+        let c = ask(dc, Backend::Auto, options, &mut Fake::with_gpu(false)).unwrap();
+        assert_eq!(c.placement, Placement::Cpu);
+        assert!(matches!(c.reason, Reason::GpuSamples { .. }));
+        let err = ask(dc, Backend::Gpu, options, &mut Fake::with_gpu(false)).unwrap_err();
+        assert!(matches!(err, RenderError::GpuSamples { max, .. } if max == MAX_GPU_SAMPLES));
+    }
+    let c = ask(dc, Backend::Auto, SMALL, &mut Fake::with_gpu(true)).unwrap();
+    assert!(matches!(c.reason, Reason::SoftwareAdapter { .. }), "{c:?}");
+    assert_eq!(c.placement, Placement::Cpu);
+    let c = ask(dc, Backend::Gpu, SMALL, &mut Fake::with_gpu(true)).unwrap();
+    assert_eq!(c.placement, Placement::Gpu);
+    // What the device cannot finish goes to the CPU under auto only.
+    let cut = GpuError::CutShort {
+        adapter: "lavapipe".into(),
+        pixels: 1,
+        budget: 1,
+    };
+    let auto = ask(dc, Backend::Auto, SMALL, &mut Fake::with_gpu(false)).unwrap();
+    assert!(auto.cpu_after(&cut) && !c.cpu_after(&cut));
+    let hard = ask(
+        Technique::Hard,
+        Backend::Auto,
+        SMALL,
+        &mut Fake::with_gpu(false),
+    )
+    .unwrap();
+    assert!(!hard.cpu_after(&cut));
+}
+
+#[test]
+fn images_beyond_the_gpus_textures_go_to_the_cpu_under_auto_and_are_refused_otherwise() {
+    let wide = |technique, backend, machine: &mut Fake| {
+        choose(
+            &Request {
+                technique,
+                backend,
+                options: &SMALL,
+                width: 9000,
+                height: 1,
+            },
+            machine,
+        )
+    };
+    let c = wide(Technique::Hard, Backend::Auto, &mut Fake::with_gpu(false)).unwrap();
+    assert_eq!(c.placement, Placement::Cpu);
+    assert!(matches!(
+        c.reason,
+        Reason::TooLargeForGpu { max_side: 8192 }
+    ));
+    for (t, backend) in [
+        (Technique::Hard, Backend::Gpu),
+        (Technique::Pcf, Backend::Auto),
+    ] {
+        let err = wide(t, backend, &mut Fake::with_gpu(false)).unwrap_err();
+        assert!(
+            matches!(err, RenderError::TooLargeForGpu { width: 9000, .. }),
+            "{t}: {err}"
+        );
+    }
+}
+
+#[test]
+fn wedges_blend_with_many_blending_units_goes_to_the_cpu_under_auto() {
+    let mut machine = Fake::with_gpu(false);
+    machine.units = MAX_GPU_BLEND_UNITS + 1;
+    let c = ask(Technique::WedgesBlend, Backend::Auto, SMALL, &mut machine).unwrap();
+    assert_eq!(c.placement, Placement::Cpu);
+    assert!(matches!(c.reason, Reason::ManyBlendUnits { .. }));
+    assert_eq!(
+        placed(Technique::WedgesBlend, Backend::Gpu, SMALL, &mut machine),
+        Placement::Gpu
+    );
+    // Only wedges-blend under auto counts them (counting builds the scene's volumes).
+    machine.counted.set(0);
+    placed(Technique::Wedges, Backend::Auto, SMALL, &mut machine);
+    assert_eq!(machine.counted.get(), 0);
+    machine.units = MAX_GPU_BLEND_UNITS;
+    assert_eq!(
+        placed(Technique::WedgesBlend, Backend::Auto, SMALL, &mut machine),
+        Placement::Gpu
+    );
+}
+
+#[test]
+fn an_image_the_memory_would_not_hold_is_refused_on_either_back_end() {
+    // 320 x 240 pixels: 1.2 MB on the CPU, 9.8 MB on the GPU.
+    let mut machine = Fake::with_gpu(false);
+    machine.memory = Some(4_000_000);
+    assert_eq!(
+        placed(Technique::Hard, Backend::Cpu, SMALL, &mut machine),
+        Placement::Cpu
+    );
+    let err = ask(Technique::Hard, Backend::Gpu, SMALL, &mut machine).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            RenderError::OutOfMemory {
+                needed: 9_830_400,
+                available: 4_000_000,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    machine.memory = Some(1_000_000);
+    let err = ask(Technique::Reference, Backend::Auto, SMALL, &mut machine).unwrap_err();
+    assert!(err.to_string().contains("too large"), "{err}");
+}
+
+#[test]
+fn library_messages_name_no_command_line_flag() {
+    let mut machine = Fake::with_gpu(false);
+    let errors = [
+        ask(Technique::Pcf, Backend::Cpu, SMALL, &mut machine),
+        ask(Technique::Reference, Backend::Gpu, SMALL, &mut machine),
+        ask(
+            Technique::DepthComplexity,
+            Backend::Gpu,
+            RenderOptions {
+                samples: 4096,
+                jitter: true,
+            },
+            &mut machine,
+        ),
+    ];
+    for e in errors {
+        let e = e.unwrap_err().to_string();
+        assert!(!e.contains("--"), "{e}");
+    }
+}

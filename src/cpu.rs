@@ -1,0 +1,61 @@
+//! The CPU back end: the references, depth-complexity sampling and the volume techniques'
+//! CPU renderers.
+
+use penumbra_geom::reference::{self, Reference, Tracer};
+use penumbra_geom::{Scene, Technique};
+use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
+
+use crate::frame::Frame;
+
+/// Renders a technique that runs on the CPU.
+pub(crate) fn render(
+    scene: &Scene,
+    technique: Technique,
+    pattern: SamplePattern,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Frame {
+    let (image, detail) = match technique {
+        Technique::Reference | Technique::HardReference => {
+            let tracer = Tracer::new(scene);
+            let (reference, detail) = match technique {
+                Technique::Reference => (
+                    Reference::Sampled {
+                        per_axis: pattern.per_axis,
+                    },
+                    format!("cpu, {} samples", pattern.per_axis * pattern.per_axis),
+                ),
+                _ => (Reference::Hard, "cpu".to_string()),
+            };
+            (
+                reference::render(scene, &tracer, reference, progress),
+                detail,
+            )
+        }
+        Technique::DepthComplexity => {
+            let r = DepthComplexity::new(scene);
+            let detail = format!(
+                "cpu, {} {} samples, {} potential silhouette edges of {}",
+                pattern.per_axis * pattern.per_axis,
+                if pattern.jitter {
+                    "jittered"
+                } else {
+                    "multi-jittered"
+                },
+                r.edges.edges.len(),
+                r.edges.all_edges
+            );
+            (r.render(scene, pattern, progress), detail)
+        }
+        _ => {
+            let r = CpuRenderer::new(scene);
+            let detail = format!("cpu, {} wedges", r.volumes.wedges.len());
+            (r.render(scene, technique, progress), detail)
+        }
+    };
+    Frame {
+        image,
+        times: None,
+        detail,
+        warnings: Vec::new(),
+    }
+}

@@ -1,0 +1,272 @@
+//! The front door: one renderer for every technique, placed on the GPU or the CPU by the
+//! back-end policy ([`crate::backend`]), with each back end's renderers built once and kept.
+
+use std::sync::Arc;
+
+use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::{Scene, Technique};
+use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
+use penumbra_volumes::{SamplePattern, Volumes};
+
+use crate::backend::{self, Backend, Choice, GpuOffer, Machine, Placement, Reason, Request};
+use crate::error::{MissingGpu, RenderError};
+use crate::frame::{self, Frame};
+use crate::options::RenderOptions;
+use crate::runs::Runs;
+
+/// Whether the GPU has been looked for yet, and what was found.
+enum GpuState {
+    Untried,
+    Ready(Box<GpuContext>),
+    Unavailable(MissingGpu),
+}
+
+impl GpuState {
+    /// The GPU context, opened on first use; why there is none otherwise.
+    fn open(&mut self) -> Result<&GpuContext, MissingGpu> {
+        if let GpuState::Untried = self {
+            *self = match GpuContext::new() {
+                Ok(ctx) => GpuState::Ready(Box::new(ctx)),
+                Err(error) => GpuState::Unavailable(MissingGpu::Unavailable {
+                    error: Arc::new(error),
+                }),
+            };
+        }
+        match self {
+            GpuState::Ready(ctx) => Ok(ctx),
+            GpuState::Unavailable(missing) => Err(missing.clone()),
+            GpuState::Untried => unreachable!("looked for above"),
+        }
+    }
+
+    /// What the GPU offers the back-end policy, opened on first use.
+    fn offer(&mut self) -> Result<GpuOffer, MissingGpu> {
+        let ctx = self.open()?;
+        Ok(GpuOffer {
+            adapter: ctx.describe(),
+            software: ctx.info.device_type == penumbra_gpu::wgpu::DeviceType::Cpu,
+            max_texture_side: ctx.device.limits().max_texture_dimension_2d,
+        })
+    }
+}
+
+/// What the machine offers one render of `scene`: the GPU, the scene's volumes (the caller's,
+/// or built here on first ask and kept for the GPU's render), the memory.
+struct Offers<'a> {
+    gpu: &'a mut GpuState,
+    scene: &'a Scene,
+    volumes: Option<&'a Volumes>,
+    built: &'a mut Option<Volumes>,
+}
+
+impl Machine for Offers<'_> {
+    fn gpu(&mut self) -> Result<GpuOffer, MissingGpu> {
+        self.gpu.offer()
+    }
+
+    fn blend_units(&mut self) -> usize {
+        match self.volumes {
+            Some(v) => v.unit_count(),
+            None => self
+                .built
+                .get_or_insert_with(|| Volumes::build(self.scene))
+                .unit_count(),
+        }
+    }
+
+    fn available_memory(&mut self) -> Option<u64> {
+        penumbra_geom::memory::available()
+    }
+}
+
+/// Renders scenes with any [`Technique`], keeping its GPU context and GPU renderers from one
+/// render to the next. The GPU is looked for the first time a technique could use it.
+///
+/// ```
+/// use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/scenes/quad-over-plane.toml");
+/// let scene = Scene::load(std::path::Path::new(path))?;
+/// let mut renderer = Renderer::new(Backend::Cpu);
+/// let options = RenderOptions { samples: 16, jitter: false };
+/// let v = renderer.render(&scene, Technique::DepthComplexity, &options)?;
+/// assert_eq!((v.width, v.height), (320, 240));
+/// // Lit far from the quad, dark under it.
+/// assert_eq!(v.get(5, 235), 1.0);
+/// assert_eq!(v.get(160, 120), 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Renderer {
+    backend: Backend,
+    gpu: GpuState,
+    volumes: Option<GpuRenderer>,
+    shadow_maps: Vec<ShadowMapRenderer>,
+}
+
+impl Renderer {
+    /// A renderer choosing the GPU or the CPU by `backend`.
+    pub fn new(backend: Backend) -> Self {
+        Renderer {
+            backend,
+            gpu: GpuState::Untried,
+            volumes: None,
+            shadow_maps: Vec::new(),
+        }
+    }
+
+    /// A renderer on the caller's device, for the techniques that can use it.
+    pub fn with_context(ctx: GpuContext) -> Self {
+        Renderer {
+            gpu: GpuState::Ready(Box::new(ctx)),
+            ..Renderer::new(Backend::Gpu)
+        }
+    }
+
+    /// The GPU's description, once one has been opened.
+    pub fn gpu_description(&self) -> Option<String> {
+        match &self.gpu {
+            GpuState::Ready(ctx) => Some(ctx.describe()),
+            _ => None,
+        }
+    }
+
+    /// Whether `technique` runs on the GPU with this renderer's back end (opening it if need
+    /// be), or an error where it cannot run at all: the first two rules of the back-end policy
+    /// ([`crate::backend`]), before the options and the scene have their say.
+    pub fn uses_gpu(&mut self, technique: Technique) -> Result<bool, RenderError> {
+        let (placement, _, _) =
+            backend::place_technique(technique, self.backend, &mut || self.gpu.offer())?;
+        Ok(placement == Placement::Gpu)
+    }
+
+    /// The visibility image of `scene` by `technique`.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+    ) -> Result<VisibilityImage, RenderError> {
+        Ok(self
+            .render_frame(scene, technique, options, None, &|_| {})?
+            .image)
+    }
+
+    /// [`Renderer::render`] with the GPU pass times and a description of the run. A volume
+    /// technique on the GPU takes the scene's silhouettes, volumes and wedges from `volumes`
+    /// when given (so that several frames build them once), and builds them otherwise. The CPU
+    /// renderers call `progress` with the number of image rows finished so far.
+    pub fn render_frame(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+        volumes: Option<&Volumes>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Frame, RenderError> {
+        if let Some(problem) = scene.out_of_range() {
+            return Err(RenderError::OutOfRange { problem });
+        }
+        let pattern = options.pattern_for(technique)?;
+        let request = Request {
+            technique,
+            backend: self.backend,
+            options,
+            width: scene.camera.width,
+            height: scene.camera.height,
+        };
+        let mut built = None;
+        let choice = backend::choose(
+            &request,
+            &mut Offers {
+                gpu: &mut self.gpu,
+                scene,
+                volumes,
+                built: &mut built,
+            },
+        )?;
+        let mut frame = match choice.placement {
+            Placement::Gpu => {
+                if volumes.is_none() && built.is_none() && technique.is_volume() {
+                    built = Some(Volumes::build(scene));
+                }
+                let volumes = volumes.or(built.as_ref());
+                self.render_gpu(scene, &request, pattern, volumes, &choice, progress)?
+            }
+            Placement::Cpu => {
+                let mut frame = crate::cpu::render(scene, technique, pattern, progress);
+                if let Reason::SoftwareAdapter { .. } = choice.reason {
+                    frame.detail = format!("{}; {}", frame.detail, choice.reason);
+                }
+                frame
+            }
+        };
+        frame.warnings = frame::warnings(scene, technique);
+        Ok(frame)
+    }
+
+    /// Renders on the GPU the policy placed it on; under [`Backend::Auto`], depth-complexity
+    /// sampling that the device cannot finish goes to the CPU ([`Choice::cpu_after`]).
+    fn render_gpu(
+        &mut self,
+        scene: &Scene,
+        request: &Request,
+        pattern: SamplePattern,
+        volumes: Option<&Volumes>,
+        choice: &Choice,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Frame, RenderError> {
+        let (technique, options) = (request.technique, request.options);
+        let ctx = match &self.gpu {
+            GpuState::Ready(ctx) => GpuContext::clone(ctx),
+            _ => unreachable!("the policy placed the render on an open GPU"),
+        };
+        let frame = |image, times, detail| Frame {
+            image,
+            times,
+            detail,
+            warnings: Vec::new(),
+        };
+        if Runs::of(technique) == Runs::GpuOnly {
+            let i = match self
+                .shadow_maps
+                .iter()
+                .position(|r| r.technique() == technique)
+            {
+                Some(i) => i,
+                None => {
+                    self.shadow_maps
+                        .push(ShadowMapRenderer::new(&ctx, technique));
+                    self.shadow_maps.len() - 1
+                }
+            };
+            let (image, times) = self.shadow_maps[i].render_timed(scene)?;
+            return Ok(frame(image, times, format!("gpu: {}", ctx.describe())));
+        }
+        let r = self
+            .volumes
+            .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
+        if technique == Technique::DepthComplexity {
+            let out = match r.render_depth_complexity(scene, options.samples as u32) {
+                Err(e) if choice.cpu_after(&e) => {
+                    let mut f = crate::cpu::render(scene, technique, pattern, progress);
+                    f.detail = format!("{} ({e})", f.detail);
+                    return Ok(f);
+                }
+                other => other?,
+            };
+            let detail = format!(
+                "gpu: {}, {} multi-jittered samples, {} potential silhouette edges of {}, \
+                 {} edge-list entries",
+                ctx.describe(),
+                options.samples,
+                out.potential_edges,
+                out.all_edges,
+                out.list_entries
+            );
+            return Ok(frame(out.image, out.times, detail));
+        }
+        let volumes = volumes.expect("built above for a volume technique on the GPU");
+        let (image, times) = r.render_timed(scene, volumes, technique)?;
+        Ok(frame(image, times, format!("gpu: {}", ctx.describe())))
+    }
+}

@@ -1,0 +1,92 @@
+//! A crate outside the repository, depending on `penumbra` by path, builds a scene in code with
+//! `use penumbra::...` only, renders it and checks the image: what a user's first program does.
+//! It builds offline against the workspace's lockfile, profiles and build folder, so that it
+//! compiles one small crate and reuses everything else.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The user's program: every name it takes from a crate comes through `penumbra::`.
+const MAIN: &str = r#"use penumbra::glam::{DMat4, DVec2, DVec3};
+use penumbra::{
+    Backend, Camera, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh,
+};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 32, 24)?;
+    let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
+    let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
+    let ground = TriangleMesh::from_raw(
+        std::path::Path::new("ground"),
+        &corners.map(|[x, z]| DVec3::new(x, 0.0, z)),
+        &[[0, 1, 2], [0, 2, 3]],
+    )?;
+    let ball = DMat4::from_translation(DVec3::Y) * DMat4::from_scale(DVec3::splat(0.5));
+    let scene = Scene::new(camera, light)
+        .with_mesh("ground", &ground, DMat4::IDENTITY)
+        .with_mesh("ball", &TriangleMesh::uv_sphere(8, 12), ball);
+    let mut renderer = Renderer::new(Backend::Cpu);
+    let v = renderer.render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
+    let dark = v.data.iter().filter(|&&x| x < 0.5).count();
+    let lit = v.data.iter().filter(|&&x| x == 1.0).count();
+    println!("{} x {}: {dark} dark, {lit} lit", v.width, v.height);
+    assert!(dark > 0 && lit > dark, "{dark} dark, {lit} lit");
+    Ok(())
+}
+"#;
+
+/// The crate paths a program names in its `use` lines.
+fn used_crates(source: &str) -> Vec<&str> {
+    source
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("use "))
+        .filter_map(|l| l.split("::").next())
+        .collect()
+}
+
+#[test]
+fn a_crate_outside_the_repository_renders_a_scene_built_in_code() {
+    assert!(
+        used_crates(MAIN).iter().all(|c| *c == "penumbra"),
+        "{:?}",
+        used_crates(MAIN)
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("penumbra-outside-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("src")).unwrap();
+    // The workspace's profiles, so that the dependencies built for it are the ones reused.
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let profiles = &manifest[manifest
+        .find("\n[profile.")
+        .expect("the workspace's profiles")..];
+    std::fs::write(
+        dir.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"outside\"\nversion = \"0.0.0\"\nedition = \"2024\"\npublish = false\n\n\
+             [dependencies]\npenumbra = {{ path = {:?} }}\n\n[workspace]\n{profiles}",
+            root.display().to_string()
+        ),
+    )
+    .unwrap();
+    std::fs::copy(root.join("Cargo.lock"), dir.join("Cargo.lock")).unwrap();
+    std::fs::write(dir.join("src/main.rs"), MAIN).unwrap();
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let out = Command::new(cargo)
+        .current_dir(&dir)
+        // The profile `cargo test` builds the workspace's crates with.
+        .args(["run", "--offline", "--quiet", "--profile", "test"])
+        .env("CARGO_TARGET_DIR", &target)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("32 x 24"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
