@@ -11,8 +11,10 @@
 //! 3. Under [`Backend::Auto`], the CPU renders what the GPU cannot or renders slowly: more
 //!    depth-complexity samples than [`MAX_GPU_SAMPLES`] or jittered ones, depth-complexity on a
 //!    software adapter, an image wider than the GPU's textures, `wedges-blend` with more than
-//!    [`MAX_GPU_BLEND_UNITS`] blending units. Under [`Backend::Gpu`] the first and third are
-//!    refused.
+//!    [`MAX_GPU_BLEND_UNITS`] blending units, a triangle wider than [`MAX_GPU_EXTENT_RATIO`]
+//!    times the eye's distance to the light's centre ([`extent_ratio`]: the GPU's 32-bit floats
+//!    misplace shadows beyond). Under [`Backend::Gpu`] the first and third are refused, and the
+//!    last renders on the GPU with a warning ([`crate::Warning::GpuExtent`]).
 //! 4. An image the memory available would not hold is refused, before anything is allocated.
 //! 5. Under [`Backend::Auto`], a GPU depth-complexity render that the device would cut short,
 //!    or whose buffers exceed the device's, is rendered again on the CPU
@@ -20,7 +22,7 @@
 
 use std::fmt;
 
-use penumbra_geom::Technique;
+use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::GpuError;
 
 use crate::error::{MissingGpu, RenderError};
@@ -61,6 +63,46 @@ pub const MAX_GPU_SAMPLES: u32 = penumbra_gpu::MAX_SAMPLES;
 /// over few pixels the CPU, whose cost grows with the silhouettes covering each pixel, is far
 /// quicker.
 pub const MAX_GPU_BLEND_UNITS: usize = 1024;
+
+/// The widest triangle, against the eye's distance to the light's centre, up to which the
+/// GPU renders `hard`, `wedges`, `wedges-blend` and `depth-complexity` under [`Backend::Auto`].
+/// Measured on a 10-unit scene over one huge triangle, 7.3 from the light: at 1.9e4 (the
+/// triangle 1e5 wide) the GPU renders as the CPU does; at 1.9e5, 0.3% of the hard shadow's
+/// pixels are wrong, at 1.9e6 3.4% (`docs/scene-format.md`, "Supported range").
+pub const MAX_GPU_EXTENT_RATIO: f64 = 5e4;
+
+/// The widest triangle of `scene` (the diagonal of its bounding box) against the distance from
+/// the eye to the light's centre: where it passes [`MAX_GPU_EXTENT_RATIO`], the GPU's 32-bit
+/// floats misplace shadows.
+///
+/// ```
+/// use penumbra::backend::extent_ratio;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/scenes/quad-over-plane.toml");
+/// let scene = penumbra::Scene::load(std::path::Path::new(path))?;
+/// // A 20 x 20 ground seen from about 7 units from the light.
+/// assert!((extent_ratio(&scene) - 28.28 / 7.28).abs() < 0.01);
+/// # Ok::<(), penumbra::SceneError>(())
+/// ```
+pub fn extent_ratio(scene: &Scene) -> f64 {
+    let widest = scene
+        .meshes
+        .iter()
+        .flat_map(|m| {
+            let p = &m.mesh.positions;
+            m.mesh.triangles.iter().map(move |t| {
+                let [a, b, c] = t.map(|i| p[i as usize]);
+                (a.max(b).max(c) - a.min(b).min(c)).length()
+            })
+        })
+        .fold(0.0, f64::max);
+    let distance = (scene.light.center - scene.camera.eye).length();
+    if distance > 0.0 {
+        widest / distance
+    } else {
+        f64::INFINITY
+    }
+}
 
 /// Bytes per pixel a CPU render holds: V (4) and the row buffers around it, with room.
 const CPU_BYTES_PER_PIXEL: u64 = 16;
@@ -119,6 +161,12 @@ pub enum Reason {
         /// The scene's blending units.
         units: usize,
     },
+    /// Under [`Backend::Auto`]: a triangle wider than [`MAX_GPU_EXTENT_RATIO`] times the
+    /// eye's distance to the light's centre.
+    WideTriangle {
+        /// [`extent_ratio`] of the scene.
+        ratio: f64,
+    },
 }
 
 impl fmt::Display for Reason {
@@ -148,6 +196,11 @@ impl fmt::Display for Reason {
             Reason::ManyBlendUnits { units } => write!(
                 f,
                 "{units} blending units, more than the GPU blends quickly ({MAX_GPU_BLEND_UNITS})"
+            ),
+            Reason::WideTriangle { ratio } => write!(
+                f,
+                "a triangle {ratio:.1e} times as wide as the eye is far from the light, more than \
+                 the GPU's 32-bit floats hold ({MAX_GPU_EXTENT_RATIO:.0e})"
             ),
         }
     }
@@ -207,6 +260,8 @@ pub trait Machine {
     fn gpu(&mut self) -> Result<GpuOffer, MissingGpu>;
     /// The scene's blending units ([`penumbra_volumes::Volumes::unit_count`]).
     fn blend_units(&mut self) -> usize;
+    /// [`extent_ratio`] of the scene.
+    fn extent_ratio(&mut self) -> f64;
     /// The bytes this process can still allocate, where known
     /// ([`penumbra_geom::memory::available`]).
     fn available_memory(&mut self) -> Option<u64>;
@@ -352,6 +407,12 @@ fn gpu_limits(
         let units = machine.blend_units();
         if units > MAX_GPU_BLEND_UNITS {
             return Ok(Some(Reason::ManyBlendUnits { units }));
+        }
+    }
+    if auto && Runs::of(technique) == Runs::Either {
+        let ratio = machine.extent_ratio();
+        if ratio > MAX_GPU_EXTENT_RATIO {
+            return Ok(Some(Reason::WideTriangle { ratio }));
         }
     }
     Ok(None)

@@ -6,6 +6,7 @@ use std::fmt;
 use penumbra_geom::{Scene, Technique, VisibilityImage};
 use penumbra_gpu::PassTimes;
 
+use crate::backend::Placement;
 use crate::runs::Runs;
 
 /// A rendered image, with where it was made.
@@ -21,7 +22,7 @@ pub struct Frame {
 }
 
 /// What makes an image wrong though it rendered.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Warning {
     /// A mesh whose cut by the light's plane holds the light's centre
     /// ([`penumbra_volumes::render::encloses_light_centre`]), under a technique that builds
@@ -31,6 +32,15 @@ pub enum Warning {
         mesh: usize,
         /// The mesh's name (its file, or the name it was given in code).
         name: String,
+        /// The technique.
+        technique: Technique,
+    },
+    /// A render on the GPU of a scene with a triangle wider than
+    /// [`crate::backend::MAX_GPU_EXTENT_RATIO`] times the eye's distance to the light's centre,
+    /// beyond which the GPU's 32-bit floats misplace shadows.
+    GpuExtent {
+        /// [`crate::backend::extent_ratio`] of the scene.
+        ratio: f64,
         /// The technique.
         technique: Technique,
     },
@@ -49,32 +59,48 @@ impl fmt::Display for Warning {
                  builds its shadow from that centre and cannot be right here (see docs/accuracy.md); \
                  depth-complexity is exact there for its samples"
             ),
+            Warning::GpuExtent { ratio, technique } => write!(
+                f,
+                "a triangle {ratio:.1e} times as wide as the eye is far from the light's centre: \
+                 the GPU's 32-bit floats may misplace {technique}'s shadows beyond {:.0e} \
+                 (see docs/scene-format.md); the CPU's techniques have no such limit",
+                crate::backend::MAX_GPU_EXTENT_RATIO
+            ),
         }
     }
 }
 
-/// The warnings of a frame of `technique`: each mesh whose cut by the light's plane holds the
-/// light's centre, for the techniques built from the light's centre (hard, wedges, shadow
-/// maps).
-pub(crate) fn warnings(scene: &Scene, technique: Technique) -> Vec<Warning> {
-    if !(technique.is_volume() || Runs::of(technique) == Runs::GpuOnly) {
-        return Vec::new();
+/// The warnings of a frame of `technique` rendered where `placement` says: each mesh whose cut
+/// by the light's plane holds the light's centre, for the techniques built from the light's
+/// centre (hard, wedges, shadow maps); on the GPU, a triangle wider than its floats hold.
+pub(crate) fn warnings(scene: &Scene, technique: Technique, placement: Placement) -> Vec<Warning> {
+    let mut out = Vec::new();
+    if placement == Placement::Gpu {
+        let ratio = crate::backend::extent_ratio(scene);
+        if ratio > crate::backend::MAX_GPU_EXTENT_RATIO {
+            out.push(Warning::GpuExtent { ratio, technique });
+        }
     }
-    scene
-        .meshes
-        .iter()
-        .enumerate()
-        .filter(|(_, m)| {
-            penumbra_volumes::render::encloses_light_centre(
-                &m.mesh.positions,
-                &m.mesh.triangles,
-                &scene.light,
-            )
-        })
-        .map(|(mesh, m)| Warning::HoldsLightCentre {
-            mesh,
-            name: m.source.display().to_string(),
-            technique,
-        })
-        .collect()
+    if !(technique.is_volume() || Runs::of(technique) == Runs::GpuOnly) {
+        return out;
+    }
+    out.extend(
+        scene
+            .meshes
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| {
+                penumbra_volumes::render::encloses_light_centre(
+                    &m.mesh.positions,
+                    &m.mesh.triangles,
+                    &scene.light,
+                )
+            })
+            .map(|(mesh, m)| Warning::HoldsLightCentre {
+                mesh,
+                name: m.source.display().to_string(),
+                technique,
+            }),
+    );
+    out
 }

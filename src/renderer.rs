@@ -74,6 +74,10 @@ impl Machine for Offers<'_> {
         }
     }
 
+    fn extent_ratio(&mut self) -> f64 {
+        backend::extent_ratio(self.scene)
+    }
+
     fn available_memory(&mut self) -> Option<u64> {
         penumbra_geom::memory::available()
     }
@@ -194,13 +198,14 @@ impl Renderer {
             }
             Placement::Cpu => {
                 let mut frame = crate::cpu::render(scene, technique, pattern, progress);
-                if let Reason::SoftwareAdapter { .. } = choice.reason {
+                if let Reason::SoftwareAdapter { .. } | Reason::WideTriangle { .. } = choice.reason
+                {
                     frame.detail = format!("{}; {}", frame.detail, choice.reason);
                 }
                 frame
             }
         };
-        frame.warnings = frame::warnings(scene, technique);
+        frame.warnings = frame::warnings(scene, technique, choice.placement);
         Ok(frame)
     }
 

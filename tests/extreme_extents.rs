@@ -8,7 +8,7 @@
 use glam::{DMat4, DVec2, DVec3};
 use penumbra::geom::image::compare;
 use penumbra::geom::{Camera, RectLight, Scene, TriangleMesh, VisibilityImage};
-use penumbra::{Backend, RenderOptions, Renderer, Technique};
+use penumbra::{Backend, RenderOptions, Renderer, Technique, Warning};
 
 fn mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleMesh {
     TriangleMesh::from_raw(std::path::Path::new("memory"), positions, triangles).unwrap()
@@ -143,4 +143,36 @@ fn a_triangle_1e5_wide_leaves_the_small_scene_its_shadows_on_the_gpu() {
         0,
         "pixels where the GPU's hard differs from hard-reference"
     );
+}
+
+#[test]
+fn a_triangle_too_wide_for_the_gpu_goes_to_the_cpu_or_is_warned_of() {
+    let scene = over_a_huge_triangle(2e8);
+    let options = RenderOptions::default();
+    let hard_truth = render(Backend::Cpu, &scene, Technique::HardReference);
+    let auto = Renderer::new(Backend::Auto)
+        .render_frame(&scene, Technique::Hard, &options, None, &|_| {})
+        .unwrap();
+    assert!(auto.detail.starts_with("cpu"), "{}", auto.detail);
+    assert!(auto.warnings.is_empty(), "{:?}", auto.warnings);
+    assert_eq!(differing(&auto.image, &hard_truth), 0);
+    let gpu = Renderer::new(Backend::Gpu)
+        .render_frame(&scene, Technique::Hard, &options, None, &|_| {})
+        .unwrap();
+    assert!(
+        matches!(gpu.warnings[..], [Warning::GpuExtent { ratio, .. }] if ratio > 1e7),
+        "{:?}",
+        gpu.warnings
+    );
+    // The triangle 1e5 wide is within what the GPU holds: no warning.
+    let fine = Renderer::new(Backend::Gpu)
+        .render_frame(
+            &over_a_huge_triangle(1e5),
+            Technique::Hard,
+            &options,
+            None,
+            &|_| {},
+        )
+        .unwrap();
+    assert!(fine.warnings.is_empty(), "{:?}", fine.warnings);
 }

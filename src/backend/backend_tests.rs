@@ -9,6 +9,7 @@ use super::*;
 struct Fake {
     gpu: Option<GpuOffer>,
     units: usize,
+    extent: f64,
     memory: Option<u64>,
     opened: Cell<usize>,
     counted: Cell<usize>,
@@ -30,6 +31,7 @@ impl Fake {
         Fake {
             gpu: None,
             units: 10,
+            extent: 10.0,
             memory: None,
             opened: Cell::new(0),
             counted: Cell::new(0),
@@ -46,6 +48,10 @@ impl Machine for Fake {
     fn blend_units(&mut self) -> usize {
         self.counted.set(self.counted.get() + 1);
         self.units
+    }
+
+    fn extent_ratio(&mut self) -> f64 {
+        self.extent
     }
 
     fn available_memory(&mut self) -> Option<u64> {
@@ -263,4 +269,32 @@ fn library_messages_name_no_command_line_flag() {
         let e = e.unwrap_err().to_string();
         assert!(!e.contains("--"), "{e}");
     }
+}
+
+#[test]
+fn a_triangle_too_wide_for_the_gpu_goes_to_the_cpu_under_auto_only() {
+    let wide = || Fake {
+        extent: 2.0 * MAX_GPU_EXTENT_RATIO,
+        ..Fake::with_gpu(false)
+    };
+    for t in [
+        Technique::Hard,
+        Technique::Wedges,
+        Technique::WedgesBlend,
+        Technique::DepthComplexity,
+    ] {
+        let c = ask(t, Backend::Auto, SMALL, &mut wide()).unwrap();
+        assert_eq!(c.placement, Placement::Cpu, "{t}");
+        assert!(
+            matches!(c.reason, Reason::WideTriangle { .. }),
+            "{t}: {c:?}"
+        );
+        let c = ask(t, Backend::Gpu, SMALL, &mut wide()).unwrap();
+        assert_eq!(c.placement, Placement::Gpu, "{t}");
+        let c = ask(t, Backend::Auto, SMALL, &mut Fake::with_gpu(false)).unwrap();
+        assert_eq!(c.placement, Placement::Gpu, "{t}");
+    }
+    // The shadow maps have no CPU to go to.
+    let c = ask(Technique::Pcss, Backend::Auto, SMALL, &mut wide()).unwrap();
+    assert_eq!(c.placement, Placement::Gpu);
 }
