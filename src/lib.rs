@@ -18,7 +18,7 @@
 //! let mut renderer = Renderer::new(Backend::Auto);
 //! let exact = renderer.render(&scene, Technique::DepthComplexity, &RenderOptions::default())?;
 //! let wedges = renderer.render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
-//! let c = penumbra::geom::image::compare(&wedges, &exact)?;
+//! let c = penumbra::geom::compare(&wedges, &exact)?;
 //! assert!(c.penumbra.pixels > 1000 && c.all.mae < 0.05);
 //! let out = std::env::temp_dir().join(format!("nonmanifold-{}.exr", std::process::id()));
 //! exact.write_exr(&out)?;
@@ -35,6 +35,7 @@
 #![warn(missing_docs)]
 
 mod render;
+mod runs;
 
 pub use glam;
 pub use penumbra_geom as geom;
@@ -44,3 +45,4 @@ pub use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene,
 pub use penumbra_params as params;
 pub use penumbra_volumes as volumes;
 pub use render::{Backend, Frame, MAX_SAMPLES, RenderError, RenderOptions, Renderer};
+pub use runs::Runs;

@@ -1,11 +1,11 @@
 //! One renderer for every technique: the GPU where it helps and there is one, the CPU
 //! otherwise, with each back end's renderers built once and kept.
 
-use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{LightSamples, Reference, Scene, Technique, VisibilityImage};
 use penumbra_gpu::{GpuContext, GpuError, GpuRenderer, PassTimes, ShadowMapRenderer};
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern, Volumes};
+
+use crate::Runs;
 
 /// Where the techniques that run on both the GPU and the CPU (`hard`, `wedges`,
 /// `wedges-blend`) run. The shadow-map techniques always need a GPU; the references and
@@ -165,7 +165,7 @@ pub struct Frame {
     pub detail: String,
     /// What makes the image wrong though it rendered: the hard, wedge and shadow-map techniques
     /// warn of each mesh whose cut by the light's plane holds the light's centre
-    /// ([`penumbra_volumes::render::encloses_light_centre`]), one line each.
+    /// ([`penumbra_volumes::encloses_light_centre`]), one line each.
     pub warnings: Vec<String>,
 }
 
@@ -256,7 +256,7 @@ impl Renderer {
     /// Whether `technique` runs on the GPU with this renderer's back end (opening it if need be),
     /// or an error where it cannot run at all.
     pub fn uses_gpu(&mut self, technique: Technique) -> Result<bool, RenderError> {
-        if technique.needs_gpu() {
+        if Runs::of(technique) == Runs::GpuOnly {
             if self.backend == Backend::Cpu {
                 return Err(RenderError::NeedsGpu {
                     technique,
@@ -268,7 +268,7 @@ impl Renderer {
                 Err(why) => Err(RenderError::NeedsGpu { technique, why }),
             };
         }
-        if technique.cpu_only() {
+        if Runs::of(technique) == Runs::CpuOnly {
             return match self.backend {
                 Backend::Gpu => Err(RenderError::CpuOnly { technique }),
                 _ => Ok(false),
@@ -362,7 +362,7 @@ impl Renderer {
             let limit = ctx.device.limits().max_texture_dimension_2d;
             if width > limit || height > limit {
                 // Under `auto` a technique the CPU also renders goes there.
-                if self.backend == Backend::Auto && !technique.needs_gpu() {
+                if self.backend == Backend::Auto && Runs::of(technique) != Runs::GpuOnly {
                     on_gpu = false;
                 } else {
                     return Err(RenderError::TooLarge {
@@ -371,7 +371,7 @@ impl Renderer {
                         why: format!(
                             "the GPU's textures are at most {limit} pixels on a side ({}){}",
                             ctx.describe(),
-                            if technique.needs_gpu() {
+                            if Runs::of(technique) == Runs::GpuOnly {
                                 ""
                             } else {
                                 "; --backend cpu renders it"
@@ -410,7 +410,7 @@ impl Renderer {
         )?;
         if on_gpu {
             let ctx = GpuContext::clone(self.opened());
-            let (image, times) = if technique.needs_gpu() {
+            let (image, times) = if technique.is_shadow_map() {
                 let i = match self
                     .shadow_maps
                     .iter()
@@ -480,7 +480,7 @@ impl Renderer {
 /// light's centre, for the techniques built from the light's centre (hard, wedges, shadow
 /// maps).
 fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
-    if !(technique.is_volume() || technique.needs_gpu()) {
+    if !(technique.is_volume() || technique.is_shadow_map()) {
         return Vec::new();
     }
     scene
@@ -488,7 +488,7 @@ fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
         .iter()
         .enumerate()
         .filter(|(_, m)| {
-            penumbra_volumes::render::encloses_light_centre(
+            penumbra_volumes::encloses_light_centre(
                 &m.mesh.positions,
                 &m.mesh.triangles,
                 &scene.light,
@@ -521,10 +521,10 @@ const CPU_BYTES_PER_PIXEL: u64 = 16;
 const GPU_BYTES_PER_PIXEL: u64 = 128;
 
 /// Refuses an image of `width x height` pixels at `per_pixel` bytes each that would not fit the
-/// memory available ([`penumbra_geom::memory::available`]), before anything is allocated.
+/// memory available ([`penumbra_geom::available_memory`]), before anything is allocated.
 fn check_memory(width: u32, height: u32, per_pixel: u64) -> Result<(), RenderError> {
     let needed = width as u64 * height as u64 * per_pixel;
-    let available = penumbra_geom::memory::available();
+    let available = penumbra_geom::available_memory();
     match available {
         Some(a) if needed > a => Err(RenderError::TooLarge {
             width,
@@ -548,20 +548,16 @@ fn render_cpu(
 ) -> Frame {
     let (image, detail) = match technique {
         Technique::Reference | Technique::HardReference => {
-            let tracer = Tracer::new(scene);
-            let (reference, detail) = match technique {
+            let (samples, detail) = match technique {
                 Technique::Reference => (
-                    Reference::Sampled {
+                    LightSamples::Stratified {
                         per_axis: pattern.per_axis,
                     },
                     format!("cpu, {} samples", pattern.per_axis * pattern.per_axis),
                 ),
-                _ => (Reference::Hard, "cpu".to_string()),
+                _ => (LightSamples::Centre, "cpu".to_string()),
             };
-            (
-                reference::render(scene, &tracer, reference, progress),
-                detail,
-            )
+            (Reference::new(scene).render(samples, progress), detail)
         }
         Technique::DepthComplexity => {
             let r = DepthComplexity::new(scene);
@@ -576,12 +572,12 @@ fn render_cpu(
                 r.edges.edges.len(),
                 r.edges.all_edges
             );
-            (r.render(scene, pattern, progress), detail)
+            (r.render(pattern, progress), detail)
         }
         _ => {
             let r = CpuRenderer::new(scene);
             let detail = format!("cpu, {} wedges", r.volumes.wedges.len());
-            (r.render(scene, technique, progress), detail)
+            (r.render(technique, progress), detail)
         }
     };
     Frame {

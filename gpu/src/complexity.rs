@@ -1,6 +1,6 @@
 //! Depth-complexity sampling on the GPU (Forest, Barthe & Paulin, "Accurate Shadows by Depth
 //! Complexity Sampling", 2008), recorded by a [`GpuScene`]: exact soft shadows, equal to the CPU
-//! oracle (`penumbra_volumes::depth_complexity`) sample for sample up to `f32` rounding.
+//! oracle (`penumbra_volumes::DepthComplexity`) sample for sample up to `f32` rounding.
 //!
 //! After the depth pre-pass, a frame takes four passes:
 //!
@@ -22,9 +22,9 @@
 use std::ops::Range;
 
 use penumbra_geom::{HalfEdgeMesh, Technique};
-use penumbra_volumes::potential::PotentialEdges;
-use penumbra_volumes::shadow_volume::{ShadowVolume, VolumeVertex};
-use penumbra_volumes::silhouette::Silhouette;
+use penumbra_volumes::PotentialEdges;
+use penumbra_volumes::Silhouette;
+use penumbra_volumes::{ShadowVolume, VolumeVertex};
 
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::GpuError;
@@ -98,7 +98,7 @@ pub const SOFTWARE_LOOP_BUDGET: u32 = 65_000;
 /// A depth-complexity image rendered once ([`crate::GpuRenderer::render_depth_complexity`]).
 pub struct ComplexityImage {
     /// V.
-    pub image: penumbra_geom::image::VisibilityImage,
+    pub image: penumbra_geom::VisibilityImage,
     /// The GPU time of each pass, where the device has timestamp queries.
     pub times: Option<crate::PassTimes>,
     /// Potential silhouette edges of the scene's light.

@@ -9,7 +9,7 @@ use std::ops::Range;
 use glam::{DMat4, DVec3};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
-use penumbra_volumes::terminator::outward_sign;
+use penumbra_volumes::outward_sign;
 
 use crate::context::{GpuContext, GpuError};
 use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
@@ -52,7 +52,7 @@ pub struct FrameInputs {
 /// it is.
 pub(crate) struct StoredMesh {
     pub(crate) mesh: TriangleMesh,
-    /// `penumbra_volumes::terminator::outward_sign` of the mesh in its own space.
+    /// `penumbra_volumes::outward_sign` of the mesh in its own space.
     pub(crate) outward: f64,
     pub(crate) origin: DVec3,
     pub(crate) transform: DMat4,
@@ -192,7 +192,7 @@ impl GpuScene {
     /// let renderer = GpuRenderer::with_context(&ctx);
     /// let corners = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
     /// let corners = corners.map(DVec3::from_array);
-    /// let quad = TriangleMesh::from_raw(Path::new("quad"), &corners, &[[0, 2, 1], [0, 3, 2]])
+    /// let quad = TriangleMesh::from_raw("quad", &corners, &[[0, 2, 1], [0, 3, 2]])
     ///     .unwrap();
     /// let light = RectLight::new(DVec3::new(0.0, 4.0, 0.0), -DVec3::Y, DVec3::X, DVec2::ONE);
     /// let mut scene = GpuScene::new(&renderer, &[(&quad, DMat4::IDENTITY)], light);
@@ -465,7 +465,7 @@ impl GpuScene {
 
 /// Checks that `technique` is one [`GpuScene::record`] renders.
 pub(crate) fn check_technique(technique: Technique) -> Result<(), GpuError> {
-    if technique.on_either() {
+    if technique.is_volume() || technique == Technique::DepthComplexity {
         Ok(())
     } else {
         Err(GpuError::Frame(format!(

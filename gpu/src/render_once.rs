@@ -1,7 +1,7 @@
 //! [`GpuRenderer::render`]: a scene rendered once and read back, as a [`GpuScene`] recorded for
 //! one frame.
 
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_volumes::Volumes;
 

@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
 use penumbra_geom::{HalfEdgeMesh, Rng, Scene, Technique};
 use penumbra_params::{MdsmExtra, TechniqueParams, equal_area_radius};
-use penumbra_volumes::terminator::outward_sign;
+use penumbra_volumes::outward_sign;
 
 pub use crate::constants::{MAX_TAPS, NOISE_SIZE};
 pub use crate::light_frustum::{LightFrustum, MAX_SLOPE};

@@ -6,7 +6,7 @@
 
 use bytemuck::Zeroable;
 use glam::DVec2;
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_params::GaussianVariant;
 use wgpu::util::DeviceExt;
@@ -100,10 +100,10 @@ impl ShadowMapRenderer {
     ///
     /// # Panics
     ///
-    /// If `technique` is not a shadow-map technique ([`Technique::needs_gpu`]).
+    /// If `technique` is not a shadow-map technique ([`Technique::is_shadow_map`]).
     pub fn new(ctx: &GpuContext, technique: Technique) -> Self {
         assert!(
-            technique.needs_gpu(),
+            technique.is_shadow_map(),
             "{technique} is not a shadow-map technique"
         );
         let device = &ctx.device;

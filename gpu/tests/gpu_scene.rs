@@ -3,15 +3,13 @@
 //! `Scene::with_mesh`, and by the bytes each frame writes. They need an adapter (lavapipe in
 //! CI), as `gpu.rs` does.
 
-use std::path::Path;
-
 mod common;
 use common::context;
 
 use glam::dcamera::rh::{proj::directx, view};
 use glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra_geom::image::{VisibilityImage, compare};
 use penumbra_geom::{Camera, RectLight, Scene, Technique, TriangleMesh};
+use penumbra_geom::{VisibilityImage, compare};
 use penumbra_gpu::passes::depth::visibility_target;
 use penumbra_gpu::passes::view as texture_view;
 use penumbra_gpu::readback::read_r32f;
@@ -28,7 +26,7 @@ fn meshes() -> Vec<(TriangleMesh, DMat4)> {
     let p = DVec3::new;
     let quad = |s: f64| {
         TriangleMesh::from_raw(
-            Path::new("ground"),
+            "ground",
             &[p(-s, 0.0, -s), p(-s, 0.0, s), p(s, 0.0, s), p(s, 0.0, -s)],
             &[[0, 1, 2], [0, 2, 3]],
         )
@@ -58,7 +56,7 @@ fn meshes() -> Vec<(TriangleMesh, DMat4)> {
         [0, 4, 7],
         [0, 7, 3],
     ];
-    let cube = TriangleMesh::from_raw(Path::new("cube"), &c, &faces).unwrap();
+    let cube = TriangleMesh::from_raw("cube", &c, &faces).unwrap();
     vec![
         (quad(6.0), DMat4::IDENTITY),
         (
@@ -133,7 +131,7 @@ fn frame(
 }
 
 fn assert_matches_cpu(image: &VisibilityImage, scene: &Scene, technique: Technique, what: &str) {
-    let cpu = CpuRenderer::new(scene).render(scene, technique, &|_| {});
+    let cpu = CpuRenderer::new(scene).render(technique, &|_| {});
     let c = compare(image, &cpu).unwrap();
     println!(
         "{what}, {technique}: MAE {:.2e}, p99 {:.2e}",

@@ -54,7 +54,7 @@ fn remove_temporaries_on_signal() {
     // Without a handler the signal ends the process as before; a temporary file it leaves is
     // then removed by the next run writing the same output.
     let _ = ctrlc::set_handler(|| {
-        penumbra::geom::image::remove_temporaries_in_progress();
+        penumbra::geom::remove_temporaries_in_progress();
         std::process::exit(130);
     });
 }
@@ -212,7 +212,7 @@ fn identity(p: &Path) -> Option<(u64, u64)> {
 fn check_outputs(inputs: &[PathBuf], outputs: &[&Path]) -> Result<()> {
     for (k, out) in outputs.iter().enumerate() {
         // Before any work: a directory, device, FIFO or socket is refused, not replaced.
-        penumbra::geom::image::output_target(out)?;
+        penumbra::geom::output_target(out)?;
         if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
             bail!(
                 "output {} is an input of this run ({}); refusing to overwrite it",

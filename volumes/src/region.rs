@@ -4,7 +4,7 @@
 //! change to their depth complexity.
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::boxtree::Plane;
+use penumbra_geom::Plane;
 
 use crate::clip::cross;
 use crate::potential::{EdgeFace, LightCrossing, PotentialEdge};

@@ -3,9 +3,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use penumbra::geom::image::{self};
+use penumbra::geom::compare;
 use penumbra::volumes::Volumes;
-use penumbra::{RenderOptions, Renderer, Technique};
+use penumbra::{RenderOptions, Renderer, Runs, Technique};
 
 use crate::cli::{Backend, ParamArgs};
 use crate::{Sampling, load_scene, samples_per_axis};
@@ -30,7 +30,7 @@ pub(crate) fn accuracy(
     let mut renderer = Renderer::new(backend.into());
     let mut cpu = Renderer::new(penumbra::Backend::Cpu);
     for &t in techniques {
-        if !t.cpu_only() {
+        if Runs::of(t) != Runs::CpuOnly {
             renderer.uses_gpu(t)?;
         }
     }
@@ -76,7 +76,7 @@ pub(crate) fn accuracy(
                 jitter: sampling.jitter && t.takes_samples(),
             };
             let start = std::time::Instant::now();
-            let r = if t.cpu_only() {
+            let r = if Runs::of(t) == Runs::CpuOnly {
                 &mut cpu
             } else {
                 &mut renderer
@@ -85,7 +85,7 @@ pub(crate) fn accuracy(
                 .render_frame(&scene, t, &options, Some(&volumes), &|_| {})?
                 .image;
             let secs = start.elapsed().as_secs_f64();
-            let c = image::compare(&img, &truth)?;
+            let c = compare(&img, &truth)?;
             println!(
                 "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {:+.5} | {:.2}% | {secs:.2} |",
                 t.name(),

@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use penumbra::gpu::PassTimes;
 use penumbra::volumes::Volumes;
-use penumbra::{RenderOptions, Renderer, Technique};
+use penumbra::{RenderOptions, Renderer, Runs, Technique};
 
 use crate::cli::{Backend, ParamArgs};
 use crate::{Sampling, load_scene, samples_per_axis};
@@ -63,7 +63,7 @@ pub(crate) fn bench(
     }
     if let Some(t) = techniques
         .iter()
-        .find(|t| backend == Backend::Gpu && t.cpu_only())
+        .find(|&&t| backend == Backend::Gpu && Runs::of(t) == Runs::CpuOnly)
     {
         bail!("--backend gpu: {t:?} runs on the CPU only (the GPU renders the volume techniques)");
     }
@@ -170,7 +170,7 @@ pub(crate) fn print_bench(report: &serde_json::Value, technique: Technique, what
             "stencil" => volume || counted,
             "wedge" | "blend" => volume,
             "edge_lists" | "count" => counted,
-            "light_map" | "preprocess" | "filter" => technique.needs_gpu(),
+            "light_map" | "preprocess" | "filter" => technique.is_shadow_map(),
             _ => true,
         };
         if let Some(ms) = report["median_ms"][k].as_f64().filter(|_| relevant) {
