@@ -19,13 +19,13 @@ use crate::wedge_grid::{WedgeGrid, receiver_box};
 ///
 /// - `hard`: `V = 0` where the centre is hidden (the stencil answer), else 1;
 /// - `wedges` (Akenine-Möller & Assarsson): every edge's integral added into one sum on top of
-///   the stencil count `n` (the volumes' winding number at P, `N(P, c)` of [`crate::wedge`]),
+///   the stencil count `n` (the volumes' winding number at P, `N(P, c)` of [`Wedge`]),
 ///   `V = 1 - clamp(4·n + Σ_e s_e m_e |R_e|, 0, 4) / 4`. Counting rather than clamping the
 ///   stencil keeps each occluder's inner half-wedges subtracting from its own hard shadow;
 ///   overlapping occluders are still counted twice, which is what blending corrects;
 /// - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per blending unit, its hard
 ///   shadow plus its own edges' integrals per radial part, blended into the final buffer in
-///   unit order with Forest et al.'s function ([`crate::blend`]).
+///   unit order with Forest et al.'s function (`volumes/src/blend.rs`).
 ///
 /// The hard shadow is the shadow volumes' winding number. Counted along the ray from P towards
 /// the light's centre, no side quad is crossed (each lies in a plane through the centre) and the
@@ -53,6 +53,11 @@ use crate::wedge_grid::{WedgeGrid, receiver_box};
 /// assert_eq!((v.width, v.height), (scene.camera.width, scene.camera.height));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+///
+/// [`Wedge`]: crate::Wedge
+/// [`Wedge::unit`]: crate::Wedge::unit
+/// [`ShadowVolume::winding_number`]: crate::ShadowVolume::winding_number
+/// [`Silhouette::patch`]: crate::Silhouette::patch
 pub struct CpuRenderer {
     /// Ray casting and references.
     pub tracer: Tracer,
@@ -62,7 +67,7 @@ pub struct CpuRenderer {
     pub grid: WedgeGrid,
     /// Occluder of each scene triangle, with the top bit set for casters.
     triangle_occluder: Vec<u32>,
-    /// Blending unit of each caster triangle ([`Wedge::unit`]).
+    /// Blending unit of each caster triangle (`Wedge::unit`).
     triangle_unit: Vec<u32>,
     /// The camera whose pixels [`CpuRenderer::render`] renders.
     camera: Camera,
@@ -189,6 +194,8 @@ impl CpuRenderer {
     /// those where it is not zero, sorted by unit: the number of its caster triangles (light
     /// caps) between `p` and the light's centre, which is its volume's winding number around
     /// `p`.
+    ///
+    /// [`Wedge::unit`]: crate::Wedge::unit
     pub fn stencil_counts(&self, p: &SurfacePoint) -> Vec<(u32, u32)> {
         let c = self.tracer.light.center;
         let d = c - p.position;

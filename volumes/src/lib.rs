@@ -43,4 +43,6 @@ pub use silhouette::{Silhouette, SilhouetteEdge};
 pub use terminator::{front_share, outward_sign};
 pub use volumes::{GeometryCounts, Occluder, Volumes};
 pub use wedge::{EdgeIntegral, Wedge};
-pub use wedge_grid::{WedgeFrustum, WedgeGrid, receiver_box, wedge_frustum};
+pub use wedge_grid::{
+    WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
+};
