@@ -51,7 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // A ground and the spot mesh, each in its own space.
     let p = DVec3::new;
     let ground = TriangleMesh::from_raw(
-        std::path::Path::new("ground"),
+        "ground",
         &[
             p(-5.0, 0.0, -5.0),
             p(-5.0, 0.0, 5.0),

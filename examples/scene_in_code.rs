@@ -18,7 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let p = |x, y, z| DVec3::new(x, y, z);
     let ground = TriangleMesh::from_raw(
-        std::path::Path::new("ground"),
+        "ground",
         &[
             p(-6.0, 0.0, -6.0),
             p(-6.0, 0.0, 6.0),
@@ -28,7 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &[[0, 1, 2], [0, 2, 3]],
     )?;
     let cube = TriangleMesh::from_raw(
-        std::path::Path::new("cube"),
+        "cube",
         &[
             p(-0.5, -0.5, -0.5),
             p(0.5, -0.5, -0.5),

@@ -1,7 +1,7 @@
 //! The CPU back end: the references, depth-complexity sampling and the volume techniques'
 //! CPU renderers.
 
-use penumbra_geom::reference::{self, Reference, Tracer};
+use penumbra_geom::{LightSamples, Reference};
 use penumbra_geom::{Scene, Technique};
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
@@ -16,20 +16,16 @@ pub(crate) fn render(
 ) -> Frame {
     let (image, detail) = match technique {
         Technique::Reference | Technique::HardReference => {
-            let tracer = Tracer::new(scene);
-            let (reference, detail) = match technique {
+            let (samples, detail) = match technique {
                 Technique::Reference => (
-                    Reference::Sampled {
+                    LightSamples::Stratified {
                         per_axis: pattern.per_axis,
                     },
                     format!("cpu, {} samples", pattern.per_axis * pattern.per_axis),
                 ),
-                _ => (Reference::Hard, "cpu".to_string()),
+                _ => (LightSamples::Centre, "cpu".to_string()),
             };
-            (
-                reference::render(scene, &tracer, reference, progress),
-                detail,
-            )
+            (Reference::new(scene).render(samples, progress), detail)
         }
         Technique::DepthComplexity => {
             let r = DepthComplexity::new(scene);
@@ -44,12 +40,12 @@ pub(crate) fn render(
                 r.edges.edges.len(),
                 r.edges.all_edges
             );
-            (r.render(scene, pattern, progress), detail)
+            (r.render(pattern, progress), detail)
         }
         _ => {
             let r = CpuRenderer::new(scene);
             let detail = format!("cpu, {} wedges", r.volumes.wedges.len());
-            (r.render(scene, technique, progress), detail)
+            (r.render(technique, progress), detail)
         }
     };
     Frame {

@@ -2,8 +2,8 @@
 
 use std::sync::Arc;
 
+use penumbra_geom::RangeError;
 use penumbra_geom::Technique;
-use penumbra_geom::range::RangeError;
 use penumbra_gpu::GpuError;
 
 /// Why a render could not run.

@@ -25,7 +25,7 @@ pub struct Frame {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Warning {
     /// A mesh whose cut by the light's plane holds the light's centre
-    /// ([`penumbra_volumes::render::encloses_light_centre`]), under a technique that builds
+    /// ([`penumbra_volumes::encloses_light_centre`]), under a technique that builds
     /// its shadow from that centre (hard, wedges, shadow maps).
     HoldsLightCentre {
         /// The mesh's index in the scene.
@@ -90,7 +90,7 @@ pub(crate) fn warnings(scene: &Scene, technique: Technique, placement: Placement
             .iter()
             .enumerate()
             .filter(|(_, m)| {
-                penumbra_volumes::render::encloses_light_centre(
+                penumbra_volumes::encloses_light_centre(
                     &m.mesh.positions,
                     &m.mesh.triangles,
                     &scene.light,

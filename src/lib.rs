@@ -73,14 +73,14 @@ mod runs;
 
 pub use glam;
 pub use penumbra_geom as geom;
-pub use penumbra_geom::camera::CameraError;
-pub use penumbra_geom::image::ImageError;
-pub use penumbra_geom::image::{Comparison, compare};
-pub use penumbra_geom::mesh::MeshError;
-pub use penumbra_geom::range::RangeError;
+pub use penumbra_geom::CameraError;
+pub use penumbra_geom::ImageError;
+pub use penumbra_geom::MeshError;
+pub use penumbra_geom::RangeError;
 pub use penumbra_geom::{
     Camera, RectLight, Scene, SceneError, Technique, TriangleMesh, VisibilityImage,
 };
+pub use penumbra_geom::{Comparison, compare};
 pub use penumbra_gpu as gpu;
 pub use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Uploads};
 pub use penumbra_params as params;

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
 use penumbra_volumes::{SamplePattern, Volumes};
@@ -79,7 +79,7 @@ impl Machine for Offers<'_> {
     }
 
     fn available_memory(&mut self) -> Option<u64> {
-        penumbra_geom::memory::available()
+        penumbra_geom::available_memory()
     }
 }
 

@@ -26,9 +26,9 @@ pub enum Runs {
 impl Runs {
     /// Where `technique` runs.
     pub fn of(technique: Technique) -> Runs {
-        if technique.needs_gpu() {
+        if technique.is_shadow_map() {
             Runs::GpuOnly
-        } else if technique.cpu_only() {
+        } else if technique.is_reference() {
             Runs::CpuOnly
         } else {
             Runs::Either

@@ -1,10 +1,11 @@
 //! Blending: `wedges-blend` against the additive wedges and the exact evaluator where penumbrae
 //! overlap, and on the real meshes against the reference.
 
+use penumbra::Technique;
 use penumbra::geom::Rng;
-use penumbra::geom::image::compare;
-use penumbra::geom::reference::{self, Reference, Tracer};
-use penumbra::volumes::{CpuRenderer, Technique};
+use penumbra::geom::compare;
+use penumbra::geom::{LightSamples, Reference};
+use penumbra::volumes::CpuRenderer;
 use rayon::prelude::*;
 
 use crate::common::load;
@@ -80,14 +81,9 @@ fn wedges_blend_on_real_meshes_is_within_0_6_of_blending_per_mesh() {
         let mut scene = load(name);
         scene.camera.width /= 2;
         scene.camera.height /= 2;
-        let tracer = Tracer::new(&scene);
-        let truth = reference::render(
-            &scene,
-            &tracer,
-            Reference::Sampled { per_axis: 16 },
-            &|_| {},
-        );
-        let img = CpuRenderer::new(&scene).render(&scene, Technique::WedgesBlend, &|_| {});
+        let truth =
+            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let img = CpuRenderer::new(&scene).render(Technique::WedgesBlend, &|_| {});
         let c = compare(&img, &truth).unwrap();
         println!(
             "{name:>12}: wedges-blend penumbra MAE {:.4} over {} pixels, per mesh {before}: {:.2}x",

@@ -7,8 +7,8 @@
 //! least 99.9% of pixels, and off by at most two samples (`2/N`) anywhere.
 
 use penumbra::geom::Scene;
-use penumbra::geom::image::VisibilityImage;
-use penumbra::geom::reference::{self, Reference, Tracer};
+use penumbra::geom::VisibilityImage;
+use penumbra::geom::{LightSamples, Reference};
 use penumbra::volumes::{DepthComplexity, SamplePattern};
 
 use crate::common::{fixture_names, load};
@@ -20,15 +20,13 @@ fn differences(scene: &Scene, samples: usize) -> (Vec<(u32, u32, f32, f32)>, usi
     assert_eq!(per_axis * per_axis, samples);
     let dc = DepthComplexity::new(scene);
     let got = dc.render(
-        scene,
         SamplePattern {
             per_axis,
             jitter: true,
         },
         &|_| {},
     );
-    let tracer = Tracer::new(scene);
-    let want = reference::render(scene, &tracer, Reference::Sampled { per_axis }, &|_| {});
+    let want = Reference::new(scene).render(LightSamples::Stratified { per_axis }, &|_| {});
     (diff(&got, &want), got.data.len())
 }
 

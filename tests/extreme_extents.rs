@@ -6,12 +6,12 @@
 //! at an offset that grows with the scene's extent, and lost every shadow of the small scene.
 
 use glam::{DMat4, DVec2, DVec3};
-use penumbra::geom::image::compare;
+use penumbra::geom::compare;
 use penumbra::geom::{Camera, RectLight, Scene, TriangleMesh, VisibilityImage};
 use penumbra::{Backend, RenderOptions, Renderer, Technique, Warning};
 
 fn mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleMesh {
-    TriangleMesh::from_raw(std::path::Path::new("memory"), positions, triangles).unwrap()
+    TriangleMesh::from_raw("memory", positions, triangles).unwrap()
 }
 
 /// A horizontal square of side `2 h` at height `y`, facing up.

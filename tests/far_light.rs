@@ -3,17 +3,18 @@
 //! penumbra; the offsets of their rays once grew with the light's distance and lost both.
 
 use glam::{DMat4, DVec2, DVec3};
-use penumbra::geom::camera::Camera;
-use penumbra::geom::image::compare;
-use penumbra::geom::reference::{self, Reference, Tracer};
+use penumbra::Technique;
+use penumbra::geom::Camera;
+use penumbra::geom::compare;
+use penumbra::geom::{LightSamples, Reference};
 use penumbra::geom::{RectLight, Scene, TriangleMesh, VisibilityImage};
-use penumbra::volumes::{CpuRenderer, DepthComplexity, SamplePattern, Technique};
+use penumbra::volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
 fn scene(distance: f64) -> Scene {
     let quad = |y: f64, h: f64| {
         let c = DVec3::new;
         TriangleMesh::from_raw(
-            std::path::Path::new("memory"),
+            "memory",
             &[c(-h, y, -h), c(-h, y, h), c(h, y, h), c(h, y, -h)],
             &[[0, 1, 2], [0, 2, 3]],
         )
@@ -49,16 +50,15 @@ fn differing(a: &VisibilityImage, b: &VisibilityImage) -> usize {
 fn a_far_light_keeps_its_shadow_and_penumbra_on_the_cpu() {
     for distance in [1e5, 1e9] {
         let s = scene(distance);
-        let tracer = Tracer::new(&s);
-        let truth = reference::render(&s, &tracer, Reference::Sampled { per_axis: 16 }, &|_| {});
-        let hard_truth = reference::render(&s, &tracer, Reference::Hard, &|_| {});
+        let truth = Reference::new(&s).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let hard_truth = Reference::new(&s).render(LightSamples::Centre, &|_| {});
         let umbra = truth.data.iter().filter(|&&v| v == 0.0).count();
         assert!(
             umbra > 20,
             "{distance}: the reference has {umbra} umbra pixels"
         );
         let cpu = CpuRenderer::new(&s);
-        let hard = cpu.render(&s, Technique::Hard, &|_| {});
+        let hard = cpu.render(Technique::Hard, &|_| {});
         assert_eq!(
             differing(&hard, &hard_truth),
             0,
@@ -68,12 +68,12 @@ fn a_far_light_keeps_its_shadow_and_penumbra_on_the_cpu() {
             per_axis: 16,
             jitter: true,
         };
-        let exact = DepthComplexity::new(&s).render(&s, pattern, &|_| {});
+        let exact = DepthComplexity::new(&s).render(pattern, &|_| {});
         assert_eq!(
             exact, truth,
             "{distance}: depth-complexity --jitter against the reference"
         );
-        let blend = cpu.render(&s, Technique::WedgesBlend, &|_| {});
+        let blend = cpu.render(Technique::WedgesBlend, &|_| {});
         let c = compare(&blend, &truth).unwrap();
         println!(
             "{distance:e}: umbra {umbra} px; wedges-blend MAE {:.4}, penumbra {:.4} over {} px, umbra lit {:.2}%",

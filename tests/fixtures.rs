@@ -74,7 +74,7 @@ fn sphere_has_760_triangles_and_spheres_9x9_has_81() {
 
 #[test]
 fn geometry_counts_match_fixtures_expected() {
-    use penumbra::volumes::render::GeometryCounts;
+    use penumbra::volumes::GeometryCounts;
     for name in fixture_names() {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("fixtures/expected")

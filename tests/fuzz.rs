@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use glam::{DMat4, DVec2, DVec3};
-use penumbra::geom::camera::Camera;
+use penumbra::Technique;
+use penumbra::geom::Camera;
 use penumbra::geom::{RectLight, Rng, Scene, TriangleMesh};
 use penumbra::volumes::CpuRenderer;
-use penumbra::volumes::Technique;
-use penumbra::volumes::depth_complexity::{DepthComplexity, SamplePattern};
+use penumbra::volumes::{DepthComplexity, SamplePattern};
 use penumbra::{Backend, RenderOptions, Renderer};
 
 /// Numbers a user or a generator can produce that sit on some boundary.
@@ -170,7 +170,7 @@ fn render_small(scene: &Scene) {
     }
     let r = CpuRenderer::new(&s);
     for t in [Technique::Hard, Technique::WedgesBlend] {
-        let img = r.render(&s, t, &|_| {});
+        let img = r.render(t, &|_| {});
         assert!(
             img.data.iter().all(|v| (0.0..=1.0).contains(v)),
             "{t}: V out of [0, 1]"
@@ -178,7 +178,6 @@ fn render_small(scene: &Scene) {
     }
     let dc = DepthComplexity::new(&s);
     let img = dc.render(
-        &s,
         SamplePattern {
             per_axis: 2,
             jitter: false,

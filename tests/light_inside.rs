@@ -3,7 +3,7 @@
 
 use glam::{DMat4, DVec2, DVec3};
 use penumbra::{Backend, RenderOptions, Renderer, Technique};
-use penumbra_geom::camera::Camera;
+use penumbra_geom::Camera;
 use penumbra_geom::{RectLight, Scene, TriangleMesh};
 use penumbra_volumes::Volumes;
 
@@ -12,7 +12,7 @@ use penumbra_volumes::Volumes;
 fn scene(occluder: &TriangleMesh) -> Scene {
     let c = DVec3::new;
     let ground = TriangleMesh::from_raw(
-        std::path::Path::new("ground"),
+        "ground",
         &[
             c(-6., 0., -6.),
             c(-6., 0., 6.),
@@ -84,7 +84,7 @@ fn an_open_mesh_whose_cut_surrounds_the_light_centre_is_warned_of() {
     let s = sphere(0.2);
     let cap = |t: &[u32; 3]| t.iter().all(|&v| s.positions[v as usize].y > 0.3);
     let keep: Vec<[u32; 3]> = s.triangles.iter().filter(|t| !cap(t)).copied().collect();
-    let open = TriangleMesh::from_raw(std::path::Path::new("bowl"), &s.positions, &keep).unwrap();
+    let open = TriangleMesh::from_raw("bowl", &s.positions, &keep).unwrap();
     let around = scene(&open);
     assert_eq!(Volumes::build(&around).enclosing_light_centre(), [1]);
     assert_eq!(warnings(&around, Technique::WedgesBlend).len(), 1);
@@ -94,13 +94,13 @@ fn an_open_mesh_whose_cut_surrounds_the_light_centre_is_warned_of() {
         .filter(|t| t.iter().all(|&v| s.positions[v as usize].x >= 0.2))
         .copied()
         .collect();
-    let half = TriangleMesh::from_raw(std::path::Path::new("half"), &s.positions, &half).unwrap();
+    let half = TriangleMesh::from_raw("half", &s.positions, &half).unwrap();
     assert!(warnings(&scene(&half), Technique::WedgesBlend).is_empty());
 }
 
 #[test]
 fn the_box_through_the_light_plane_beside_its_centre_is_not_warned_of() {
-    let scene = crate::through_the_light::scene();
+    let scene = penumbra_testkit::through_the_light();
     assert!(Volumes::build(&scene).enclosing_light_centre().is_empty());
     assert!(warnings(&scene, Technique::WedgesBlend).is_empty());
 }

@@ -1,10 +1,11 @@
 //! Occluders through the light's plane: only their part in front of it hides light.
 
 use glam::{DQuat, DVec3};
+use penumbra::Technique;
 use penumbra::geom::Rng;
-use penumbra::geom::image::compare;
-use penumbra::geom::reference::{self, Reference, Tracer};
-use penumbra::volumes::{CpuRenderer, Technique};
+use penumbra::geom::compare;
+use penumbra::geom::{LightSamples, Reference};
+use penumbra::volumes::CpuRenderer;
 
 use crate::volumes::{exact_in_the_air, planar_shapes, single_occluder_scene};
 
@@ -54,16 +55,15 @@ fn planar_occluders_through_the_light_plane_stay_exact() {
 
 #[test]
 fn a_box_and_a_quad_through_the_light_plane() {
-    let scene = crate::through_the_light::scene();
-    let tracer = Tracer::new(&scene);
+    let scene = penumbra_testkit::through_the_light();
     let r = CpuRenderer::new(&scene);
     assert!(
         r.volumes.wedges.iter().any(|w| w.caster.is_some()),
         "the light's plane should cut the box and the quad"
     );
     // The hard shadow is the centre's count, exact whatever crosses the plane.
-    let hard = r.render(&scene, Technique::Hard, &|_| {});
-    let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
+    let hard = r.render(Technique::Hard, &|_| {});
+    let want = Reference::new(&scene).render(LightSamples::Centre, &|_| {});
     let differ = hard
         .data
         .iter()
@@ -76,14 +76,9 @@ fn a_box_and_a_quad_through_the_light_plane() {
     );
     // The soft ones: the silhouette from the light's centre is a poor guess of the box's from
     // the rest of a light it touches, but nothing behind the light's plane hides any light.
-    let truth = reference::render(
-        &scene,
-        &tracer,
-        Reference::Sampled { per_axis: 16 },
-        &|_| {},
-    );
+    let truth = Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
     for (t, bound) in [(Technique::Wedges, 0.16), (Technique::WedgesBlend, 0.09)] {
-        let img = r.render(&scene, t, &|_| {});
+        let img = r.render(t, &|_| {});
         assert!(img.data.iter().all(|v| (0.0..=1.0).contains(v)));
         let c = compare(&img, &truth).unwrap();
         println!(
@@ -105,13 +100,11 @@ fn a_box_and_a_quad_through_the_light_plane() {
 #[test]
 fn faces_and_rings_on_the_light_plane() {
     use glam::{DMat4, DVec2};
-    use penumbra::geom::camera::Camera;
+    use penumbra::geom::Camera;
     use penumbra::geom::{RectLight, Scene, TriangleMesh};
     use penumbra::volumes::{DepthComplexity, SamplePattern};
     let c = DVec3::new;
-    let mesh = |p: &[DVec3], t: &[[u32; 3]]| {
-        TriangleMesh::from_raw(std::path::Path::new("memory"), p, t).unwrap()
-    };
+    let mesh = |p: &[DVec3], t: &[[u32; 3]]| TriangleMesh::from_raw("memory", p, t).unwrap();
     let ground = mesh(
         &[
             c(-4., 0., -4.),
@@ -170,13 +163,9 @@ fn faces_and_rings_on_the_light_plane() {
         let scene = Scene::new(camera, light)
             .with_mesh("ground", &ground, DMat4::IDENTITY)
             .with_mesh(name, occluder, at);
-        let truth = reference::render(
-            &scene,
-            &Tracer::new(&scene),
-            Reference::Sampled { per_axis: 16 },
-            &|_| {},
-        );
-        let exact = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        let truth =
+            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let exact = DepthComplexity::new(&scene).render(pattern, &|_| {});
         let differ = exact
             .data
             .iter()

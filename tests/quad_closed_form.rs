@@ -5,9 +5,9 @@
 //! rectangle divided by the light's area.
 
 use glam::{DVec2, DVec3};
-use penumbra::geom::exact::exact_visibility;
-use penumbra::geom::image::compare;
-use penumbra::geom::reference::{self, Reference, Tracer};
+use penumbra::geom::compare;
+use penumbra::geom::exact_visibility;
+use penumbra::geom::{LightSamples, Reference};
 use penumbra::geom::{Rng, Scene, VisibilityImage};
 
 use crate::common::load;
@@ -88,13 +88,9 @@ fn exact_evaluator_matches_the_closed_form_at_1000_points() {
 fn reference_1024_is_within_2e_3_of_the_closed_form() {
     let scene = load("quad-over-plane");
     check_fixture_is_what_the_closed_form_assumes(&scene);
-    let tracer = Tracer::new(&scene);
-    let img = reference::render(
-        &scene,
-        &tracer,
-        Reference::Sampled { per_axis: 32 },
-        &|_| {},
-    );
+    let reference = Reference::new(&scene);
+    let tracer = &reference.tracer;
+    let img = reference.render(LightSamples::Stratified { per_axis: 32 }, &|_| {});
     let cam = &scene.camera;
     let mut truth = VisibilityImage::filled(cam.width, cam.height, 1.0);
     for j in 0..cam.height {

@@ -13,7 +13,7 @@
 //! single-pixel bound.
 
 use penumbra::geom::Rng;
-use penumbra::geom::reference::{REFERENCE_SEED, Tracer};
+use penumbra::geom::{REFERENCE_SEED, Tracer};
 use rayon::prelude::*;
 
 use crate::common::{fixture_names, load};

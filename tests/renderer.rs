@@ -1,6 +1,6 @@
 //! The front door: one renderer for every technique, the back end chosen per technique.
 
-use penumbra::{Backend, RenderError, RenderOptions, Renderer, Technique};
+use penumbra::{Backend, RenderError, RenderOptions, Renderer, Runs, Technique};
 
 use crate::common::load;
 
@@ -104,7 +104,7 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
     use penumbra::geom::TriangleMesh;
     let base = load("quad-over-plane");
     let far = TriangleMesh::from_raw(
-        std::path::Path::new("far"),
+        "far",
         &[
             DVec3::new(0.0, 1.0, 0.0),
             DVec3::new(1.0, 1e20, 0.0),
@@ -184,7 +184,7 @@ fn scenes_far_from_the_origin_render_as_at_it() {
         )));
         for (t, want) in techniques.iter().zip(&at_origin) {
             let img = cpu.render(&moved, *t, &options).unwrap();
-            let c = penumbra::geom::image::compare(&img, want).unwrap();
+            let c = penumbra::geom::compare(&img, want).unwrap();
             println!(
                 "offset {offset:e}: {t}: MAE {:.2e}, max {:.2e}",
                 c.all.mae, c.all.max
@@ -206,7 +206,7 @@ fn random_similarity_transforms_leave_every_image_unchanged() {
     // sample a grid of texels, and a receiver's f32 rounding moves a tap across a texel's edge:
     // `pcss`'s nested blocker search turns that into a different filter at a few penumbra
     // pixels of `overlapping-quads` (mean error 1.6e-4 at worst, 4 of 3,072 pixels beyond 0.05).
-    let noise = |t: Technique| if t.needs_gpu() { 3e-4 } else { 1e-4 };
+    let noise = |t: Technique| if t.is_shadow_map() { 3e-4 } else { 1e-4 };
     let options = RenderOptions {
         samples: 16,
         jitter: false,
@@ -223,7 +223,7 @@ fn random_similarity_transforms_leave_every_image_unchanged() {
         scene.camera.height = 48;
         let techniques: Vec<Technique> = Technique::ALL
             .into_iter()
-            .filter(|t| gpu || !t.needs_gpu())
+            .filter(|&t| gpu || Runs::of(t) != Runs::GpuOnly)
             .collect();
         let base: Vec<_> = techniques
             .iter()
@@ -244,7 +244,7 @@ fn random_similarity_transforms_leave_every_image_unchanged() {
             let moved = scene.transformed(&m);
             for (t, want) in techniques.iter().zip(&base) {
                 let img = renderer.render(&moved, *t, &options).unwrap();
-                let c = penumbra::geom::image::compare(&img, want).unwrap();
+                let c = penumbra::geom::compare(&img, want).unwrap();
                 println!(
                     "{name} case {case}: {t}: MAE {:.1e}, over 0.05 {:.2}%",
                     c.all.mae,

@@ -2,17 +2,18 @@
 //! wedge techniques draw it once (each copy's silhouette once blended as a second occluder).
 
 use glam::{DMat4, DVec2, DVec3};
-use penumbra::geom::camera::Camera;
-use penumbra::geom::image::compare;
-use penumbra::geom::reference::{self, Reference, Tracer};
+use penumbra::Technique;
+use penumbra::geom::Camera;
+use penumbra::geom::compare;
+use penumbra::geom::{LightSamples, Reference};
 use penumbra::geom::{RectLight, Scene, TriangleMesh};
-use penumbra::volumes::{CpuRenderer, Technique};
+use penumbra::volumes::CpuRenderer;
 
 #[test]
 fn repeated_faces_cast_one_shadow() {
     let c = DVec3::new;
     let ground = TriangleMesh::from_raw(
-        std::path::Path::new("ground"),
+        "ground",
         &[
             c(-2., 0., -2.),
             c(-2., 0., 2.),
@@ -37,14 +38,14 @@ fn repeated_faces_cast_one_shadow() {
     let camera = Camera::look_at(c(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 48, 32).unwrap();
     let light = RectLight::new(c(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
     let scene = |faces: &[[u32; 3]]| {
-        let quad = TriangleMesh::from_raw(std::path::Path::new("quad"), &corners, faces).unwrap();
+        let quad = TriangleMesh::from_raw("quad", &corners, faces).unwrap();
         Scene::new(camera, light)
             .with_mesh("ground", &ground, DMat4::IDENTITY)
             .with_mesh("quad", &quad, DMat4::IDENTITY)
     };
     let single = scene(&once);
     let want: Vec<_> = [Technique::Wedges, Technique::WedgesBlend]
-        .map(|t| CpuRenderer::new(&single).render(&single, t, &|_| {}))
+        .map(|t| CpuRenderer::new(&single).render(t, &|_| {}))
         .into();
     for (what, faces, dropped) in [
         ("twice", &twice[..], 2),
@@ -54,17 +55,12 @@ fn repeated_faces_cast_one_shadow() {
         let s = scene(faces);
         assert_eq!(s.meshes[1].mesh.dropped_duplicate, dropped, "{what}");
         assert_eq!(s.meshes[1].mesh.triangles.len(), 4 - dropped, "{what}");
-        let truth = reference::render(
-            &s,
-            &Tracer::new(&s),
-            Reference::Sampled { per_axis: 16 },
-            &|_| {},
-        );
+        let truth = Reference::new(&s).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
         for (i, t) in [Technique::Wedges, Technique::WedgesBlend]
             .into_iter()
             .enumerate()
         {
-            let img = CpuRenderer::new(&s).render(&s, t, &|_| {});
+            let img = CpuRenderer::new(&s).render(t, &|_| {});
             if dropped > 0 {
                 assert_eq!(
                     img, want[i],

@@ -15,5 +15,4 @@ mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;
 mod repeated_faces;
-mod through_the_light;
 mod volumes;

@@ -2,11 +2,12 @@
 //! conservativeness, exactness for planar occluders, invariance and robustness.
 
 use glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra::geom::camera::Camera;
-use penumbra::geom::reference::{self, Reference, Tracer};
-use penumbra::geom::scene::SceneMesh;
+use penumbra::Technique;
+use penumbra::geom::Camera;
+use penumbra::geom::SceneMesh;
+use penumbra::geom::{LightSamples, Reference};
 use penumbra::geom::{Rng, Scene, SurfacePoint, TriangleMesh};
-use penumbra::volumes::{CpuRenderer, Technique};
+use penumbra::volumes::CpuRenderer;
 
 use crate::common::{fixture_names, load};
 
@@ -126,7 +127,7 @@ fn wedges_cover_every_penumbra_point_of_the_planar_fixtures() {
 
 /// A scene of one occluder `polygon` under a 2.5 x 1.5 light facing down from `(0, 5, 0)`.
 pub fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
-    let mesh = TriangleMesh::from_raw(std::path::Path::new("occluder"), polygon, tris).unwrap();
+    let mesh = TriangleMesh::from_raw("occluder", polygon, tris).unwrap();
     Scene {
         path: "memory".into(),
         camera: Camera::look_at(DVec3::new(0., 5., 5.), DVec3::ZERO, DVec3::Y, 45., 8, 8).unwrap(),
@@ -374,7 +375,7 @@ fn degenerate_geometry_never_panics_or_gives_nan() {
         }
     }
     // A zero-length edge as a wedge: no projection, no area, no NaN.
-    let w = penumbra::volumes::wedge::Wedge {
+    let w = penumbra::volumes::Wedge {
         from: DVec3::new(0.2, 0.1, 2.0),
         to: DVec3::new(0.2, 0.1, 2.0),
         multiplicity: 1,
@@ -481,9 +482,8 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
 
 /// The pixels where CPU `hard` differs from the hard reference.
 fn pixels_where_hard_differs(scene: &Scene) -> usize {
-    let hard = CpuRenderer::new(scene).render(scene, Technique::Hard, &|_| {});
-    let tracer = Tracer::new(scene);
-    let want = reference::render(scene, &tracer, Reference::Hard, &|_| {});
+    let hard = CpuRenderer::new(scene).render(Technique::Hard, &|_| {});
+    let want = Reference::new(scene).render(LightSamples::Centre, &|_| {});
     hard.data
         .iter()
         .zip(&want.data)

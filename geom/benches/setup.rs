@@ -8,7 +8,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
-use penumbra_geom::raycast::SceneBvh;
+use penumbra_geom::SceneBvh;
 
 fn coincident_quads(n: usize) -> Vec<[DVec3; 3]> {
     let p = [

@@ -17,6 +17,13 @@ pub struct Plane {
     pub d: f64,
 }
 
+impl Plane {
+    /// Signed value at `p`; non-negative inside.
+    pub fn eval(&self, p: DVec3) -> f64 {
+        self.n.dot(p) + self.d
+    }
+}
+
 /// The hierarchy.
 #[derive(Clone, Debug, Default)]
 pub struct BoxTree {

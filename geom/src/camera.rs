@@ -69,7 +69,7 @@ impl Camera {
     /// // The centre pixel's ray points at the target.
     /// assert!(c.ray_dir(160, 120).dot(-c.eye.normalize()) > 0.999);
     /// assert!(Camera::look_at(DVec3::ZERO, DVec3::ZERO, DVec3::Y, 45.0, 8, 8).is_err());
-    /// # Ok::<(), penumbra_geom::camera::CameraError>(())
+    /// # Ok::<(), penumbra_geom::CameraError>(())
     /// ```
     pub fn look_at(
         eye: DVec3,

@@ -249,11 +249,10 @@ impl HalfEdgeMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn mesh(p: &[[f64; 3]], t: &[[u32; 3]]) -> TriangleMesh {
         let p: Vec<DVec3> = p.iter().map(|&a| DVec3::from(a)).collect();
-        TriangleMesh::from_raw(Path::new("test"), &p, t).unwrap()
+        TriangleMesh::from_raw("test", &p, t).unwrap()
     }
 
     fn tetra() -> TriangleMesh {

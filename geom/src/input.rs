@@ -47,12 +47,12 @@ pub fn regular_file(path: &Path) -> std::io::Result<std::fs::Metadata> {
 
 /// The text of the regular file at `path` (or the regular file a link there points to). Anything
 /// else is refused before it is opened, and a file larger than the memory available
-/// ([`crate::memory::available`]) before it is read; reading stops at the size the file had
+/// ([`crate::memory::available_memory`]) before it is read; reading stops at the size the file had
 /// when it was checked, should it grow meanwhile.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
     use std::io::{Error, ErrorKind};
     let m = regular_file(path)?;
-    if let Some(a) = crate::memory::available().filter(|&a| m.len() > a / 2) {
+    if let Some(a) = crate::memory::available_memory().filter(|&a| m.len() > a / 2) {
         return Err(Error::new(
             ErrorKind::OutOfMemory,
             format!(

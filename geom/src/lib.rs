@@ -1,34 +1,52 @@
-//! Geometry of penumbra: meshes and their half-edge structure, scene files, the camera and the
-//! rectangular light, ray casting, the ray-cast visibility reference, the exact point evaluator
-//! and visibility images.
+//! Geometry of penumbra: meshes and their half-edge structure, scenes (made in code or read from
+//! scene files), the camera and the rectangular light, ray casting, the ray-cast visibility
+//! reference, the exact point evaluator and visibility images with their files and metrics.
+//!
+//! Every public name is here at the crate root; the modules are private.
 #![warn(missing_docs)]
+#![warn(unnameable_types)]
 
-pub mod boxtree;
-pub mod bvh_build;
-pub mod camera;
-pub mod exact;
-pub mod halfedge;
-pub mod image;
-pub mod input;
-pub mod light;
-pub mod memory;
-pub mod mesh;
+mod boxtree;
+mod bvh_build;
+mod camera;
+mod exact;
+mod halfedge;
+mod image;
+mod image_files;
+mod input;
+mod light;
+mod memory;
+mod mesh;
+mod metrics;
 mod output;
-pub mod range;
-pub mod raycast;
-pub mod reference;
-pub mod rng;
-pub mod scene;
-pub mod scene_values;
-pub mod technique;
-pub mod union;
+mod range;
+mod raycast;
+mod reference;
+mod rng;
+mod scene;
+mod scene_file;
+mod scene_values;
+mod technique;
 
-pub use camera::Camera;
-pub use halfedge::HalfEdgeMesh;
-pub use image::VisibilityImage;
+pub use boxtree::{BoxTree, Plane};
+pub use camera::{Camera, CameraError};
+pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
+pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeMesh, InvariantError, NO_TWIN};
+pub use image::{ImageError, VisibilityImage};
+pub use image_files::{PngColor, write_png_bytes};
 pub use light::RectLight;
-pub use mesh::TriangleMesh;
-pub use reference::{SurfacePoint, Tracer};
+pub use memory::available_memory;
+pub use mesh::{MeshError, TriangleMesh};
+pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};
+pub use output::{output_target, remove_temporaries_in_progress, write_atomically};
+pub use range::{
+    MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, RangeError, UNIT_TOLERANCE, within_coordinates,
+};
+pub use raycast::{Hit, SceneBvh, WatertightRay};
+pub use reference::{
+    LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,
+};
 pub use rng::Rng;
-pub use scene::{Scene, SceneError};
-pub use technique::Technique;
+pub use scene::{Scene, SceneMesh};
+pub use scene_file::SceneError;
+pub use technique::{Technique, UnknownTechnique};

@@ -4,7 +4,7 @@
 /// The bytes this process can still allocate, as far as Linux tells: the least of the memory
 /// available (`MemAvailable` in `/proc/meminfo`), the control group's limit less its use, and the
 /// address-space limit (`ulimit -v`). `None` where none of them can be read.
-pub fn available() -> Option<u64> {
+pub fn available_memory() -> Option<u64> {
     [meminfo(), cgroup(), address_space()]
         .into_iter()
         .flatten()
@@ -64,7 +64,7 @@ fn address_space() -> Option<u64> {
 mod tests {
     #[test]
     fn some_memory_is_available_and_less_than_the_machine_has() {
-        let a = super::available().expect("Linux reports memory");
+        let a = super::available_memory().expect("Linux reports memory");
         let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap();
         let total = super::kb_line(&meminfo, "MemTotal:").unwrap();
         assert!(a > 0 && a <= total, "{a} of {total} bytes");

@@ -97,21 +97,29 @@ impl TriangleMesh {
     }
 
     /// Builds a welded mesh from raw positions and triangles. Non-finite positions and
-    /// out-of-range indices are errors naming `name`; degenerate and repeated triangles are
-    /// dropped and counted.
+    /// out-of-range indices are errors naming the mesh by `name`; degenerate and repeated
+    /// triangles are dropped and counted.
     ///
     /// ```
     /// use glam::DVec3;
     /// use penumbra_geom::TriangleMesh;
-    /// use std::path::Path;
     ///
     /// let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X]; // the last repeats the second
-    /// let m = TriangleMesh::from_raw(Path::new("tri"), &p, &[[0, 1, 2], [0, 3, 1]])?;
+    /// let m = TriangleMesh::from_raw("tri", &p, &[[0, 1, 2], [0, 3, 1]])?;
     /// assert_eq!((m.positions.len(), m.triangles.len(), m.dropped_degenerate), (3, 1, 1));
-    /// assert!(TriangleMesh::from_raw(Path::new("bad"), &p, &[[0, 1, 9]]).is_err());
-    /// # Ok::<(), penumbra_geom::mesh::MeshError>(())
+    /// assert!(TriangleMesh::from_raw("bad", &p, &[[0, 1, 9]]).is_err());
+    /// # Ok::<(), penumbra_geom::MeshError>(())
     /// ```
     pub fn from_raw(
+        name: &str,
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+    ) -> Result<Self, MeshError> {
+        Self::from_raw_at(Path::new(name), positions, triangles)
+    }
+
+    /// [`TriangleMesh::from_raw`] of a mesh read from the file `name` (errors name the file).
+    fn from_raw_at(
         name: &Path,
         positions: &[DVec3],
         triangles: &[[u32; 3]],
@@ -232,7 +240,7 @@ impl TriangleMesh {
                 path: path.to_path_buf(),
             });
         }
-        TriangleMesh::from_raw(path, &positions, &triangles)
+        TriangleMesh::from_raw_at(path, &positions, &triangles)
     }
 
     /// A closed UV sphere of radius 1 around the origin, outward-facing: a pole at `+y` and one
@@ -274,7 +282,7 @@ impl TriangleMesh {
                 t.push([a, d, b]);
             }
         }
-        TriangleMesh::from_raw(Path::new("uv_sphere"), &p, &t)
+        TriangleMesh::from_raw("uv_sphere", &p, &t)
             .expect("finite positions and in-range indices by construction")
     }
 
@@ -572,7 +580,7 @@ mod tests {
 
     #[test]
     fn bad_index_in_memory_is_an_error() {
-        let e = TriangleMesh::from_raw(Path::new("mem"), &[DVec3::ZERO; 3], &[[0, 1, 3]]);
+        let e = TriangleMesh::from_raw("mem", &[DVec3::ZERO; 3], &[[0, 1, 3]]);
         assert!(matches!(e, Err(MeshError::BadIndex { index: 3, .. })));
     }
 }

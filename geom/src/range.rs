@@ -4,7 +4,11 @@
 
 use glam::DVec3;
 
-use crate::scene::{Scene, UNIT_TOLERANCE};
+use crate::scene::Scene;
+
+/// Tolerance on the unit length and orthogonality of the light's normal and tangent (and of the
+/// camera's frame of a scene made in code).
+pub const UNIT_TOLERANCE: f64 = 1e-4;
 
 /// Largest magnitude of a world coordinate (eye, target, light centre, every mesh vertex after
 /// its transform): the ray caster's hierarchy quantizes boxes relative to the scene's, and

@@ -111,7 +111,7 @@ pub struct SceneBvh {
 }
 
 impl SceneBvh {
-    /// Builds the hierarchy: a binned-SAH binary BVH ([`build_bvh2`], O(N log N) even on
+    /// Builds the hierarchy: a binned-SAH binary BVH (`bvh_build.rs`, O(N log N) even on
     /// coincident or fan-sliver triangles, where obvhs' PLOC builder is quadratic), refined by
     /// obvhs' reinsertion optimizer and converted to its compressed wide BVH, with the
     /// parameters of obvhs' medium-quality build.

@@ -22,6 +22,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use crate::boxtree::BoxTree;
+use crate::camera::Camera;
 use crate::exact::exact_visibility;
 use crate::image::VisibilityImage;
 use crate::light::RectLight;
@@ -224,7 +225,7 @@ impl Tracer {
         }
     }
 
-    /// Exact visibility at `p` (see [`crate::exact`]).
+    /// Exact visibility at `p` ([`exact_visibility`]).
     pub fn exact_visibility(&self, p: &SurfacePoint) -> f64 {
         exact_visibility(
             p.position,
@@ -236,50 +237,82 @@ impl Tracer {
     }
 }
 
-/// Which reference to render.
+/// Which light points the reference samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Reference {
+pub enum LightSamples {
     /// `n x n` stratified-jittered light samples per pixel.
-    Sampled {
+    Stratified {
         /// Samples per axis, `n`.
         per_axis: usize,
     },
-    /// One sample at the light's centre.
-    Hard,
+    /// One sample at the light's centre: the hard shadow of a point light there.
+    Centre,
 }
 
-/// Visibility of every camera pixel of `scene` by ray casting. `progress` is called with the
-/// number of rows finished so far, from any thread.
-pub fn render(
-    scene: &Scene,
-    tracer: &Tracer,
-    reference: Reference,
-    progress: &(dyn Fn(u64) + Sync),
-) -> VisibilityImage {
-    let cam = &scene.camera;
-    let (w, h) = (cam.width, cam.height);
-    let mut img = VisibilityImage::filled(w, h, 1.0);
-    let done = std::sync::atomic::AtomicU64::new(0);
-    img.data
-        .par_chunks_mut(w as usize)
-        .enumerate()
-        .for_each(|(j, row)| {
-            for (i, out) in row.iter_mut().enumerate() {
-                let dir = cam.ray_dir(i as u32, j as u32);
-                let Some(p) = tracer.surface_point(cam.eye, dir) else {
-                    continue;
-                };
-                *out = match reference {
-                    Reference::Hard => tracer.hard_visibility(&p),
-                    Reference::Sampled { per_axis } => {
-                        let pixel = j as u64 * w as u64 + i as u64;
-                        let mut rng = Rng::stream(REFERENCE_SEED, pixel);
-                        tracer.sampled_visibility(&p, per_axis, &mut rng)
-                    }
-                } as f32;
-            }
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(n);
-        });
-    img
+/// The ray-cast reference renderer of one scene: its [`Tracer`] and its camera.
+///
+/// ```
+/// use glam::{DMat4, DVec2, DVec3};
+/// use penumbra_geom::{Camera, LightSamples, RectLight, Reference, Scene, TriangleMesh};
+///
+/// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 16, 12)?;
+/// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0));
+/// let scene = Scene::new(camera, light)
+///     .with_mesh("ball", &TriangleMesh::uv_sphere(8, 12), DMat4::from_translation(DVec3::Y));
+/// let reference = Reference::new(&scene);
+/// let soft = reference.render(LightSamples::Stratified { per_axis: 4 }, &|_| {});
+/// let hard = reference.render(LightSamples::Centre, &|_| {});
+/// assert_eq!((soft.width, hard.height), (16, 12));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Reference {
+    /// Ray casting.
+    pub tracer: Tracer,
+    /// The camera whose pixels are rendered.
+    camera: Camera,
+}
+
+impl Reference {
+    /// Builds the BVH of `scene` and keeps its camera.
+    pub fn new(scene: &Scene) -> Self {
+        Reference {
+            tracer: Tracer::new(scene),
+            camera: scene.camera,
+        }
+    }
+
+    /// Visibility of every camera pixel by ray casting through `samples`. `progress` is called
+    /// with the number of rows finished so far, from any thread.
+    pub fn render(
+        &self,
+        samples: LightSamples,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> VisibilityImage {
+        let (cam, tracer) = (&self.camera, &self.tracer);
+        let (w, h) = (cam.width, cam.height);
+        let mut img = VisibilityImage::filled(w, h, 1.0);
+        let done = std::sync::atomic::AtomicU64::new(0);
+        img.data
+            .par_chunks_mut(w as usize)
+            .enumerate()
+            .for_each(|(j, row)| {
+                for (i, out) in row.iter_mut().enumerate() {
+                    let dir = cam.ray_dir(i as u32, j as u32);
+                    let Some(p) = tracer.surface_point(cam.eye, dir) else {
+                        continue;
+                    };
+                    *out = match samples {
+                        LightSamples::Centre => tracer.hard_visibility(&p),
+                        LightSamples::Stratified { per_axis } => {
+                            let pixel = j as u64 * w as u64 + i as u64;
+                            let mut rng = Rng::stream(REFERENCE_SEED, pixel);
+                            tracer.sampled_visibility(&p, per_axis, &mut rng)
+                        }
+                    } as f32;
+                }
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n);
+            });
+        img
+    }
 }

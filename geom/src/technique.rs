@@ -13,8 +13,8 @@ use std::str::FromStr;
 /// let t: Technique = "depth-complexity".parse().unwrap();
 /// assert_eq!(t, Technique::DepthComplexity);
 /// assert_eq!(t.to_string(), "depth-complexity");
-/// assert!(!t.needs_gpu() && t.takes_samples());
-/// assert!(Technique::Pcss.needs_gpu());
+/// assert!(!t.is_shadow_map() && t.takes_samples());
+/// assert!(Technique::Pcss.is_shadow_map());
 /// assert!("wedge-blend".parse::<Technique>().is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -108,8 +108,8 @@ impl Technique {
         }
     }
 
-    /// The shadow-map techniques: they run on a GPU only (Mesa's lavapipe serves without one).
-    pub fn needs_gpu(self) -> bool {
+    /// The shadow-map techniques (`docs/shadow-maps.md`): filters of a light-centre shadow map.
+    pub fn is_shadow_map(self) -> bool {
         matches!(
             self,
             Technique::Pcf
@@ -120,7 +120,7 @@ impl Technique {
         )
     }
 
-    /// The volume techniques: the GPU renders them where there is one, the CPU otherwise.
+    /// The volume techniques: shadow volumes and penumbra wedges.
     pub fn is_volume(self) -> bool {
         matches!(
             self,
@@ -128,15 +128,9 @@ impl Technique {
         )
     }
 
-    /// The techniques that run on the GPU where there is one and on the CPU otherwise: the
-    /// volume techniques and depth-complexity sampling.
-    pub fn on_either(self) -> bool {
-        self.is_volume() || self == Technique::DepthComplexity
-    }
-
-    /// The techniques that run on the CPU only: the references.
-    pub fn cpu_only(self) -> bool {
-        !(self.needs_gpu() || self.on_either())
+    /// The ray-cast references.
+    pub fn is_reference(self) -> bool {
+        matches!(self, Technique::Reference | Technique::HardReference)
     }
 
     /// Whether it evaluates N light samples per pixel (`--samples`).
@@ -177,12 +171,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_name_parses_back_and_the_kinds_partition_the_techniques() {
+    fn every_name_parses_back_and_the_families_partition_the_techniques() {
         for t in Technique::ALL {
             assert_eq!(t.name().parse::<Technique>(), Ok(t));
             assert_eq!(t.to_string(), t.name());
-            let kinds = [t.needs_gpu(), t.on_either(), t.cpu_only()];
-            assert_eq!(kinds.iter().filter(|&&k| k).count(), 1, "{t}");
+            let families = [
+                t.is_shadow_map(),
+                t.is_volume(),
+                t.is_reference(),
+                t == Technique::DepthComplexity,
+            ];
+            assert_eq!(families.iter().filter(|&&k| k).count(), 1, "{t}");
         }
         let err = "wedge".parse::<Technique>().unwrap_err().to_string();
         assert!(

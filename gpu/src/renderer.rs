@@ -12,7 +12,7 @@
 
 use std::sync::Arc;
 
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_volumes::Volumes;
 

@@ -5,8 +5,8 @@
 use glam::{DVec2, DVec3, Vec4};
 use penumbra_geom::RectLight;
 use penumbra_volumes::Volumes;
-use penumbra_volumes::render::{WedgeFrustum, receiver_box, wedge_frustum};
-use penumbra_volumes::shadow_volume::{VolumeVertex, caps, side};
+use penumbra_volumes::{VolumeVertex, caps, side};
+use penumbra_volumes::{WedgeFrustum, receiver_box, wedge_frustum};
 
 use crate::frame::FrameCamera;
 use crate::passes::blend::TileMask;
@@ -16,7 +16,7 @@ use crate::passes::wedge::WedgeInstance;
 /// of `triangles` (world space); wedges wholly outside are dropped. Also each blending unit's
 /// range of the instances (the wedges come grouped by unit, [`Wedge::unit`]).
 ///
-/// [`Wedge::unit`]: penumbra_volumes::wedge::Wedge::unit
+/// [`Wedge::unit`]: penumbra_volumes::Wedge::unit
 pub fn wedge_instances(
     light: &RectLight,
     triangles: &[[DVec3; 3]],
@@ -271,7 +271,7 @@ pub type UnitVolumes = (Vec<[f32; 4]>, Vec<(u32, std::ops::Range<u32>)>);
 /// holds it, placed by the mesh's model matrix) with `w = 1`, a vertex at infinity as its
 /// direction from the light's centre with `w = 0`. Also each unit's mesh and range.
 ///
-/// [`Wedge::unit`]: penumbra_volumes::wedge::Wedge::unit
+/// [`Wedge::unit`]: penumbra_volumes::Wedge::unit
 pub fn volume_vertices(volumes: &Volumes, stored: &[&[[f32; 3]]]) -> UnitVolumes {
     use VolumeVertex::{Finite as F, Infinite as I};
     let c = volumes.light.center;

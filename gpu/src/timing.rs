@@ -5,7 +5,7 @@ use std::cell::RefCell;
 
 use crate::context::{GpuContext, GpuError};
 use crate::readback::{read_r32f, read_u64};
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 
 /// GPU time of each pass of one frame, from timestamp queries, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]

@@ -1,4 +1,4 @@
-//! Depth-complexity sampling on the GPU against its CPU oracle (`penumbra_volumes::depth_complexity`):
+//! Depth-complexity sampling on the GPU against its CPU oracle (`penumbra_volumes::DepthComplexity`):
 //! the same samples, the same counts, so the same V on (nearly) every pixel of every fixture; and
 //! an edge list too small for its frame, which must lose nothing. They need an adapter (lavapipe
 //! in CI), as `gpu.rs` does.
@@ -7,7 +7,7 @@ mod common;
 use common::{context, fixtures, texture, view};
 
 use glam::DMat4;
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::wgpu;
 use penumbra_gpu::{
@@ -55,7 +55,7 @@ fn check_every_fixture(size: Option<(u32, u32)>, min_equal: f64, max_beyond: usi
                 per_axis,
                 jitter: false,
             };
-            let cpu = oracle.render(&scene, pattern, &|_| {});
+            let cpu = oracle.render(pattern, &|_| {});
             let gpu = r
                 .render_depth_complexity(&scene, samples as u32)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -197,7 +197,6 @@ fn an_edge_list_too_small_loses_no_edge_and_grows() {
     assert_eq!(differ, 0, "the overflowing frame lost edges");
     // And both are the oracle's image.
     let oracle = DepthComplexity::new(&scene).render(
-        &scene,
         SamplePattern {
             per_axis: 8,
             jitter: false,
@@ -353,7 +352,7 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         }
         let (gpu, report) = frame(&ctx, &mut gpu_scene, &scene, None);
         assert_eq!(report.cut_short, 0);
-        let oracle = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        let oracle = DepthComplexity::new(&scene).render(pattern, &|_| {});
         let (equal, beyond) = agreement(&oracle, &gpu, 1.0 / 64.0);
         assert!(
             equal >= 0.998 && beyond <= 0.001,

@@ -4,15 +4,12 @@
 mod common;
 use common::{context, fixtures};
 
-use penumbra_geom::Scene;
-use penumbra_geom::image::compare;
-use penumbra_geom::reference::{self, Reference, Tracer};
+use penumbra_geom::{LightSamples, Reference, Scene, Technique, compare};
 use penumbra_gpu::{
     GpuRenderer, LightFrustum, ShadowMapRenderer, ShadowUniforms, multi_pass_kernel,
 };
 use penumbra_params::{MdsmExtra, fractional_disk_samples};
-use penumbra_volumes::Volumes;
-use penumbra_volumes::{CpuRenderer, Technique};
+use penumbra_volumes::{CpuRenderer, Volumes};
 
 /// Whether every mesh of `scene` is one of the generated fixture meshes (spheres, quads, the
 /// three-page book), not a real mesh.
@@ -31,8 +28,7 @@ fn gpu_hard_matches_the_hard_reference() {
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
         let img = r.render(&scene, &volumes, Technique::Hard).unwrap();
-        let tracer = Tracer::new(&scene);
-        let want = reference::render(&scene, &tracer, Reference::Hard, &|_| {});
+        let want = Reference::new(&scene).render(LightSamples::Centre, &|_| {});
         let differ = img
             .data
             .iter()
@@ -68,7 +64,7 @@ fn gpu_matches_cpu(t: Technique) {
     for (name, scene) in fixtures() {
         let volumes = Volumes::build(&scene);
         let gpu = r.render(&scene, &volumes, t).unwrap();
-        let cpu = CpuRenderer::new(&scene).render(&scene, t, &|_| {});
+        let cpu = CpuRenderer::new(&scene).render(t, &|_| {});
         let c = compare(&gpu, &cpu).unwrap();
         println!(
             "{name:>18}: GPU {t:?} vs CPU: MAE {:.2e}, p99 {:.2e}, max {:.2e}; penumbra MAE {:.2e}",
@@ -141,8 +137,8 @@ fn shadow_map_techniques_render_every_fixture_lit_far_away_and_dark_in_umbrae() 
     // and `fractional-disk` light umbra pixels on beetle).
     for (name, mut scene) in fixtures().into_iter().filter(|(_, s)| generated(s)) {
         scene.params.shadow_map.resolution = 512;
-        let tracer = Tracer::new(&scene);
-        let truth = reference::render(&scene, &tracer, Reference::Sampled { per_axis: 8 }, &|_| {});
+        let truth =
+            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 8 }, &|_| {});
         let lit = settled(&truth, 1.0, 4);
         assert!(lit.len() > 1000, "{name}: {} lit test pixels", lit.len());
         for r in &renderers {
@@ -252,8 +248,8 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
     for (name, scene) in fixtures().into_iter().filter(|(n, _)| {
         ["camera-in-shadow", "overlapping-quads", "sphere-over-plane"].contains(&n.as_str())
     }) {
-        let tracer = Tracer::new(&scene);
-        let truth = reference::render(&scene, &tracer, Reference::Sampled { per_axis: 8 }, &|_| {});
+        let truth =
+            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 8 }, &|_| {});
         for (k, (t, label, set)) in options.iter().enumerate() {
             let mut scene = scene.clone();
             scene.params.shadow_map.resolution = 512;
@@ -373,14 +369,11 @@ fn fractional_disk_sample_count_follows_eq_2() {
     assert_eq!(out[79], 50.0);
 }
 
-#[path = "../../tests/through_the_light.rs"]
-mod through_the_light;
-
 #[test]
 fn occluders_through_the_light_plane_match_the_cpu_oracle() {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::with_context(&ctx);
-    let scene = through_the_light::scene();
+    let scene = penumbra_testkit::through_the_light();
     volume_techniques_match_the_oracle(&r, &scene, "through the light");
 }
 
@@ -391,7 +384,7 @@ fn volume_techniques_match_the_oracle(r: &GpuRenderer, scene: &penumbra_geom::Sc
     let cpu = CpuRenderer::new(scene);
     for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
         let img = r.render(scene, &volumes, t).unwrap();
-        let want = cpu.render(scene, t, &|_| {});
+        let want = cpu.render(t, &|_| {});
         let c = compare(&img, &want).unwrap();
         println!(
             "{name}: GPU {t} vs CPU: MAE {:.2e}, p99 {:.2e}",
@@ -404,13 +397,13 @@ fn volume_techniques_match_the_oracle(r: &GpuRenderer, scene: &penumbra_geom::Sc
 #[test]
 fn random_scenes_match_the_cpu_oracle() {
     use glam::{DMat4, DQuat, DVec2, DVec3};
-    use penumbra_geom::camera::Camera;
+    use penumbra_geom::Camera;
     use penumbra_geom::{RectLight, Rng, TriangleMesh};
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::with_context(&ctx);
     let mut rng = Rng::new(2026);
     let quad = TriangleMesh::from_raw(
-        std::path::Path::new("quad"),
+        "quad",
         &[
             DVec3::new(-0.5, 0.0, -0.5),
             DVec3::new(-0.5, 0.0, 0.5),

@@ -3,16 +3,13 @@
 //! `Scene::with_mesh`, and by the bytes each frame writes. They need an adapter (lavapipe in
 //! CI), as `gpu.rs` does.
 
-use std::path::Path;
-
 mod common;
 use common::context;
 
 use common::{texture, view as texture_view};
 use glam::dcamera::rh::{proj::directx, view};
 use glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra_geom::image::{VisibilityImage, compare};
-use penumbra_geom::{Camera, RectLight, Scene, Technique, TriangleMesh};
+use penumbra_geom::{Camera, RectLight, Scene, Technique, TriangleMesh, VisibilityImage, compare};
 use penumbra_gpu::{
     FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene, read_r32f,
     visibility_target,
@@ -29,7 +26,7 @@ fn meshes() -> Vec<(TriangleMesh, DMat4)> {
     let p = DVec3::new;
     let quad = |s: f64| {
         TriangleMesh::from_raw(
-            Path::new("ground"),
+            "ground",
             &[p(-s, 0.0, -s), p(-s, 0.0, s), p(s, 0.0, s), p(s, 0.0, -s)],
             &[[0, 1, 2], [0, 2, 3]],
         )
@@ -59,7 +56,7 @@ fn meshes() -> Vec<(TriangleMesh, DMat4)> {
         [0, 4, 7],
         [0, 7, 3],
     ];
-    let cube = TriangleMesh::from_raw(Path::new("cube"), &c, &faces).unwrap();
+    let cube = TriangleMesh::from_raw("cube", &c, &faces).unwrap();
     vec![
         (quad(6.0), DMat4::IDENTITY),
         (
@@ -134,7 +131,7 @@ fn frame(
 }
 
 fn assert_matches_cpu(image: &VisibilityImage, scene: &Scene, technique: Technique, what: &str) {
-    let cpu = CpuRenderer::new(scene).render(scene, technique, &|_| {});
+    let cpu = CpuRenderer::new(scene).render(technique, &|_| {});
     let c = compare(image, &cpu).unwrap();
     println!(
         "{what}, {technique}: MAE {:.2e}, p99 {:.2e}",

@@ -10,7 +10,7 @@ use common::{context, fixtures};
 
 use std::path::PathBuf;
 
-use penumbra_geom::image::compare;
+use penumbra_geom::compare;
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::ShadowMapRenderer;
 use penumbra_volumes::{DepthComplexity, SamplePattern};
@@ -52,7 +52,7 @@ fn shadow_maps_keep_their_umbrae_and_pcss_and_fractional_disk_their_penumbrae() 
     };
     let mut failures = Vec::new();
     for (name, scene) in fixtures().into_iter().chain([scale()]) {
-        let truth = DepthComplexity::new(&scene).render(&scene, pattern, &|_| {});
+        let truth = DepthComplexity::new(&scene).render(pattern, &|_| {});
         for r in &renderers {
             let t = r.technique();
             let img = r.render(&scene).unwrap();

@@ -22,10 +22,13 @@
 //! # Ok::<(), penumbra_params::ParamError>(())
 //! ```
 #![warn(missing_docs)]
+#![warn(unnameable_types)]
 
+mod kind;
 mod table;
 
-pub use table::{Kind, PARAMS, Param, TABLES, Value, toml_reference};
+pub use kind::{Kind, Value};
+pub use table::{PARAMS, Param, TABLES, toml_reference};
 
 /// The light-centre shadow map every shadow-map technique starts from.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -21,11 +21,7 @@ pub const SPHERE_STACKS: u32 = 20;
 pub const SPHERE_SLICES: u32 = 20;
 
 fn mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<TriangleMesh> {
-    Ok(TriangleMesh::from_raw(
-        Path::new("generated"),
-        positions,
-        triangles,
-    )?)
+    Ok(TriangleMesh::from_raw("generated", positions, triangles)?)
 }
 
 /// A unit square `[-0.5, 0.5]^2` in the plane `y = 0`, facing `+y`, as two triangles.
@@ -287,7 +283,7 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     let mut written = Vec::new();
     let mut write = |path: std::path::PathBuf, text: String| -> Result<()> {
         // A FIFO or device under the folder is refused, not written into (a FIFO would block).
-        penumbra::geom::image::output_target(&path)?;
+        penumbra::geom::output_target(&path)?;
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
         written.push(path.display().to_string());
         Ok(())

@@ -54,7 +54,7 @@ fn remove_temporaries_on_signal() {
     // Without a handler the signal ends the process as before; a temporary file it leaves is
     // then removed by the next run writing the same output.
     let _ = ctrlc::set_handler(|| {
-        penumbra::geom::image::remove_temporaries_in_progress();
+        penumbra::geom::remove_temporaries_in_progress();
         std::process::exit(130);
     });
 }

@@ -10,7 +10,7 @@ use anyhow::{Result, bail};
 pub(crate) fn check_outputs(inputs: &[PathBuf], outputs: &[&Path]) -> Result<()> {
     for (k, out) in outputs.iter().enumerate() {
         // Before any work: a directory, device, FIFO or socket is refused, not replaced.
-        penumbra::geom::image::output_target(out)?;
+        penumbra::geom::output_target(out)?;
         if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
             bail!(
                 "output {} is an input of this run ({}); refusing to overwrite it",

@@ -226,7 +226,7 @@ fn thousands_of_meshes_render_on_either_back_end() {
         images
             .push(penumbra::VisibilityImage::read_exr(&d.join(format!("{backend}.exr"))).unwrap());
     }
-    let c = penumbra::geom::image::compare(&images[1], &images[0]).unwrap();
+    let c = penumbra::geom::compare(&images[1], &images[0]).unwrap();
     assert!(c.all.mae <= 1e-3, "GPU against CPU: {c:?}");
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -10,9 +10,9 @@ use std::time::Instant;
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{DVec2, DVec3};
 use penumbra_geom::{HalfEdgeMesh, RectLight, TriangleMesh};
-use penumbra_volumes::shadow_volume::ShadowVolume;
-use penumbra_volumes::silhouette::Silhouette;
-use penumbra_volumes::wedge::Wedge;
+use penumbra_volumes::ShadowVolume;
+use penumbra_volumes::Silhouette;
+use penumbra_volumes::Wedge;
 
 /// A closed UV sphere with `2 * slices * (stacks - 1)` triangles, bumped so that its
 /// silhouette is long and ragged like a real model's.
@@ -49,7 +49,7 @@ fn construct(mesh: &HalfEdgeMesh, light: &RectLight) -> (usize, usize) {
 fn input_bytes(m: &HalfEdgeMesh) -> usize {
     m.positions.len() * 24
         + m.faces.len() * 12
-        + m.half_edges.len() * std::mem::size_of::<penumbra_geom::halfedge::HalfEdge>()
+        + m.half_edges.len() * std::mem::size_of::<penumbra_geom::HalfEdge>()
         + m.edges
             .iter()
             .map(|e| 12 + 4 * e.half_edges.len())

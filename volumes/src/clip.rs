@@ -25,14 +25,6 @@ impl Poly {
         len: 0,
     };
 
-    /// The polygon of `points` (at most [`Poly::CAPACITY`]; any beyond are dropped).
-    #[inline]
-    pub fn of(points: &[DVec2]) -> Poly {
-        let mut p = Poly::EMPTY;
-        p.set(points);
-        p
-    }
-
     /// Most vertices. A convex polygon gains at most one vertex per clip, so a triangle clipped
     /// by three half-planes, as the wedge integrals clip their radial parts, has at most 6; the
     /// slack is for polygons that rounding left a hair short of convex.
@@ -124,6 +116,7 @@ impl std::ops::Deref for Poly {
 
 /// Keeps the part of the convex polygon `poly` where `f(x) >= 0`, `f` affine (Sutherland &
 /// Hodgman 1974, one plane at a time), in at most [`Poly::CAPACITY`] vertices.
+#[cfg(test)]
 pub fn clip_halfplane(poly: &[DVec2], f: impl Fn(DVec2) -> f64) -> Poly {
     let mut out = Poly::EMPTY;
     out.set_clip(poly, f);

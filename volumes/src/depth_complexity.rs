@@ -47,8 +47,7 @@
 //! [`Tracer::epsilon`] hides a triangle crossed within that distance of `P` or of the light.
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::image::VisibilityImage;
-use penumbra_geom::{Scene, SurfacePoint, Tracer};
+use penumbra_geom::{Camera, Scene, SurfacePoint, Tracer, VisibilityImage};
 use rayon::prelude::*;
 
 use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges, pyramid_planes};
@@ -177,10 +176,12 @@ pub struct DepthComplexity {
     /// `R^2` of the pre-test ([`MARGIN`]): the square of the largest light-space coordinate of
     /// an edge or a receiver.
     reach2: f32,
+    /// The camera whose pixels [`DepthComplexity::render`] renders.
+    camera: Camera,
 }
 
 impl DepthComplexity {
-    /// Builds the BVH and the potential silhouette edges of `scene`.
+    /// Builds the BVH and the potential silhouette edges of `scene`, and keeps its camera.
     pub fn new(scene: &Scene) -> Self {
         let tracer = Tracer::new(scene);
         let edges = PotentialEdges::build(scene);
@@ -195,6 +196,7 @@ impl DepthComplexity {
             reach2: (reach * reach) as f32,
             tracer,
             edges,
+            camera: scene.camera,
         }
     }
 
@@ -324,11 +326,10 @@ impl DepthComplexity {
     /// candidates of a whole tile (the union of its points' pyramids), and its pixels share them.
     pub fn render(
         &self,
-        scene: &Scene,
         pattern: SamplePattern,
         progress: &(dyn Fn(u64) + Sync),
     ) -> VisibilityImage {
-        let cam = &scene.camera;
+        let cam = &self.camera;
         let w = cam.width as usize;
         let light = &self.tracer.light;
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
@@ -394,7 +395,3 @@ impl DepthComplexity {
 
 /// Side of the square tiles of pixels that share one query of the edge hierarchy.
 pub const TILE: usize = 8;
-
-#[cfg(test)]
-#[path = "depth_complexity_tests.rs"]
-mod tests;

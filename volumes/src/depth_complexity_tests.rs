@@ -3,22 +3,19 @@
 //! with a hole, two closed meshes through each other, and receivers on back-facing triangles.
 
 use glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra_geom::camera::Camera;
-use penumbra_geom::reference::{self, Reference, Tracer};
-use penumbra_geom::scene::SceneMesh;
+use penumbra_geom::Camera;
+use penumbra_geom::SceneMesh;
+use penumbra_geom::{LightSamples, Reference};
 use penumbra_geom::{RectLight, Scene, TriangleMesh};
 use penumbra_params::TechniqueParams;
 
-use super::*;
-
-#[path = "../../tests/through_the_light.rs"]
-mod through_the_light;
+use crate::depth_complexity::*;
 
 /// Light samples per axis: 64 per pixel.
 const PER_AXIS: usize = 8;
 
 fn mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleMesh {
-    TriangleMesh::from_raw(std::path::Path::new("test"), positions, triangles).unwrap()
+    TriangleMesh::from_raw("test", positions, triangles).unwrap()
 }
 
 /// A 12 x 12 ground at y = 0.
@@ -91,14 +88,9 @@ fn agrees_with_the_reference(name: &str, scene: &Scene) -> (usize, u32) {
         per_axis: PER_AXIS,
         jitter: true,
     };
-    let got = dc.render(scene, pattern, &|_| {});
-    let tracer = Tracer::new(scene);
-    let want = reference::render(
-        scene,
-        &tracer,
-        Reference::Sampled { per_axis: PER_AXIS },
-        &|_| {},
-    );
+    let got = dc.render(pattern, &|_| {});
+    let want =
+        Reference::new(scene).render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
     let samples = (PER_AXIS * PER_AXIS) as f32;
     let penumbra = want.data.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
     let differ: Vec<(usize, f32, f32)> = got
@@ -288,7 +280,7 @@ fn receivers_on_back_facing_triangles() {
 fn occluders_through_the_light_plane() {
     // A closed box standing up through the light's plane beside its centre, and a quad tilted
     // through it: their projections on the light end where they cross its plane, not at edges.
-    let s = through_the_light::scene();
+    let s = penumbra_testkit::through_the_light();
     assert!(
         penumbra_geom::HalfEdgeMesh::build(&s.meshes[1].mesh).is_closed(),
         "the box is closed"

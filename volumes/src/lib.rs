@@ -1,24 +1,48 @@
 //! Silhouettes, shadow volumes and penumbra wedges, evaluated on the CPU (Forest, Barthe &
 //! Paulin, "Realistic Soft Shadows by Penumbra-Wedges Blending", 2006): the oracle that the wgpu
 //! back end must reproduce, and the renderer on machines without a GPU.
+//!
+//! What the GPU needs of a scene is [`Volumes`] (per mesh an [`Occluder`]: its half-edges,
+//! [`Silhouette`] and [`ShadowVolume`]; the [`Wedge`]s) and, for depth-complexity sampling, the
+//! [`PotentialEdges`]. The CPU renderers are [`CpuRenderer`] (the volume techniques) and
+//! [`DepthComplexity`]; both are built from a scene once and render with their options.
+//!
+//! Every public name is here at the crate root; the modules are private.
 #![warn(missing_docs)]
+#![warn(unnameable_types)]
 
-pub mod blend;
-pub mod clip;
-pub mod depth_complexity;
+mod blend;
+mod clip;
+mod cpu_renderer;
+mod depth_complexity;
 mod light_centre;
-pub mod potential;
+mod potential;
 mod region;
-pub mod render;
-pub mod samples;
+mod samples;
 mod sectors;
-pub mod shadow_volume;
-pub mod silhouette;
-pub mod terminator;
-pub mod wedge;
-pub mod wedge_grid;
+mod shadow_volume;
+mod silhouette;
+mod terminator;
+mod volumes;
+mod wedge;
+mod wedge_grid;
 
-pub use depth_complexity::{DepthComplexity, SamplePattern};
-pub use penumbra_geom as geom;
-pub use penumbra_geom::Technique;
-pub use render::{CpuRenderer, Volumes};
+#[cfg(test)]
+mod depth_complexity_tests;
+#[cfg(test)]
+mod wedge_tests;
+
+pub use clip::Rect;
+pub use cpu_renderer::CpuRenderer;
+pub use depth_complexity::{DepthComplexity, PointVisibility, Scratch, TILE};
+pub use light_centre::encloses_light_centre;
+pub use potential::{EdgeFace, LightCrossing, PotentialEdge, PotentialEdges};
+pub use samples::SamplePattern;
+pub use shadow_volume::{FaceKind, OpenVolume, ShadowVolume, VolumeVertex, caps, side};
+pub use silhouette::{Silhouette, SilhouetteEdge};
+pub use terminator::{front_share, outward_sign};
+pub use volumes::{GeometryCounts, Occluder, Volumes};
+pub use wedge::{EdgeIntegral, Wedge};
+pub use wedge_grid::{
+    WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
+};

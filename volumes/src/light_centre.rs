@@ -7,7 +7,7 @@
 use glam::DVec3;
 use penumbra_geom::RectLight;
 
-use crate::render::Volumes;
+use crate::volumes::Volumes;
 
 /// Whether the light's centre lies inside the cut of a mesh (`positions`, `triangles`, world
 /// space) by the light's plane: inside the mesh, for a closed one. Its outline seen from the
@@ -21,7 +21,7 @@ use crate::render::Volumes;
 /// ```
 /// use glam::{DMat4, DVec2, DVec3};
 /// use penumbra_geom::{RectLight, TriangleMesh};
-/// use penumbra_volumes::render::encloses_light_centre;
+/// use penumbra_volumes::encloses_light_centre;
 ///
 /// let light = RectLight::new(DVec3::new(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
 /// let sphere = |x: f64| TriangleMesh::uv_sphere(12, 16).transformed(

@@ -20,7 +20,7 @@
 //! world space with a positive determinant: sides and orientations are the world's.
 
 use glam::DVec3;
-use penumbra_geom::boxtree::{BoxTree, Plane};
+use penumbra_geom::{BoxTree, Plane};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
 
 use crate::silhouette::orient3d;

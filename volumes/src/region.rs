@@ -1,10 +1,10 @@
 //! The samples one edge changes, as seen from a receiver point: the part of the light square
-//! where four lines are positive (see [`crate::depth_complexity`] for the test they make up),
+//! where four lines are positive (see [`crate::DepthComplexity`] for the test they make up),
 //! looked for among the samples of the cone from the centre that two of the lines bound, and its
 //! change to their depth complexity.
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::boxtree::Plane;
+use penumbra_geom::Plane;
 
 use crate::clip::cross;
 use crate::potential::{EdgeFace, LightCrossing, PotentialEdge};

@@ -15,7 +15,7 @@
 //!   two images can be compared sample for sample.
 
 use glam::DVec2;
-use penumbra_geom::reference::REFERENCE_SEED;
+use penumbra_geom::REFERENCE_SEED;
 use penumbra_geom::{RectLight, Rng};
 
 /// Where the `N x N` light samples lie.

@@ -1,6 +1,6 @@
 //! One receiver point's light samples sorted by their angle around the light's centre, so that
 //! an edge's region, which lies in the cone from the centre over the edge's projection (two of
-//! its four lines pass through the centre, [`crate::region`]), reads only the samples of the
+//! its four lines pass through the centre, `region.rs`), reads only the samples of the
 //! sectors that cone spans instead of every sample of its bounding box.
 //!
 //! The angle is the "diamond angle" `p(x, y)` in `[0, 4)`, a monotone function of the polar

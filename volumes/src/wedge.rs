@@ -35,6 +35,7 @@
 //! exact.
 
 use glam::{DVec2, DVec3};
+use penumbra_geom::Plane;
 
 use crate::clip::{Poly, RADIAL_PARTS, Rect, area, clip_segment, clip_segment_by, cross};
 use crate::silhouette::orient3d;
@@ -300,22 +301,6 @@ fn cut_point(a: DVec3, b: DVec3) -> DVec3 {
     DVec3::new(p.x, p.y, 0.0)
 }
 
-/// A plane `n · x + d = 0` in light space; its inside is `n · x + d >= 0`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plane {
-    /// Normal (not necessarily unit).
-    pub n: DVec3,
-    /// Offset.
-    pub d: f64,
-}
-
-impl Plane {
-    /// Signed value at `p`; non-negative inside.
-    pub fn eval(&self, p: DVec3) -> f64 {
-        self.n.dot(p) + self.d
-    }
-}
-
 impl Wedge {
     /// The plane through the edge and the light's centre that splits the wedge of an edge in
     /// front of the light ([`Wedge::caster`] `None`) into its outer half (positive side, away
@@ -427,7 +412,3 @@ pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
     }
     t0 <= t1
 }
-
-#[cfg(test)]
-#[path = "wedge_tests.rs"]
-mod tests;

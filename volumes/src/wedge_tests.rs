@@ -4,8 +4,9 @@
 use glam::{DVec2, DVec3};
 use penumbra_geom::Rng;
 
-use super::*;
-use crate::clip::clip_halfplane;
+use crate::clip::{RADIAL_PARTS, Rect, area, clip_halfplane, clip_segment, cross};
+use crate::silhouette::orient3d;
+use crate::wedge::*;
 
 /// The integral as the plain clipping computes it: every part clipped by the cone's two sides,
 /// then by the edge's line once for each side (for an edge in front of the light).

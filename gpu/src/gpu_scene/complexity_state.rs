@@ -25,9 +25,9 @@
 use std::ops::Range;
 
 use penumbra_geom::{HalfEdgeMesh, RectLight};
-use penumbra_volumes::potential::PotentialEdges;
-use penumbra_volumes::shadow_volume::{ShadowVolume, VolumeVertex};
-use penumbra_volumes::silhouette::Silhouette;
+use penumbra_volumes::PotentialEdges;
+use penumbra_volumes::Silhouette;
+use penumbra_volumes::{ShadowVolume, VolumeVertex};
 
 use super::meshes::{StoredMesh, world};
 use super::uploads::Uploads;

@@ -8,7 +8,7 @@ use penumbra_geom::TriangleMesh;
 /// it is.
 pub(super) struct StoredMesh {
     pub(super) mesh: TriangleMesh,
-    /// `penumbra_volumes::terminator::outward_sign` of the mesh in its own space.
+    /// `penumbra_volumes::outward_sign` of the mesh in its own space.
     pub(super) outward: f64,
     pub(super) origin: DVec3,
     pub(super) transform: DMat4,

@@ -19,7 +19,7 @@ use std::sync::Arc;
 use glam::{DMat4, DVec3};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
-use penumbra_volumes::terminator::outward_sign;
+use penumbra_volumes::outward_sign;
 
 use crate::context::GpuContext;
 use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
@@ -91,7 +91,7 @@ impl GpuScene {
     /// let renderer = GpuRenderer::with_context(&ctx);
     /// let corners = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
     /// let corners = corners.map(DVec3::from_array);
-    /// let quad = TriangleMesh::from_raw(Path::new("quad"), &corners, &[[0, 2, 1], [0, 3, 2]])
+    /// let quad = TriangleMesh::from_raw("quad", &corners, &[[0, 2, 1], [0, 3, 2]])
     ///     .unwrap();
     /// let light = RectLight::new(DVec3::new(0.0, 4.0, 0.0), -DVec3::Y, DVec3::X, DVec2::ONE);
     /// let mut scene = GpuScene::new(&renderer, &[(&quad, DMat4::IDENTITY)], light);

@@ -114,7 +114,7 @@ impl GpuScene {
 
     /// Checks that `technique` is one [`GpuScene::record`] renders.
     pub(crate) fn check_technique(technique: Technique) -> Result<(), GpuError> {
-        if technique.on_either() {
+        if technique.is_volume() || technique == Technique::DepthComplexity {
             Ok(())
         } else {
             Err(GpuError::NotRecordable { technique })

@@ -5,9 +5,9 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, DVec4};
+use penumbra_geom::HalfEdgeMesh;
 use penumbra_geom::RectLight;
-use penumbra_geom::halfedge::HalfEdgeMesh;
-use penumbra_volumes::potential::PotentialEdges;
+use penumbra_volumes::PotentialEdges;
 
 /// WGSL declarations shared by the edge-list and the counting pass.
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");

@@ -1,7 +1,7 @@
 //! Penumbra-wedge pass: drives `shaders/wedge.wgsl`.
 
 use bytemuck::{Pod, Zeroable};
-use penumbra_volumes::render::WedgeFrustum;
+use penumbra_volumes::WedgeFrustum;
 
 use super::FrameBindings;
 use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
@@ -10,7 +10,7 @@ use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 pub const OCCLUSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// One wedge as the shader reads it (per instance): the solid that is rasterised, holding the
-/// wedge within the receivers' box ([`penumbra_volumes::render::WedgeFrustum`]: the rectangles
+/// wedge within the receivers' box ([`penumbra_volumes::WedgeFrustum`]: the rectangles
 /// `near` and `far` at the depths of `lo` and `hi`), and its edge.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -27,7 +27,7 @@ pub struct WedgeInstance {
     pub near: [f32; 4],
     /// Its rectangle at depth `hi.z`.
     pub far: [f32; 4],
-    /// [`penumbra_volumes::wedge::Wedge::caster`]: the point, `w` = 1 where there is one (an
+    /// [`penumbra_volumes::Wedge::caster`]: the point, `w` = 1 where there is one (an
     /// edge of a mesh that the light's plane cuts), all 0 where there is none.
     pub caster: [f32; 4],
 }

@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
 use penumbra_geom::{HalfEdgeMesh, Rng, Scene};
 use penumbra_params::{TechniqueParams, equal_area_radius};
-use penumbra_volumes::terminator::outward_sign;
+use penumbra_volumes::outward_sign;
 
 use super::light_frustum::LightFrustum;
 use crate::constants::MAX_TAPS;

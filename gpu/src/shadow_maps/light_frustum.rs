@@ -463,7 +463,7 @@ mod tests {
     #[test]
     fn the_view_s_frustum_holds_every_shadowed_receiver_and_its_occluders() {
         use penumbra_geom::Scene;
-        use penumbra_geom::raycast::SceneBvh;
+        use penumbra_geom::SceneBvh;
         for (name, narrower) in [("beetle", 50.0), ("camera-in-shadow", 1.0)] {
             let path = format!(
                 "{}/../fixtures/scenes/{name}.toml",

@@ -20,7 +20,7 @@ mod pipelines;
 mod probe;
 
 use glam::DVec2;
-use penumbra_geom::image::VisibilityImage;
+use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 
 use crate::context::{GpuContext, GpuError};
@@ -70,7 +70,7 @@ impl ShadowMapRenderer {
     /// If `technique` is not a shadow-map technique ([`Technique::needs_gpu`]).
     pub fn new(ctx: &GpuContext, technique: Technique) -> Self {
         assert!(
-            technique.needs_gpu(),
+            technique.is_shadow_map(),
             "{technique} is not a shadow-map technique"
         );
         ShadowMapRenderer {

@@ -3,9 +3,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use penumbra::geom::image::{self};
+use penumbra::geom::compare;
 use penumbra::volumes::Volumes;
-use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+use penumbra::{Backend, RenderOptions, Renderer, Runs, Scene, Technique};
 
 use crate::cli::ParamArgs;
 use crate::words::{InCommandWords, render_error};
@@ -32,7 +32,7 @@ pub(crate) fn accuracy(
     let mut renderer = Renderer::new(backend);
     let mut cpu = Renderer::new(penumbra::Backend::Cpu);
     for &t in techniques {
-        if !t.cpu_only() {
+        if Runs::of(t) != Runs::CpuOnly {
             renderer.uses_gpu(t).in_command_words()?;
         }
     }
@@ -80,7 +80,7 @@ pub(crate) fn accuracy(
                 jitter: sampling.jitter && t.takes_samples(),
             };
             let start = std::time::Instant::now();
-            let r = if t.cpu_only() {
+            let r = if Runs::of(t) == Runs::CpuOnly {
                 &mut cpu
             } else {
                 &mut renderer
@@ -90,7 +90,7 @@ pub(crate) fn accuracy(
                 .map_err(|e| render_error(e, "--technique-samples"))?
                 .image;
             let secs = start.elapsed().as_secs_f64();
-            let c = image::compare(&img, &truth)?;
+            let c = compare(&img, &truth)?;
             println!(
                 "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {:+.5} | {:.2}% | {secs:.2} |",
                 t.name(),

@@ -165,7 +165,7 @@ pub(crate) fn print_bench(report: &serde_json::Value, technique: Technique, what
             "stencil" => volume || counted,
             "wedge" | "blend" => volume,
             "edge_lists" | "count" => counted,
-            "light_map" | "preprocess" | "filter" => technique.needs_gpu(),
+            "light_map" | "preprocess" | "filter" => technique.is_shadow_map(),
             _ => true,
         };
         if let Some(ms) = report["median_ms"][k].as_f64().filter(|_| relevant) {

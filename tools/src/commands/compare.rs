@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use penumbra::geom::image::{self, VisibilityImage};
+use penumbra::geom::{self, VisibilityImage};
 
 use crate::outputs::check_outputs;
 
@@ -35,10 +35,10 @@ pub(crate) fn compare(a: &Path, b: &Path, heatmap: Option<&Path>, json: bool) ->
         img.check_finite()
             .with_context(|| format!("{}", path.display()))?;
     }
-    let c = image::compare(&ia, &ib)?;
+    let c = geom::compare(&ia, &ib)?;
     if let Some(h) = heatmap {
-        let rgb = image::heatmap(&ia, &ib, 0.1);
-        image::write_png_bytes(h, ia.width, ia.height, image::PngColor::Rgb, &rgb)?;
+        let rgb = geom::heatmap(&ia, &ib, 0.1);
+        geom::write_png_bytes(h, ia.width, ia.height, geom::PngColor::Rgb, &rgb)?;
     }
     if json {
         println!("{}", serde_json::to_string_pretty(&c)?);

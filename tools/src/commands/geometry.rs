@@ -9,7 +9,7 @@ use penumbra::Scene;
 pub(crate) fn geometry(scene_path: &Path, json: bool) -> Result<()> {
     let scene = Scene::load(scene_path)?;
     let v = penumbra_volumes::Volumes::build(&scene);
-    let g = penumbra_volumes::render::GeometryCounts::of(&v);
+    let g = penumbra_volumes::GeometryCounts::of(&v);
     if json {
         println!("{}", serde_json::to_string_pretty(&g)?);
     } else {

@@ -3,8 +3,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use penumbra::geom::Rng;
-use penumbra::geom::reference::{self, Tracer};
+use penumbra::geom::{REFERENCE_SEED, Rng, Tracer};
 use penumbra::volumes::{DepthComplexity, SamplePattern};
 use penumbra::{RenderOptions, Scene};
 
@@ -50,7 +49,7 @@ pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()
         Some(p) => {
             let exact = tracer.exact_visibility(&p);
             let mut rng = Rng::stream(
-                reference::REFERENCE_SEED,
+                REFERENCE_SEED,
                 y as u64 * scene.camera.width as u64 + x as u64,
             );
             let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);

@@ -1,82 +1,19 @@
 //! The exact point evaluator of visibility: the reference that every approximate method of
-//! penumbra is measured against.
-//!
-//! For a receiver point `P` and a one-sided rectangular light `L`,
-//!
-//! ```text
-//! V(P) = |{ y in L : segment P-y meets no triangle }| / |L|      (no cosine weighting)
-//! ```
-//!
-//! and `V(P) = 0` when `P` is not strictly on the emitting side. Triangles occlude from both
-//! sides; the triangle `P` lies on is excluded by index.
-//!
-//! # Method
-//!
-//! Everything happens in light space ([`RectLight::to_light_space`]), where the light is the
-//! square `[-1, 1]^2` of the plane `z = 0` and `P = (p_x, p_y, z_p)` with `z_p > 0`.
-//!
-//! 1. Each triangle is clipped to the pyramid with apex `P` over the light square, cut at the
-//!    light plane: the part of the slab `0 <= z < z_p` between the local near plane (through `P`,
-//!    parallel to the light) and the light plane that projects into the square. Only that part can
-//!    hide light from `P`.
-//! 2. The clipped polygon is projected centrally from `P` onto the light plane,
-//!    `X' = P + (X - P) * z_p / (z_p - z_X)`, which is a convex polygon in `[-1, 1]^2`.
-//! 3. The occluded area is the area of the union of the projected polygons. It is computed on a
-//!    constrained Delaunay triangulation (spade) whose constraints are the square's boundary and
-//!    every polygon edge, split where edges cross. No constraint crosses a face, so every face
-//!    lies inside or outside each polygon as a whole: a face is covered when its centroid lies
-//!    in at least one polygon, and the union area is the sum of the covered faces' areas.
-//! 4. Central projection onto the plane followed by the affine map to light space keeps ratios
-//!    of areas, so `V = 1 - union / 4`.
-//!
-//! Steps 1 and 2 do the rectangle clip of the projected polygon (Sutherland & Hodgman 1974,
-//! "Reentrant polygon clipping", CACM 17(1)) *before* the perspective division, in homogeneous
-//! coordinates (Blinn & Newell 1978, "Clipping using homogeneous coordinates", SIGGRAPH): with
-//!
-//! ```text
-//! w = z_p - z_X,   h = P.xy * w + (X.xy - P.xy) * z_p,   X' = h / w,
-//! ```
-//!
-//! `-1 <= X'.x <= 1` for `w > 0` reads `w + h.x >= 0` and `w - h.x >= 0`, which are half-spaces
-//! of `X` through `P`: the pyramid's four side planes. Their intersection already excludes
-//! everything behind the near plane (`w <= 0`), so the near plane needs no tolerance of its own
-//! and no coordinate ever grows like `1 / w`. The fifth plane is the light plane, `z >= 0`. The
-//! same planes cull whole triangles cheaply before any clipping.
-//!
-//! The crossings of step 3 are not left to spade's splitting insertion
-//! ([`spade::ConstrainedDelaunayTriangulation::add_constraint_and_split`]): on the nearly
-//! collinear and nearly concurrent edges that projected meshes produce (boxes seen from points
-//! aligned with their edges, lattice-like input) it panicked (`!previous_region.is_empty() ||
-//! from == final_vertex`, `is_ordered_ccw` in `legalize_edge`) on about 0.4% of the receiver
-//! points of an aligned-box test scene and on about one lattice input in five, and one input
-//! made it loop with memory growing without bound. The edges are instead snap rounded (Hobby
-//! 1999) to a grid of spacing `2^-40` with exact integer predicates, which yields fragments that
-//! meet only at grid points: spade receives exactly representable vertices and non-crossing
-//! constraints (`try_add_constraint`; the splitting insertion remains only as a fallback that
-//! the tests check is never taken), and the face classification is exact as well. The union
-//! computed is that of the snapped polygons, whose vertices move by at most `2^-41` per
-//! coordinate: the occluded area is off by about the union's perimeter times `2^-41`, around
-//! `1e-12` of 4.
-//!
-//! Degenerate input is skipped rather than propagated: triangles with a non-finite vertex,
-//! triangles whose supporting plane passes through `P` (they project to a segment: zero area,
-//! which also covers the receiver's coplanar neighbours) and projected polygons of area below
-//! `1e-14` (of 4) never reach the triangulation, so the result is never NaN.
+//! penumbra is measured against ([`exact_visibility`] gives the method).
 
 use glam::{DVec2, DVec3};
 
 use crate::light::RectLight;
-use crate::union::union_area_of_clean;
-pub use crate::union::{LIGHT_SQUARE_AREA, polygon_area};
+pub use union::LIGHT_SQUARE_AREA;
+use union::{polygon_area, union_area_of_clean};
+
+mod union;
 
 #[cfg(test)]
-#[path = "exact_scene_tests.rs"]
 mod exact_scene_tests;
 #[cfg(test)]
-#[path = "exact_tests.rs"]
 mod exact_tests;
 #[cfg(test)]
-#[path = "union_tests.rs"]
 mod union_tests;
 
 /// Projected polygons with a smaller area (light-space units, of 4) are dropped as slivers.
@@ -110,10 +47,71 @@ pub struct ExactVisibility {
 /// Exact visibility of `p` with respect to `light` through `triangles` (world space, f64),
 /// skipping the triangle index `exclude` (the one `p` lies on), if any.
 ///
-/// `V = 1 - |union of projected occluders| / 4`, clamped to `[0, 1]`; see the module
-/// documentation for the method. A point that is not strictly on the emitting side
-/// ([`RectLight::is_lit_side`]) or not finite gets `V = 0`. Never panics and never returns NaN:
-/// non-finite and degenerate triangles are skipped.
+/// `V = 1 - |union of projected occluders| / 4`, clamped to `[0, 1]`. A point that is not
+/// strictly on the emitting side ([`RectLight::is_lit_side`]) or not finite gets `V = 0`. Never
+/// panics and never returns NaN: non-finite and degenerate triangles are skipped.
+///
+/// For a receiver point `P` and a one-sided rectangular light `L`,
+///
+/// ```text
+/// V(P) = |{ y in L : segment P-y meets no triangle }| / |L|      (no cosine weighting)
+/// ```
+///
+/// and `V(P) = 0` when `P` is not strictly on the emitting side. Triangles occlude from both
+/// sides; the triangle `P` lies on is excluded by index.
+///
+/// # Method
+///
+/// Everything happens in light space ([`RectLight::to_light_space`]), where the light is the
+/// square `[-1, 1]^2` of the plane `z = 0` and `P = (p_x, p_y, z_p)` with `z_p > 0`.
+///
+/// 1. Each triangle is clipped to the pyramid with apex `P` over the light square, cut at the
+///    light plane: the part of the slab `0 <= z < z_p` between the local near plane (through `P`,
+///    parallel to the light) and the light plane that projects into the square. Only that part can
+///    hide light from `P`.
+/// 2. The clipped polygon is projected centrally from `P` onto the light plane,
+///    `X' = P + (X - P) * z_p / (z_p - z_X)`, which is a convex polygon in `[-1, 1]^2`.
+/// 3. The occluded area is the area of the union of the projected polygons. It is computed on a
+///    constrained Delaunay triangulation (spade) whose constraints are the square's boundary and
+///    every polygon edge, split where edges cross. No constraint crosses a face, so every face
+///    lies inside or outside each polygon as a whole: a face is covered when its centroid lies
+///    in at least one polygon, and the union area is the sum of the covered faces' areas.
+/// 4. Central projection onto the plane followed by the affine map to light space keeps ratios
+///    of areas, so `V = 1 - union / 4`.
+///
+/// Steps 1 and 2 do the rectangle clip of the projected polygon (Sutherland & Hodgman 1974,
+/// "Reentrant polygon clipping", CACM 17(1)) *before* the perspective division, in homogeneous
+/// coordinates (Blinn & Newell 1978, "Clipping using homogeneous coordinates", SIGGRAPH): with
+///
+/// ```text
+/// w = z_p - z_X,   h = P.xy * w + (X.xy - P.xy) * z_p,   X' = h / w,
+/// ```
+///
+/// `-1 <= X'.x <= 1` for `w > 0` reads `w + h.x >= 0` and `w - h.x >= 0`, which are half-spaces
+/// of `X` through `P`: the pyramid's four side planes. Their intersection already excludes
+/// everything behind the near plane (`w <= 0`), so the near plane needs no tolerance of its own
+/// and no coordinate ever grows like `1 / w`. The fifth plane is the light plane, `z >= 0`. The
+/// same planes cull whole triangles cheaply before any clipping.
+///
+/// The crossings of step 3 are not left to spade's splitting insertion
+/// ([`spade::ConstrainedDelaunayTriangulation::add_constraint_and_split`]): on the nearly
+/// collinear and nearly concurrent edges that projected meshes produce (boxes seen from points
+/// aligned with their edges, lattice-like input) it panicked (`!previous_region.is_empty() ||
+/// from == final_vertex`, `is_ordered_ccw` in `legalize_edge`) on about 0.4% of the receiver
+/// points of an aligned-box test scene and on about one lattice input in five, and one input
+/// made it loop with memory growing without bound. The edges are instead snap rounded (Hobby
+/// 1999) to a grid of spacing `2^-40` with exact integer predicates, which yields fragments that
+/// meet only at grid points: spade receives exactly representable vertices and non-crossing
+/// constraints (`try_add_constraint`; the splitting insertion remains only as a fallback that
+/// the tests check is never taken), and the face classification is exact as well. The union
+/// computed is that of the snapped polygons, whose vertices move by at most `2^-41` per
+/// coordinate: the occluded area is off by about the union's perimeter times `2^-41`, around
+/// `1e-12` of 4.
+///
+/// Degenerate input is skipped rather than propagated: triangles with a non-finite vertex,
+/// triangles whose supporting plane passes through `P` (they project to a segment: zero area,
+/// which also covers the receiver's coplanar neighbours) and projected polygons of area below
+/// `1e-14` (of 4) never reach the triangulation, so the result is never NaN.
 pub fn exact_visibility(
     p: DVec3,
     light: &RectLight,
@@ -313,7 +311,8 @@ fn finish_polygon(mut poly: Vec<DVec2>) -> Option<Vec<DVec2>> {
 /// The part of the closed polygon `poly` inside the square `[-1, 1]^2` (Sutherland & Hodgman
 /// 1974), in the same orientation. Points on the square's boundary count as inside; points cut
 /// by an edge of the square lie exactly on it. Empty when nothing is left.
-pub fn clip_polygon_to_rect(poly: &[DVec2]) -> Vec<DVec2> {
+#[cfg(test)]
+fn clip_polygon_to_rect(poly: &[DVec2]) -> Vec<DVec2> {
     let mut cur = poly.to_vec();
     let mut next = Vec::with_capacity(poly.len() + 4);
     // (axis, sign): keeps sign * coordinate <= 1.
@@ -337,10 +336,12 @@ pub fn clip_polygon_to_rect(poly: &[DVec2]) -> Vec<DVec2> {
 /// Each polygon is first clipped to the square; non-finite polygons and slivers (area below
 /// `1e-14`) are dropped. The union is measured on a constrained Delaunay triangulation whose
 /// constraints are the square's boundary and all polygon edges, split where they cross by snap
-/// rounding to a grid of spacing `2^-40` (see the module documentation): each face counts when
+/// rounding to a grid of spacing `2^-40` (see [`exact_visibility`]): each face counts when
 /// its centroid lies in some polygon (even-odd rule). The result is exact for the snapped
-/// polygons, which differ from the given ones by at most `2^-41` per coordinate.
-pub fn union_area(polys: &[Vec<DVec2>]) -> f64 {
+/// polygons, which differ from the given ones by at most `2^-41` per coordinate. (The tests' way
+/// in: [`exact_visibility`] builds its clean polygons itself.)
+#[cfg(test)]
+fn union_area(polys: &[Vec<DVec2>]) -> f64 {
     let clean: Vec<Vec<DVec2>> = polys
         .iter()
         .filter_map(|p| finish_polygon(clip_polygon_to_rect(p)))

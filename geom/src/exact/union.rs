@@ -1,5 +1,5 @@
 //! The area of a union of convex polygons in the light square, exactly enough for the exact
-//! evaluator ([`crate::exact`], whose module documentation gives the method): the polygons'
+//! evaluator (`exact_visibility`, whose documentation gives the method): the polygons'
 //! edges snap rounded to a grid of spacing 2^-40, a constrained Delaunay triangulation of the
 //! fragments, and the covered faces' areas summed.
 

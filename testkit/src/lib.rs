@@ -1,17 +1,16 @@
-//! A scene that the light's plane cuts, shared by the workspace's tests and the GPU's (included
-//! by path): the volume techniques clip what lies behind the light.
+//! Scenes shared by the tests of several crates (the volumes' CPU oracle, the GPU's, and the
+//! workspace's), built in code.
+#![warn(missing_docs)]
 
 use glam::{DMat4, DVec2, DVec3};
-use penumbra_geom::camera::Camera;
-use penumbra_geom::{RectLight, Scene, TriangleMesh};
+use penumbra_geom::{Camera, RectLight, Scene, TriangleMesh};
 
-/// A closed box standing up through the light's plane beside its centre, and a quad tilted
-/// through it, over a ground, under a tilted 2.5 x 2 light, seen by a 64 x 48 camera.
-pub fn scene() -> Scene {
+/// A scene that the light's plane cuts, where the volume techniques clip what lies behind the
+/// light: a closed box standing up through the light's plane beside its centre, and a quad
+/// tilted through it, over a ground, under a tilted 2.5 x 2 light, seen by a 64 x 48 camera.
+pub fn through_the_light() -> Scene {
     let c = DVec3::new;
-    let mesh = |p: &[DVec3], t: &[[u32; 3]]| {
-        TriangleMesh::from_raw(std::path::Path::new("memory"), p, t).unwrap()
-    };
+    let mesh = |p: &[DVec3], t: &[[u32; 3]]| TriangleMesh::from_raw("memory", p, t).unwrap();
     let ground = mesh(
         &[
             c(-6., 0., -6.),

@@ -1,0 +1,371 @@
+//! The CPU renderer of the volume techniques ([`CpuRenderer`]): the oracle for the GPU back end
+//! and the fallback without one.
+
+use glam::DVec3;
+use penumbra_geom::{Camera, Scene, SurfacePoint, Technique, Tracer, VisibilityImage};
+use rayon::prelude::*;
+
+use crate::blend::{Part, VBuffer};
+use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
+use crate::volumes::Volumes;
+use crate::wedge::EdgeIntegral;
+use crate::wedge_grid::{WedgeGrid, receiver_box};
+
+/// Everything the CPU needs to render the volume techniques of one scene, and their renderer.
+///
+/// Per pixel: the surface point P by ray casting; the hard shadow from the light's centre per
+/// occluder; the wedges containing P, found through a uniform grid over the wedges' bounding
+/// boxes; then
+///
+/// - `hard`: `V = 0` where the centre is hidden (the stencil answer), else 1;
+/// - `wedges` (Akenine-Möller & Assarsson): every edge's integral added into one sum on top of
+///   the stencil count `n` (the volumes' winding number at P, `N(P, c)` of [`Wedge`]),
+///   `V = 1 - clamp(4·n + Σ_e s_e m_e |R_e|, 0, 4) / 4`. Counting rather than clamping the
+///   stencil keeps each occluder's inner half-wedges subtracting from its own hard shadow;
+///   overlapping occluders are still counted twice, which is what blending corrects;
+/// - `wedges-blend` (Forest, Barthe & Paulin): one visibility buffer per blending unit, its hard
+///   shadow plus its own edges' integrals per radial part, blended into the final buffer in
+///   unit order with Forest et al.'s function (`volumes/src/blend.rs`).
+///
+/// The hard shadow is the shadow volumes' winding number. Counted along the ray from P towards
+/// the light's centre, no side quad is crossed (each lies in a plane through the centre) and the
+/// dark caps behind the light cancel the light caps there, so the count is the number of caster
+/// triangles crossed between P and the centre: one BVH query. The tests check this number against
+/// the z-fail count of the actual volume geometry along the view ray
+/// ([`ShadowVolume::winding_number`]).
+///
+/// The blending unit is Forest et al.'s "silhouette": a caster patch, the light-facing (for an
+/// open mesh, every) triangles joined across edges that are not silhouette edges
+/// ([`Silhouette::patch`]). Its boundary is an outer loop with the hole loops inside it, signed
+/// parts of one region that share one buffer; patches of one mesh that overlap as seen from the
+/// light (a folded sheet, the near and far sides of an open body) each get their own and are
+/// blended, where a buffer per mesh would add them. Each unit's stencil count is its casters
+/// between P and the light's centre.
+///
+/// ```
+/// use penumbra_geom::{Scene, Technique};
+/// use penumbra_volumes::CpuRenderer;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/scenes/nonmanifold.toml");
+/// let scene = Scene::load(std::path::Path::new(path))?;
+/// let renderer = CpuRenderer::new(&scene);
+/// let v = renderer.render(Technique::WedgesBlend, &|_| {});
+/// assert_eq!((v.width, v.height), (scene.camera.width, scene.camera.height));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// [`Wedge`]: crate::Wedge
+/// [`Wedge::unit`]: crate::Wedge::unit
+/// [`ShadowVolume::winding_number`]: crate::ShadowVolume::winding_number
+/// [`Silhouette::patch`]: crate::Silhouette::patch
+pub struct CpuRenderer {
+    /// Ray casting and references.
+    pub tracer: Tracer,
+    /// Silhouettes, volumes, wedges.
+    pub volumes: Volumes,
+    /// Wedge lookup.
+    pub grid: WedgeGrid,
+    /// Occluder of each scene triangle, with the top bit set for casters.
+    triangle_occluder: Vec<u32>,
+    /// Blending unit of each caster triangle (`Wedge::unit`).
+    triangle_unit: Vec<u32>,
+    /// The camera whose pixels [`CpuRenderer::render`] renders.
+    camera: Camera,
+}
+
+/// Hard-shadow parts: each radial part fully occluded, bounded by its own triangle.
+fn full_parts() -> [Part; 4] {
+    RADIAL_PARTS.map(|t| Part {
+        area: PART_AREA,
+        rect: Rect::of(&t),
+    })
+}
+
+/// Marks caster triangles in `CpuRenderer::triangle_occluder`.
+const CASTER_BIT: u32 = 1 << 31;
+
+/// The wedges [`CpuRenderer::candidates`] lists: a grid cell's, or all of them. An enum rather
+/// than a boxed iterator, so the loop over them, run for every pixel, inlines.
+enum Candidates<'a> {
+    Cell(std::slice::Iter<'a, u32>),
+    All(std::ops::Range<u32>),
+}
+
+impl Iterator for Candidates<'_> {
+    type Item = u32;
+
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        match self {
+            Candidates::Cell(c) => c.next().copied(),
+            Candidates::All(r) => r.next(),
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Accum {
+    occluder: u32,
+    /// The occluder's stencil count at P: caster triangles between P and the centre.
+    hard: u32,
+    area: [f64; 4],
+    rect: [Rect; 4],
+    inner_rect: [Rect; 4],
+    inner_cover: [f64; 4],
+}
+
+impl Accum {
+    fn new(occluder: u32) -> Self {
+        Accum {
+            occluder,
+            hard: 0,
+            area: [0.0; 4],
+            rect: [Rect::EMPTY; 4],
+            inner_rect: [Rect::EMPTY; 4],
+            inner_cover: [0.0; 4],
+        }
+    }
+
+    /// The occluder's silhouette visibility buffer.
+    fn buffer(&self) -> VBuffer {
+        let full = full_parts();
+        let mut b = VBuffer::default();
+        for (k, full) in full.iter().enumerate() {
+            let area = (self.hard as f64 * PART_AREA + self.area[k]).clamp(0.0, PART_AREA);
+            if area <= 0.0 {
+                continue;
+            }
+            // Forest et al. 2006, Figure 10: in hard shadow the occluded region reaches the part's border
+            // unless the inner half-wedges cover the whole border, in which case it ends at them.
+            let hard_rect = if self.hard == 0 {
+                Rect::EMPTY
+            } else if self.inner_cover[k] >= 2.0 * (1.0 - 1e-9) {
+                self.inner_rect[k]
+            } else {
+                full.rect
+            };
+            b.parts[k] = Part {
+                area,
+                rect: self.rect[k].union(&hard_rect).intersection(&full.rect),
+            };
+        }
+        b
+    }
+}
+
+impl CpuRenderer {
+    /// Builds the BVH, the volumes and the wedge grid of `scene`, and keeps its camera.
+    pub fn new(scene: &Scene) -> Self {
+        let tracer = Tracer::new(scene);
+        let volumes = Volumes::build(scene);
+        let light = scene.light;
+        let (lo, hi) = receiver_box(&light, &tracer.triangles);
+        let grid = WedgeGrid::build(&volumes.wedges, lo, hi);
+        let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
+        let mut triangle_unit = Vec::with_capacity(tracer.triangles.len());
+        let mut first_unit = 0;
+        for (oi, o) in volumes.occluders.iter().enumerate() {
+            triangle_occluder.extend(
+                o.silhouette
+                    .is_caster
+                    .iter()
+                    .map(|&c| oi as u32 | if c { CASTER_BIT } else { 0 }),
+            );
+            triangle_unit.extend(o.silhouette.patch.iter().map(|&p| {
+                if p == u32::MAX {
+                    u32::MAX
+                } else {
+                    first_unit + p
+                }
+            }));
+            first_unit += o.silhouette.patches;
+        }
+        CpuRenderer {
+            tracer,
+            volumes,
+            grid,
+            triangle_occluder,
+            triangle_unit,
+            camera: scene.camera,
+        }
+    }
+
+    /// The stencil count of each blending unit (caster patch, [`Wedge::unit`]) at `p`, for
+    /// those where it is not zero, sorted by unit: the number of its caster triangles (light
+    /// caps) between `p` and the light's centre, which is its volume's winding number around
+    /// `p`.
+    ///
+    /// [`Wedge::unit`]: crate::Wedge::unit
+    pub fn stencil_counts(&self, p: &SurfacePoint) -> Vec<(u32, u32)> {
+        let c = self.tracer.light.center;
+        let d = c - p.position;
+        let dist = d.length();
+        let eps = self.tracer.epsilon;
+        let mut out = Vec::new();
+        if dist > 2.0 * eps {
+            let dir = d / dist;
+            self.tracer.bvh.for_each_hit(
+                p.position,
+                dir.as_vec3().into(),
+                eps as f32,
+                (dist - eps) as f32,
+                p.triangle,
+                |t| {
+                    if self.triangle_occluder[t as usize] & CASTER_BIT != 0 {
+                        out.push(t);
+                    }
+                },
+            );
+        }
+        // The casters within the segment's `f32` start offset of `p`, tested in `f64` over the
+        // whole segment as the reference does: that offset grows with the scene's extent, and a
+        // caster inside it (a small occluder over a huge ground) still casts its shadow.
+        let mut near = Vec::new();
+        self.tracer.near_triangles(p, &mut near);
+        out.extend(near.into_iter().filter(|&t| {
+            self.triangle_occluder[t as usize] & CASTER_BIT != 0
+                && self.tracer.crosses(p.position, c, t)
+        }));
+        // A triangle split over several leaves is reported once per leaf.
+        out.sort_unstable();
+        out.dedup();
+        let mut counts: Vec<(u32, u32)> = Vec::new();
+        for t in out {
+            let o = self.triangle_unit[t as usize];
+            match counts.iter_mut().find(|c| c.0 == o) {
+                Some(c) => c.1 += 1,
+                None => counts.push((o, 1)),
+            }
+        }
+        counts.sort_unstable();
+        counts
+    }
+
+    /// Indices of the wedges that may contain the light-space point `pl`: the grid's cell, or
+    /// every wedge for points outside the scene's box.
+    fn candidates(&self, pl: DVec3) -> Candidates<'_> {
+        match self.grid.candidates(pl) {
+            Some(c) => Candidates::Cell(c.iter()),
+            None => Candidates::All(0..self.volumes.wedges.len() as u32),
+        }
+    }
+
+    /// The wedges containing the world point `p`.
+    pub fn wedges_containing(&self, p: DVec3) -> Vec<u32> {
+        let l = self.volumes.light.to_light_space(p);
+        self.candidates(l)
+            .filter(|&w| self.volumes.wedges[w as usize].contains(l))
+            .collect()
+    }
+
+    /// Visibility of the surface point `p` by `technique`.
+    ///
+    /// # Panics
+    ///
+    /// If `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
+    pub fn visibility(&self, p: &SurfacePoint, technique: Technique) -> f64 {
+        assert!(
+            technique.is_volume(),
+            "{technique} is not a volume technique"
+        );
+        let light = &self.volumes.light;
+        if !light.is_lit_side(p.position) {
+            return 0.0;
+        }
+        let hard = self.stencil_counts(p);
+        if technique == Technique::Hard {
+            return if hard.is_empty() { 1.0 } else { 0.0 };
+        }
+        let pl = light.to_light_space(p.position);
+        let mut acc: Vec<Accum> = hard
+            .iter()
+            .map(|&(o, n)| Accum {
+                hard: n,
+                ..Accum::new(o)
+            })
+            .collect();
+        let mut int = EdgeIntegral::NONE;
+        for wi in self.candidates(pl) {
+            let w = &self.volumes.wedges[wi as usize];
+            if !w.integral_into(pl, &mut int) {
+                continue;
+            }
+            let a = match acc.iter().position(|a| a.occluder == w.unit) {
+                Some(i) => &mut acc[i],
+                None => {
+                    acc.push(Accum::new(w.unit));
+                    acc.last_mut().expect("just pushed")
+                }
+            };
+            for k in 0..4 {
+                a.area[k] += int.sign * int.area[k];
+                if int.sign > 0.0 {
+                    if int.area[k] > 0.0 {
+                        a.rect[k] = a.rect[k].union(&int.beyond[k]);
+                    }
+                } else {
+                    a.inner_rect[k] = a.inner_rect[k].union(&int.near[k]);
+                    a.inner_cover[k] += int.cover[k];
+                }
+            }
+        }
+        let occlusion = match technique {
+            Technique::Wedges => {
+                // The stencil count: one full light per caster between P and the centre.
+                let base = 4.0 * PART_AREA * hard.iter().map(|h| h.1 as f64).sum::<f64>();
+                let sum: f64 = acc.iter().flat_map(|a| a.area).sum();
+                ((base + sum) / (4.0 * PART_AREA)).clamp(0.0, 1.0)
+            }
+            Technique::WedgesBlend => {
+                acc.sort_by_key(|a| a.occluder);
+                let mut fin = VBuffer::default();
+                for a in &acc {
+                    fin.blend(&a.buffer());
+                }
+                fin.occlusion()
+            }
+            _ => unreachable!("hard is handled above, the rest refused"),
+        };
+        (1.0 - occlusion).min(self.front_share(p))
+    }
+
+    /// The share of the light in front of `p`'s tangent plane when `p` lies on a closed mesh
+    /// ([`crate::terminator::front_share`]), else 1 (on an open mesh, or on no triangle).
+    pub fn front_share(&self, p: &SurfacePoint) -> f64 {
+        let Some(&o) = self.triangle_occluder.get(p.triangle as usize) else {
+            return 1.0;
+        };
+        let o = o & !CASTER_BIT;
+        let sign = self.volumes.occluders[o as usize].outward;
+        if sign == 0.0 {
+            return 1.0;
+        }
+        let [a, b, c] = self.tracer.triangles[p.triangle as usize];
+        let n = (b - a).cross(c - a) * sign;
+        crate::terminator::front_share(&self.volumes.light, p.position, n)
+    }
+
+    /// Renders the whole image; `progress` gets the number of finished rows.
+    ///
+    /// # Panics
+    ///
+    /// If `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
+    pub fn render(&self, technique: Technique, progress: &(dyn Fn(u64) + Sync)) -> VisibilityImage {
+        let cam = &self.camera;
+        let w = cam.width as usize;
+        let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
+        let done = std::sync::atomic::AtomicU64::new(0);
+        img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                if let Some(p) = self
+                    .tracer
+                    .surface_point(cam.eye, cam.ray_dir(i as u32, j as u32))
+                {
+                    *out = self.visibility(&p, technique) as f32;
+                }
+            }
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+        });
+        img
+    }
+}
