@@ -22,6 +22,7 @@ mod context;
 mod frame;
 mod gpu_scene;
 mod passes;
+mod pipelines;
 mod readback;
 mod renderer;
 mod scene_data;
@@ -40,8 +41,9 @@ pub use frame::{CameraError, FrameCamera};
 pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};
 pub use passes::depth::{GBuffer, visibility_target};
 pub use passes::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT};
+pub use pipelines::GpuRenderer;
 pub use readback::{read_r32f, read_texels};
-pub use renderer::{ComplexityImage, GpuRenderer};
+pub use renderer::ComplexityImage;
 pub use shadow_maps::{
     LightFrustum, MAX_SLOPE, ShadowMapRenderer, ShadowUniforms, multi_pass_kernel,
 };

@@ -1,4 +1,5 @@
-//! The volume techniques' pipelines on one device: `hard` (depth pre-pass, z-fail stencil pass,
+//! The volume techniques rendered once, with the pipelines of `pipelines.rs`: `hard` (depth
+//! pre-pass, z-fail stencil pass,
 //! resolve), additive `wedges` (the same, plus the wedge pass of every silhouette edge before
 //! the resolve) and Forest et al.'s `wedges-blend` (the depth pre-pass, then the
 //! "per-silhouette 3 passes algorithm" for each occluder: stencil pass of its volume, wedge pass
@@ -10,41 +11,17 @@
 //! and [`GpuRenderer::render`] renders a [`Scene`] once and reads V back: a [`GpuScene`]
 //! recorded for one frame.
 
-use std::sync::Arc;
-
 use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_volumes::Volumes;
 
-use crate::context::{GpuContext, GpuError};
+use crate::context::GpuError;
 use crate::frame::FrameCamera;
 use crate::gpu_scene::{FrameInputs, GpuScene};
 use crate::passes::depth::{GBuffer, visibility_target};
 use crate::passes::view;
-use crate::passes::{
-    blend::BlendPass,
-    complexity::{ComplexityPass, inputs_layout},
-    depth::DepthPass,
-    frame_layout,
-    resolve::ResolvePass,
-    stencil::StencilPass,
-    wedge::WedgePass,
-};
+use crate::pipelines::GpuRenderer;
 use crate::timing::{PassTimes, Timer, read_frame};
-
-/// The pipelines of every pass, built once per device.
-pub(crate) struct Pipelines {
-    pub(crate) frame_layout: wgpu::BindGroupLayout,
-    pub(crate) depth: DepthPass,
-    pub(crate) stencil: StencilPass,
-    pub(crate) wedge: WedgePass,
-    pub(crate) blend: BlendPass,
-    pub(crate) resolve: ResolvePass,
-    /// Depth-complexity sampling's group 1 and its two compute passes.
-    pub(crate) complexity_layout: wgpu::BindGroupLayout,
-    pub(crate) edge_lists: ComplexityPass,
-    pub(crate) count: ComplexityPass,
-}
 
 /// A depth-complexity image rendered once ([`GpuRenderer::render_depth_complexity`]).
 pub struct ComplexityImage {
@@ -62,66 +39,7 @@ pub struct ComplexityImage {
     pub list_capacity: u32,
 }
 
-/// The volume techniques' pipelines on one device. Cloning it is cheap: the pipelines are
-/// shared.
-///
-/// ```no_run
-/// // An application's own device, made with what the passes need.
-/// # async fn device() -> (wgpu::Device, wgpu::Queue) { unimplemented!() }
-/// # pollster::block_on(async {
-/// let (device, queue) = device().await;
-/// let renderer = penumbra_gpu::GpuRenderer::new(&device, &queue)?;
-/// # Ok::<(), penumbra_gpu::GpuError>(())
-/// # }).unwrap();
-/// ```
-#[derive(Clone)]
-pub struct GpuRenderer {
-    ctx: GpuContext,
-    pipelines: Arc<Pipelines>,
-}
-
 impl GpuRenderer {
-    /// Builds the pipelines on an application's `device` (made with
-    /// [`crate::context::REQUIRED_FEATURES`] and [`crate::context::required_limits`]); the
-    /// renderer keeps clones of both handles.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
-        Ok(Self::with_context(&GpuContext::from_device(device, queue)?))
-    }
-
-    /// Builds the pipelines on `ctx`'s device.
-    pub fn with_context(ctx: &GpuContext) -> Self {
-        let device = &ctx.device;
-        let frame_layout = frame_layout(device);
-        let resolve = ResolvePass::new(device, &frame_layout);
-        let wedge = WedgePass::new(device, &frame_layout, &resolve.receiver_layout);
-        let complexity_layout = inputs_layout(device);
-        let pipelines = Pipelines {
-            edge_lists: ComplexityPass::edge_lists(device, &frame_layout, &complexity_layout),
-            count: ComplexityPass::count(device, &frame_layout, &complexity_layout),
-            complexity_layout,
-            depth: DepthPass::new(device, &frame_layout),
-            stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
-            blend: BlendPass::new(device, &frame_layout),
-            wedge,
-            resolve,
-            frame_layout,
-        };
-        GpuRenderer {
-            ctx: ctx.clone(),
-            pipelines: Arc::new(pipelines),
-        }
-    }
-
-    /// The device and queue it renders with.
-    pub fn context(&self) -> &GpuContext {
-        &self.ctx
-    }
-
-    /// The pipelines, which every [`GpuScene`] made with it shares.
-    pub(crate) fn pipelines(&self) -> &Arc<Pipelines> {
-        &self.pipelines
-    }
-
     /// Renders V of `scene` by `technique` with the volumes and wedges of `volumes` (built for
     /// `scene`).
     pub fn render(
@@ -143,12 +61,12 @@ impl GpuRenderer {
         technique: Technique,
     ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
         GpuScene::check_technique(technique)?;
-        let device = &self.ctx.device;
+        let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
         // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
         let timer = Timer::new(
-            &self.ctx,
+            &self.context(),
             if technique == Technique::WedgesBlend {
                 2 + 3 * volumes.unit_count()
             } else {
@@ -159,7 +77,7 @@ impl GpuRenderer {
         gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
         let inputs = FrameInputs { camera, technique };
         gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
-        read_frame(&self.ctx, enc, &timer, &visibility)
+        read_frame(&self.context(), enc, &timer, &visibility)
     }
 
     /// Renders V of `scene` by depth-complexity sampling with `samples` light samples per pixel
@@ -172,7 +90,7 @@ impl GpuRenderer {
         scene: &Scene,
         samples: u32,
     ) -> Result<ComplexityImage, GpuError> {
-        let device = &self.ctx.device;
+        let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         // No outward signs: they serve the wedges' terminator and the shadow maps only.
         let mut gpu_scene = GpuScene::of_scene(self, scene, |_| 0.0);
@@ -184,21 +102,21 @@ impl GpuRenderer {
         // The edge lists alone first, to size the list: no frame then overflows.
         let mut enc = device.create_command_encoder(&Default::default());
         gpu_scene.record_edge_lists(&mut enc, &inputs, &gbuffer)?;
-        self.ctx.queue.submit([enc.finish()]);
+        self.context().queue.submit([enc.finish()]);
         gpu_scene.complexity_report()?;
         loop {
             // Depth, stencil, edge lists, count, resolve.
-            let timer = Timer::new(&self.ctx, 5);
+            let timer = Timer::new(&self.context(), 5);
             let mut enc = device.create_command_encoder(&Default::default());
             gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
             gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
-            let (image, times) = read_frame(&self.ctx, enc, &timer, &visibility)?;
+            let (image, times) = read_frame(&self.context(), enc, &timer, &visibility)?;
             let report = gpu_scene
                 .complexity_report()?
                 .expect("a frame was recorded");
             if report.cut_short > 0 {
                 return Err(GpuError::CutShort {
-                    adapter: self.ctx.describe(),
+                    adapter: self.context().describe(),
                     pixels: report.cut_short,
                     budget: gpu_scene.loop_budget(),
                 });
@@ -220,7 +138,7 @@ impl GpuRenderer {
     /// The camera of a one-shot frame of `scene` (near plane from the scene's extent around the
     /// eye), its G-buffer and its V target.
     fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
-        let device = &self.ctx.device;
+        let device = &self.context().device;
         let size = (scene.camera.width, scene.camera.height);
         let camera = FrameCamera::of_scene(scene);
         (

@@ -38,7 +38,7 @@ use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, ne
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
-use crate::renderer::Pipelines;
+use crate::pipelines::Pipelines;
 use crate::timing::{Pass, Timer};
 
 /// Light samples per axis of a new scene (256 samples per pixel).

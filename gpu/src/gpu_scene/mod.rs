@@ -25,7 +25,7 @@ use crate::context::GpuContext;
 use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
-use crate::renderer::{GpuRenderer, Pipelines};
+use crate::pipelines::{GpuRenderer, Pipelines};
 use complexity_state::ComplexityState;
 pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use meshes::{StoredMesh, centre, world};

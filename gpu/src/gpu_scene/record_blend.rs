@@ -12,7 +12,7 @@ use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
 use crate::passes::{FrameBindings, bind_group, buffer};
-use crate::renderer::Pipelines;
+use crate::pipelines::Pipelines;
 use crate::scene_data::occluder_tiles;
 use crate::timing::{Pass, Timer};
 

@@ -1,0 +1,91 @@
+//! The volume techniques' pipelines on one device ([`GpuRenderer`]): built once, shared by
+//! every [`crate::GpuScene`] made with it (`gpu_scene/`) and by the one-shot renders
+//! (`renderer.rs`).
+
+use std::sync::Arc;
+
+use crate::context::{GpuContext, GpuError};
+use crate::passes::{
+    blend::BlendPass,
+    complexity::{ComplexityPass, inputs_layout},
+    depth::DepthPass,
+    frame_layout,
+    resolve::ResolvePass,
+    stencil::StencilPass,
+    wedge::WedgePass,
+};
+
+/// The pipelines of every pass, built once per device.
+pub(crate) struct Pipelines {
+    pub(crate) frame_layout: wgpu::BindGroupLayout,
+    pub(crate) depth: DepthPass,
+    pub(crate) stencil: StencilPass,
+    pub(crate) wedge: WedgePass,
+    pub(crate) blend: BlendPass,
+    pub(crate) resolve: ResolvePass,
+    /// Depth-complexity sampling's group 1 and its two compute passes.
+    pub(crate) complexity_layout: wgpu::BindGroupLayout,
+    pub(crate) edge_lists: ComplexityPass,
+    pub(crate) count: ComplexityPass,
+}
+
+/// The volume techniques' pipelines on one device. Cloning it is cheap: the pipelines are
+/// shared.
+///
+/// ```no_run
+/// // An application's own device, made with what the passes need.
+/// # async fn device() -> (wgpu::Device, wgpu::Queue) { unimplemented!() }
+/// # pollster::block_on(async {
+/// let (device, queue) = device().await;
+/// let renderer = penumbra_gpu::GpuRenderer::new(&device, &queue)?;
+/// # Ok::<(), penumbra_gpu::GpuError>(())
+/// # }).unwrap();
+/// ```
+#[derive(Clone)]
+pub struct GpuRenderer {
+    ctx: GpuContext,
+    pipelines: Arc<Pipelines>,
+}
+
+impl GpuRenderer {
+    /// Builds the pipelines on an application's `device` (made with
+    /// [`crate::context::REQUIRED_FEATURES`] and [`crate::context::required_limits`]); the
+    /// renderer keeps clones of both handles.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, GpuError> {
+        Ok(Self::with_context(&GpuContext::from_device(device, queue)?))
+    }
+
+    /// Builds the pipelines on `ctx`'s device.
+    pub fn with_context(ctx: &GpuContext) -> Self {
+        let device = &ctx.device;
+        let frame_layout = frame_layout(device);
+        let resolve = ResolvePass::new(device, &frame_layout);
+        let wedge = WedgePass::new(device, &frame_layout, &resolve.receiver_layout);
+        let complexity_layout = inputs_layout(device);
+        let pipelines = Pipelines {
+            edge_lists: ComplexityPass::edge_lists(device, &frame_layout, &complexity_layout),
+            count: ComplexityPass::count(device, &frame_layout, &complexity_layout),
+            complexity_layout,
+            depth: DepthPass::new(device, &frame_layout),
+            stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
+            blend: BlendPass::new(device, &frame_layout),
+            wedge,
+            resolve,
+            frame_layout,
+        };
+        GpuRenderer {
+            ctx: ctx.clone(),
+            pipelines: Arc::new(pipelines),
+        }
+    }
+
+    /// The device and queue it renders with.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// The pipelines, which every [`crate::GpuScene`] made with it shares.
+    pub(crate) fn pipelines(&self) -> &Arc<Pipelines> {
+        &self.pipelines
+    }
+}
