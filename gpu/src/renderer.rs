@@ -1,6 +1,5 @@
 //! The volume techniques rendered once, with the pipelines of `pipelines.rs`: `hard` (depth
-//! pre-pass, z-fail stencil pass,
-//! resolve), additive `wedges` (the same, plus the wedge pass of every silhouette edge before
+//! pre-pass, z-fail stencil pass, resolve), additive `wedges` (the same, plus the wedge pass of every silhouette edge before
 //! the resolve) and Forest et al.'s `wedges-blend` (the depth pre-pass, then the
 //! "per-silhouette 3 passes algorithm" for each occluder: stencil pass of its volume, wedge pass
 //! of its edges into a silhouette buffer, blend of that buffer into the final one; then the
@@ -61,12 +60,12 @@ impl GpuRenderer {
         technique: Technique,
     ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
         GpuScene::check_technique(technique)?;
-        let device = &self.context().device;
+        let device = self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
         // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
         let timer = Timer::new(
-            &self.context(),
+            self.context(),
             if technique == Technique::WedgesBlend {
                 2 + 3 * volumes.unit_count()
             } else {
@@ -77,7 +76,7 @@ impl GpuRenderer {
         gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
         let inputs = FrameInputs { camera, technique };
         gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
-        read_frame(&self.context(), enc, &timer, &visibility)
+        read_frame(self.context(), enc, &timer, &visibility)
     }
 
     /// Renders V of `scene` by depth-complexity sampling with `samples` light samples per pixel
@@ -90,7 +89,7 @@ impl GpuRenderer {
         scene: &Scene,
         samples: u32,
     ) -> Result<ComplexityImage, GpuError> {
-        let device = &self.context().device;
+        let device = self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         // No outward signs: they serve the wedges' terminator and the shadow maps only.
         let mut gpu_scene = GpuScene::of_scene(self, scene, |_| 0.0);
@@ -106,11 +105,11 @@ impl GpuRenderer {
         gpu_scene.complexity_report()?;
         loop {
             // Depth, stencil, edge lists, count, resolve.
-            let timer = Timer::new(&self.context(), 5);
+            let timer = Timer::new(self.context(), 5);
             let mut enc = device.create_command_encoder(&Default::default());
             gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
             gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
-            let (image, times) = read_frame(&self.context(), enc, &timer, &visibility)?;
+            let (image, times) = read_frame(self.context(), enc, &timer, &visibility)?;
             let report = gpu_scene
                 .complexity_report()?
                 .expect("a frame was recorded");
@@ -138,7 +137,7 @@ impl GpuRenderer {
     /// The camera of a one-shot frame of `scene` (near plane from the scene's extent around the
     /// eye), its G-buffer and its V target.
     fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
-        let device = &self.context().device;
+        let device = self.context().device;
         let size = (scene.camera.width, scene.camera.height);
         let camera = FrameCamera::of_scene(scene);
         (
