@@ -60,7 +60,7 @@ impl GpuRenderer {
         technique: Technique,
     ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
         GpuScene::check_technique(technique)?;
-        let device = self.context().device;
+        let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
         // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
@@ -89,7 +89,7 @@ impl GpuRenderer {
         scene: &Scene,
         samples: u32,
     ) -> Result<ComplexityImage, GpuError> {
-        let device = self.context().device;
+        let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         // No outward signs: they serve the wedges' terminator and the shadow maps only.
         let mut gpu_scene = GpuScene::of_scene(self, scene, |_| 0.0);
@@ -137,7 +137,7 @@ impl GpuRenderer {
     /// The camera of a one-shot frame of `scene` (near plane from the scene's extent around the
     /// eye), its G-buffer and its V target.
     fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
-        let device = self.context().device;
+        let device = &self.context().device;
         let size = (scene.camera.width, scene.camera.height);
         let camera = FrameCamera::of_scene(scene);
         (
