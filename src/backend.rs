@@ -263,7 +263,7 @@ pub trait Machine {
     /// [`extent_ratio`] of the scene.
     fn extent_ratio(&mut self) -> f64;
     /// The bytes this process can still allocate, where known
-    /// ([`penumbra_geom::memory::available`]).
+    /// ([`penumbra_geom::available_memory`]).
     fn available_memory(&mut self) -> Option<u64>;
 }
 

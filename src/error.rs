@@ -100,7 +100,7 @@ pub enum RenderError {
         height: u32,
         /// The bytes the render would take, roughly.
         needed: u64,
-        /// The bytes available ([`penumbra_geom::memory::available`]).
+        /// The bytes available ([`penumbra_geom::available_memory`]).
         available: u64,
     },
     /// The GPU failed.

@@ -153,7 +153,8 @@ impl FrameCamera {
     }
 
     /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera,
-    /// with the near plane of [`FrameCamera::for_scene`].
+    /// with the near plane a thousandth of the scene's extent around the eye, or half the
+    /// distance to the nearest triangle where that is closer.
     pub fn of_scene(scene: &penumbra_geom::Scene) -> Self {
         Self::for_scene(
             &scene.camera,

@@ -67,7 +67,7 @@ impl ShadowMapRenderer {
     ///
     /// # Panics
     ///
-    /// If `technique` is not a shadow-map technique ([`Technique::needs_gpu`]).
+    /// If `technique` is not a shadow-map technique ([`Technique::is_shadow_map`]).
     pub fn new(ctx: &GpuContext, technique: Technique) -> Self {
         assert!(
             technique.is_shadow_map(),
