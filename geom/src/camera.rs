@@ -62,14 +62,14 @@ impl Camera {
     /// Builds the camera of the scene contract, rejecting undefined frames.
     ///
     /// ```
-    /// use glam::DVec3;
-    /// use penumbra_geom::Camera;
+    /// use penumbra::glam::DVec3;
+    /// use penumbra::geom::Camera;
     ///
     /// let c = Camera::look_at(DVec3::new(0.0, 2.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 320, 240)?;
     /// // The centre pixel's ray points at the target.
     /// assert!(c.ray_dir(160, 120).dot(-c.eye.normalize()) > 0.999);
     /// assert!(Camera::look_at(DVec3::ZERO, DVec3::ZERO, DVec3::Y, 45.0, 8, 8).is_err());
-    /// # Ok::<(), penumbra_geom::CameraError>(())
+    /// # Ok::<(), penumbra::geom::CameraError>(())
     /// ```
     pub fn look_at(
         eye: DVec3,

@@ -57,7 +57,7 @@ pub enum ImageError {
 /// surface point sees (1 where the ray from the camera hits nothing).
 ///
 /// ```
-/// use penumbra_geom::VisibilityImage;
+/// use penumbra::geom::VisibilityImage;
 ///
 /// let mut v = VisibilityImage::filled(4, 3, 1.0);
 /// v.data[4 + 2] = 0.25; // column 2, row 1

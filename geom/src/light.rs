@@ -76,8 +76,8 @@ impl RectLight {
     /// World point to light space: `(u, v, z)` with the rectangle at `z = 0`, `[-1, 1]^2`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
-    /// use penumbra_geom::RectLight;
+    /// use penumbra::glam::{DVec2, DVec3};
+    /// use penumbra::geom::RectLight;
     ///
     /// // A 4 x 2 light at height 5, shining down.
     /// let l = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::new(4.0, 2.0));

@@ -101,14 +101,14 @@ impl TriangleMesh {
     /// triangles are dropped and counted.
     ///
     /// ```
-    /// use glam::DVec3;
-    /// use penumbra_geom::TriangleMesh;
+    /// use penumbra::glam::DVec3;
+    /// use penumbra::geom::TriangleMesh;
     ///
     /// let p = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::X]; // the last repeats the second
     /// let m = TriangleMesh::from_raw("tri", &p, &[[0, 1, 2], [0, 3, 1]])?;
     /// assert_eq!((m.positions.len(), m.triangles.len(), m.dropped_degenerate), (3, 1, 1));
     /// assert!(TriangleMesh::from_raw("bad", &p, &[[0, 1, 9]]).is_err());
-    /// # Ok::<(), penumbra_geom::MeshError>(())
+    /// # Ok::<(), penumbra::geom::MeshError>(())
     /// ```
     pub fn from_raw(
         name: &str,

@@ -75,14 +75,14 @@ pub struct Comparison {
 /// Compares `a` against the reference `b`: all pixels, and penumbra pixels of `b` alone.
 ///
 /// ```
-/// use penumbra_geom::{VisibilityImage, compare};
+/// use penumbra::geom::{VisibilityImage, compare};
 ///
 /// let truth = VisibilityImage { width: 2, height: 1, data: vec![0.5, 1.0] };
 /// let test = VisibilityImage { width: 2, height: 1, data: vec![0.6, 1.0] };
 /// let c = compare(&test, &truth)?;
 /// assert_eq!(c.penumbra.pixels, 1); // 0.02 < V < 0.98 in the reference
 /// assert!((c.all.mae - 0.05).abs() < 1e-6);
-/// # Ok::<(), penumbra_geom::ImageError>(())
+/// # Ok::<(), penumbra::geom::ImageError>(())
 /// ```
 pub fn compare(a: &VisibilityImage, b: &VisibilityImage) -> Result<Comparison, ImageError> {
     if (a.width, a.height) != (b.width, b.height) {

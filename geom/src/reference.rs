@@ -252,8 +252,8 @@ pub enum LightSamples {
 /// The ray-cast reference renderer of one scene: its [`Tracer`] and its camera.
 ///
 /// ```
-/// use glam::{DMat4, DVec2, DVec3};
-/// use penumbra_geom::{Camera, LightSamples, RectLight, Reference, Scene, TriangleMesh};
+/// use penumbra::glam::{DMat4, DVec2, DVec3};
+/// use penumbra::geom::{Camera, LightSamples, RectLight, Reference, Scene, TriangleMesh};
 ///
 /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 16, 12)?;
 /// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0));

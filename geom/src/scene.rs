@@ -43,8 +43,8 @@ impl Scene {
     /// from disk; its path reads `<in memory>`.
     ///
     /// ```
-    /// use glam::{DMat4, DVec2, DVec3};
-    /// use penumbra_geom::{Camera, RectLight, Scene, TriangleMesh};
+    /// use penumbra::glam::{DMat4, DVec2, DVec3};
+    /// use penumbra::geom::{Camera, RectLight, Scene, TriangleMesh};
     ///
     /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
     /// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0));

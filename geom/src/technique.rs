@@ -8,7 +8,7 @@ use std::str::FromStr;
 /// (`wedges-blend`, `depth-complexity`, ...).
 ///
 /// ```
-/// use penumbra_geom::Technique;
+/// use penumbra::geom::Technique;
 ///
 /// let t: Technique = "depth-complexity".parse().unwrap();
 /// assert_eq!(t, Technique::DepthComplexity);

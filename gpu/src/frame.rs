@@ -84,9 +84,9 @@ impl FrameCamera {
     /// otherwise), for an image of `size` pixels.
     ///
     /// ```
-    /// use glam::DVec3;
-    /// use glam::dcamera::rh::{proj::directx, view};
-    /// use penumbra_gpu::FrameCamera;
+    /// use penumbra::glam::DVec3;
+    /// use penumbra::glam::dcamera::rh::{proj::directx, view};
+    /// use penumbra::gpu::FrameCamera;
     ///
     /// let view = view::look_at_mat4(DVec3::new(0.0, 2.0, 5.0), DVec3::ZERO, DVec3::Y);
     /// let projection = directx::perspective_infinite_reverse(0.8, 4.0 / 3.0, 0.01);
@@ -95,7 +95,7 @@ impl FrameCamera {
     /// // A standard projection (finite far plane, depth 0 at the near plane) is refused.
     /// let standard = directx::perspective(0.8, 4.0 / 3.0, 0.01, 100.0);
     /// assert!(FrameCamera::from_matrices(&view, &standard, (320, 240)).is_err());
-    /// # Ok::<(), penumbra_gpu::CameraError>(())
+    /// # Ok::<(), penumbra::gpu::CameraError>(())
     /// ```
     pub fn from_matrices(
         view: &DMat4,

@@ -37,8 +37,8 @@ pub(crate) struct Pipelines {
 /// # async fn device() -> (wgpu::Device, wgpu::Queue) { unimplemented!() }
 /// # pollster::block_on(async {
 /// let (device, queue) = device().await;
-/// let renderer = penumbra_gpu::GpuRenderer::new(&device, &queue)?;
-/// # Ok::<(), penumbra_gpu::GpuError>(())
+/// let renderer = penumbra::gpu::GpuRenderer::new(&device, &queue)?;
+/// # Ok::<(), penumbra::gpu::GpuError>(())
 /// # }).unwrap();
 /// ```
 #[derive(Clone)]

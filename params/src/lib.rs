@@ -8,7 +8,7 @@
 //! ([`toml_reference`], which a test keeps equal to the docs).
 //!
 //! ```
-//! use penumbra_params::{PARAMS, TechniqueParams, Value};
+//! use penumbra::params::{PARAMS, TechniqueParams, Value};
 //!
 //! let mut p = TechniqueParams::default();
 //! assert_eq!(p.pcf.kernel, 3);
@@ -19,7 +19,7 @@
 //! let kernel = PARAMS.iter().find(|q| q.flag == "pcf-kernel").unwrap();
 //! p.set(kernel, Value::Int(9));
 //! assert_eq!(p.validate().unwrap_err().to_string(), "pcf.kernel: 9 is not in 3..=5");
-//! # Ok::<(), penumbra_params::ParamError>(())
+//! # Ok::<(), penumbra::params::ParamError>(())
 //! ```
 #![warn(missing_docs)]
 #![warn(unnameable_types)]

@@ -43,8 +43,8 @@ use crate::wedge_grid::{WedgeGrid, receiver_box};
 /// between P and the light's centre.
 ///
 /// ```
-/// use penumbra_geom::{Scene, Technique};
-/// use penumbra_volumes::CpuRenderer;
+/// use penumbra::geom::{Scene, Technique};
+/// use penumbra::volumes::CpuRenderer;
 ///
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/scenes/nonmanifold.toml");
 /// let scene = Scene::load(std::path::Path::new(path))?;

@@ -19,9 +19,9 @@ use crate::volumes::Volumes;
 /// counts when it winds more than half way round.
 ///
 /// ```
-/// use glam::{DMat4, DVec2, DVec3};
-/// use penumbra_geom::{RectLight, TriangleMesh};
-/// use penumbra_volumes::encloses_light_centre;
+/// use penumbra::glam::{DMat4, DVec2, DVec3};
+/// use penumbra::geom::{RectLight, TriangleMesh};
+/// use penumbra::volumes::encloses_light_centre;
 ///
 /// let light = RectLight::new(DVec3::new(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
 /// let sphere = |x: f64| TriangleMesh::uv_sphere(12, 16).transformed(

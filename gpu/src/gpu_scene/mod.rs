@@ -81,11 +81,11 @@ impl GpuScene {
     /// `light`.
     ///
     /// ```no_run
-    /// use glam::dcamera::rh::{proj::directx, view};
-    /// use glam::{DMat4, DVec2, DVec3};
-    /// use penumbra_geom::{RectLight, Technique, TriangleMesh};
+    /// use penumbra::glam::dcamera::rh::{proj::directx, view};
+    /// use penumbra::glam::{DMat4, DVec2, DVec3};
+    /// use penumbra::geom::{RectLight, Technique, TriangleMesh};
     /// use std::path::Path;
-    /// use penumbra_gpu::{FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
+    /// use penumbra::gpu::{FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene};
     ///
     /// let ctx = GpuContext::new()?;
     /// let renderer = GpuRenderer::with_context(&ctx);
@@ -103,14 +103,14 @@ impl GpuScene {
     /// let inputs = FrameInputs { camera, technique: Technique::WedgesBlend };
     /// let gbuffer = GBuffer::new(&ctx.device, size);
     /// // The application's own R32Float target (RENDER_ATTACHMENT).
-    /// let target = penumbra_gpu::visibility_target(&ctx.device, size);
+    /// let target = penumbra::gpu::visibility_target(&ctx.device, size);
     /// let view = target.create_view(&Default::default());
     ///
     /// let mut encoder = ctx.device.create_command_encoder(&Default::default());
     /// scene.record_depth(&mut encoder, &camera, &gbuffer)?;
     /// scene.record(&mut encoder, &inputs, &gbuffer, &view)?;
     /// ctx.queue.submit([encoder.finish()]);
-    /// # Ok::<(), penumbra_gpu::GpuError>(())
+    /// # Ok::<(), penumbra::gpu::GpuError>(())
     /// ```
     pub fn new(
         renderer: &GpuRenderer,
