@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
     let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
     let ground = TriangleMesh::from_raw(
-        std::path::Path::new("ground"),
+        "ground",
         &corners.map(|[x, z]| DVec3::new(x, 0.0, z)),
         &[[0, 1, 2], [0, 2, 3]],
     )?;
