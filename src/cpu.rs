@@ -51,6 +51,7 @@ pub(crate) fn render(
     Frame {
         image,
         times: None,
+        counters: None,
         detail,
         warnings: Vec::new(),
     }

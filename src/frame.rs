@@ -4,7 +4,7 @@
 use std::fmt;
 
 use penumbra_geom::{Scene, Technique, VisibilityImage};
-use penumbra_gpu::PassTimes;
+use penumbra_gpu::{PassCounters, PassTimes};
 
 use crate::backend::Placement;
 use crate::runs::Runs;
@@ -15,6 +15,8 @@ pub struct Frame {
     pub image: VisibilityImage,
     /// The GPU passes' times, where the device has timestamp queries.
     pub times: Option<PassTimes>,
+    /// What each GPU pass did, where [`crate::Renderer::set_counters`] asked for it.
+    pub counters: Option<PassCounters>,
     /// `gpu: <adapter>` or `cpu`, and what the technique used (samples, edges, wedges).
     pub detail: String,
     /// What makes the image wrong though it rendered.

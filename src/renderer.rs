@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
-use penumbra_gpu::{GpuContext, GpuRenderer, ShadowMapRenderer};
+use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::{SamplePattern, Volumes};
 
 use crate::backend::{self, Backend, Choice, GpuOffer, Machine, Placement, Reason, Request};
@@ -105,6 +105,7 @@ pub struct Renderer {
     gpu: GpuState,
     volumes: Option<GpuRenderer>,
     shadow_maps: Vec<ShadowMapRenderer>,
+    counters: bool,
 }
 
 impl Renderer {
@@ -115,7 +116,15 @@ impl Renderer {
             gpu: GpuState::Untried,
             volumes: None,
             shadow_maps: Vec::new(),
+            counters: false,
         }
+    }
+
+    /// Whether the GPU frames of [`Renderer::render_frame`] count what each pass does
+    /// ([`Frame::counters`]): its shaders' invocations where the device has pipeline-statistics
+    /// queries, and the bytes it binds. Off by default.
+    pub fn set_counters(&mut self, on: bool) {
+        self.counters = on;
     }
 
     /// A renderer on the caller's device, for the techniques that can use it.
@@ -225,9 +234,10 @@ impl Renderer {
             GpuState::Ready(ctx) => GpuContext::clone(ctx),
             _ => unreachable!("the policy placed the render on an open GPU"),
         };
-        let frame = |image, times, detail| Frame {
-            image,
-            times,
+        let frame = |r: Rendered, detail| Frame {
+            image: r.image,
+            times: r.times,
+            counters: r.counters,
             detail,
             warnings: Vec::new(),
         };
@@ -244,12 +254,14 @@ impl Renderer {
                     self.shadow_maps.len() - 1
                 }
             };
-            let (image, times) = self.shadow_maps[i].render_timed(scene)?;
-            return Ok(frame(image, times, format!("gpu: {}", ctx.describe())));
+            self.shadow_maps[i].set_counters(self.counters);
+            let rendered = self.shadow_maps[i].render_timed(scene)?;
+            return Ok(frame(rendered, format!("gpu: {}", ctx.describe())));
         }
         let r = self
             .volumes
             .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
+        r.set_counters(self.counters);
         if technique == Technique::DepthComplexity {
             let out = match r.render_depth_complexity(scene, options.samples as u32) {
                 Err(e) if choice.cpu_after(&e) => {
@@ -268,10 +280,15 @@ impl Renderer {
                 out.all_edges,
                 out.list_entries
             );
-            return Ok(frame(out.image, out.times, detail));
+            let rendered = Rendered {
+                image: out.image,
+                times: out.times,
+                counters: out.counters,
+            };
+            return Ok(frame(rendered, detail));
         }
         let volumes = volumes.expect("built above for a volume technique on the GPU");
-        let (image, times) = r.render_timed(scene, volumes, technique)?;
-        Ok(frame(image, times, format!("gpu: {}", ctx.describe())))
+        let rendered = r.render_timed(scene, volumes, technique)?;
+        Ok(frame(rendered, format!("gpu: {}", ctx.describe())))
     }
 }

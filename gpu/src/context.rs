@@ -140,6 +140,8 @@ pub struct GpuContext {
     pub unclipped_depth: bool,
     /// Whether timestamp queries are available.
     pub timestamps: bool,
+    /// Whether pipeline-statistics queries are available (the passes' counters).
+    pub statistics: bool,
 }
 
 /// Features a device must have for the passes.
@@ -159,10 +161,11 @@ pub fn required_features() -> wgpu::Features {
 }
 
 /// Features the passes use when the device has them: unclipped depth (the shadow volumes' far
-/// caps at infinity are otherwise clipped on devices that clip them) and timestamp queries (the
-/// pass times).
-pub const OPTIONAL_FEATURES: wgpu::Features =
-    wgpu::Features::DEPTH_CLIP_CONTROL.union(wgpu::Features::TIMESTAMP_QUERY);
+/// caps at infinity are otherwise clipped on devices that clip them), timestamp queries (the
+/// pass times) and pipeline-statistics queries (the passes' counters).
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::DEPTH_CLIP_CONTROL
+    .union(wgpu::Features::TIMESTAMP_QUERY)
+    .union(wgpu::Features::PIPELINE_STATISTICS_QUERY);
 
 /// Limits beyond wgpu's defaults that the passes need: the silhouette buffer's six colour
 /// targets take 56 bytes per sample, and wgpu's default allows 32.
@@ -231,10 +234,7 @@ impl GpuContext {
         let adapter = adapters.remove(0);
         let info = adapter.get_info();
         let offered = adapter.features();
-        let wanted = wgpu::Features::DEPTH_CLIP_CONTROL
-            | wgpu::Features::TIMESTAMP_QUERY
-            | wgpu::Features::DEPTH32FLOAT_STENCIL8
-            | wgpu::Features::FLOAT32_BLENDABLE;
+        let wanted = OPTIONAL_FEATURES | required_features();
         let features = offered & wanted;
         for (f, name) in REQUIRED_FEATURES {
             if !features.contains(f) {
@@ -287,6 +287,7 @@ impl GpuContext {
             info,
             unclipped_depth: features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
         })
     }
 

@@ -19,6 +19,7 @@
 
 mod constants;
 mod context;
+mod counters;
 mod frame;
 mod gpu_scene;
 mod passes;
@@ -37,6 +38,7 @@ pub use context::{
     GpuContext, GpuError, OPTIONAL_FEATURES, REQUIRED_FEATURES, quiet_device_select,
     required_features, required_limits,
 };
+pub use counters::{PassCounters, PassCounts, Statistics};
 pub use frame::{CameraError, FrameCamera};
 pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};
 pub use passes::depth::{GBuffer, visibility_target};
@@ -47,6 +49,6 @@ pub use renderer::ComplexityImage;
 pub use shadow_maps::{
     LightFrustum, MAX_SLOPE, ShadowMapRenderer, ShadowUniforms, multi_pass_kernel,
 };
-pub use timing::PassTimes;
+pub use timing::{PassTimes, Rendered};
 /// The wgpu this crate is built with: an application's device must come from the same version.
 pub use wgpu;

@@ -45,6 +45,7 @@ pub(crate) struct Pipelines {
 pub struct GpuRenderer {
     ctx: GpuContext,
     pipelines: Arc<Pipelines>,
+    counters: bool,
 }
 
 impl GpuRenderer {
@@ -76,7 +77,19 @@ impl GpuRenderer {
         GpuRenderer {
             ctx: ctx.clone(),
             pipelines: Arc::new(pipelines),
+            counters: false,
         }
+    }
+
+    /// Whether [`GpuRenderer::render_timed`] and [`GpuRenderer::render_depth_complexity`] count
+    /// what each pass does ([`crate::PassCounters`]); off by default.
+    pub fn set_counters(&mut self, on: bool) {
+        self.counters = on;
+    }
+
+    /// Whether they do.
+    pub fn counters(&self) -> bool {
+        self.counters
     }
 
     /// The device and queue it renders with.

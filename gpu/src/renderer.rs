@@ -15,12 +15,13 @@ use penumbra_geom::{Scene, Technique};
 use penumbra_volumes::Volumes;
 
 use crate::context::GpuError;
+use crate::counters::PassCounters;
 use crate::frame::FrameCamera;
 use crate::gpu_scene::{FrameInputs, GpuScene};
 use crate::passes::depth::{GBuffer, visibility_target};
 use crate::passes::view;
 use crate::pipelines::GpuRenderer;
-use crate::timing::{PassTimes, Timer, read_frame};
+use crate::timing::{PassTimes, Rendered, Timer, read_frame};
 
 /// A depth-complexity image rendered once ([`GpuRenderer::render_depth_complexity`]).
 pub struct ComplexityImage {
@@ -28,6 +29,8 @@ pub struct ComplexityImage {
     pub image: VisibilityImage,
     /// The GPU time of each pass, where the device has timestamp queries.
     pub times: Option<PassTimes>,
+    /// What each pass did, where [`GpuRenderer::set_counters`] asked for it.
+    pub counters: Option<PassCounters>,
     /// Potential silhouette edges of the scene's light.
     pub potential_edges: usize,
     /// All edges of the scene's meshes.
@@ -47,18 +50,18 @@ impl GpuRenderer {
         volumes: &Volumes,
         technique: Technique,
     ) -> Result<VisibilityImage, GpuError> {
-        Ok(self.render_timed(scene, volumes, technique)?.0)
+        Ok(self.render_timed(scene, volumes, technique)?.image)
     }
 
     /// [`GpuRenderer::render`], with the GPU time of each pass when the device has timestamp
-    /// queries. An error if `technique` is not a volume technique (`hard`, `wedges`,
-    /// `wedges-blend`).
+    /// queries and their counts when [`GpuRenderer::set_counters`] turned them on. An error if
+    /// `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
     pub fn render_timed(
         &self,
         scene: &Scene,
         volumes: &Volumes,
         technique: Technique,
-    ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+    ) -> Result<Rendered, GpuError> {
         GpuScene::check_technique(technique)?;
         let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
@@ -71,6 +74,7 @@ impl GpuRenderer {
             } else {
                 4
             },
+            self.counters(),
         );
         let mut enc = device.create_command_encoder(&Default::default());
         gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
@@ -105,11 +109,15 @@ impl GpuRenderer {
         gpu_scene.complexity_report()?;
         loop {
             // Depth, stencil, edge lists, count, resolve.
-            let timer = Timer::new(self.context(), 5);
+            let timer = Timer::new(self.context(), 5, self.counters());
             let mut enc = device.create_command_encoder(&Default::default());
             gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
             gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
-            let (image, times) = read_frame(self.context(), enc, &timer, &visibility)?;
+            let Rendered {
+                image,
+                times,
+                counters,
+            } = read_frame(self.context(), enc, &timer, &visibility)?;
             let report = gpu_scene
                 .complexity_report()?
                 .expect("a frame was recorded");
@@ -125,6 +133,7 @@ impl GpuRenderer {
                 return Ok(ComplexityImage {
                     image,
                     times,
+                    counters,
                     potential_edges,
                     all_edges,
                     list_entries: report.demand,

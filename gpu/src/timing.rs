@@ -4,6 +4,7 @@
 use std::cell::RefCell;
 
 use crate::context::{GpuContext, GpuError};
+use crate::counters::{Counters, PassCounters, Traffic};
 use crate::readback::{read_r32f, read_u64};
 use penumbra_geom::VisibilityImage;
 
@@ -90,18 +91,99 @@ pub enum Pass {
     Count,
 }
 
+impl Pass {
+    /// The name of its field of [`PassTimes`].
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Pass::Depth => "depth",
+            Pass::Stencil => "stencil",
+            Pass::Wedge => "wedge",
+            Pass::Blend => "blend",
+            Pass::Resolve => "resolve",
+            Pass::LightMap => "light_map",
+            Pass::Preprocess => "preprocess",
+            Pass::Filter => "filter",
+            Pass::EdgeLists => "edge_lists",
+            Pass::Count => "count",
+        }
+    }
+}
+
+/// The queries around one pass: its two timestamps and its pipeline-statistics query, each
+/// where the frame records them. A pass's `record` puts [`PassQueries::render_writes`] (or
+/// [`PassQueries::compute_writes`]) in its descriptor and wraps its commands in `begin_*` and
+/// `end_*`.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct PassQueries<'a> {
+    timestamps: Option<(&'a wgpu::QuerySet, u32)>,
+    statistics: Option<(&'a wgpu::QuerySet, u32)>,
+}
+
+impl<'a> PassQueries<'a> {
+    /// The timestamp writes of a render pass.
+    pub(crate) fn render_writes(&self) -> Option<wgpu::RenderPassTimestampWrites<'a>> {
+        self.timestamps
+            .map(|(q, i)| wgpu::RenderPassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(2 * i),
+                end_of_pass_write_index: Some(2 * i + 1),
+            })
+    }
+
+    /// The timestamp writes of a compute pass.
+    pub(crate) fn compute_writes(&self) -> Option<wgpu::ComputePassTimestampWrites<'a>> {
+        self.timestamps
+            .map(|(q, i)| wgpu::ComputePassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(2 * i),
+                end_of_pass_write_index: Some(2 * i + 1),
+            })
+    }
+
+    /// Starts the statistics of render pass `pass`.
+    pub(crate) fn begin_render(&self, pass: &mut wgpu::RenderPass<'_>) {
+        if let Some((q, i)) = self.statistics {
+            pass.begin_pipeline_statistics_query(q, i);
+        }
+    }
+
+    /// Ends them.
+    pub(crate) fn end_render(&self, pass: &mut wgpu::RenderPass<'_>) {
+        if self.statistics.is_some() {
+            pass.end_pipeline_statistics_query();
+        }
+    }
+
+    /// Starts the statistics of compute pass `pass`.
+    pub(crate) fn begin_compute(&self, pass: &mut wgpu::ComputePass<'_>) {
+        if let Some((q, i)) = self.statistics {
+            pass.begin_pipeline_statistics_query(q, i);
+        }
+    }
+
+    /// Ends them.
+    pub(crate) fn end_compute(&self, pass: &mut wgpu::ComputePass<'_>) {
+        if self.statistics.is_some() {
+            pass.end_pipeline_statistics_query();
+        }
+    }
+}
+
 /// Timestamps of one frame: two per pass, at most `passes` passes; nothing where the device has
-/// no timestamp queries.
+/// no timestamp queries. With counters, also each pass's statistics and traffic
+/// ([`crate::counters`]).
 pub struct Timer {
     queries: Option<wgpu::QuerySet>,
     kinds: RefCell<Vec<Pass>>,
+    counters: Option<Counters>,
 }
 
 impl Timer {
-    /// Room for `passes` passes on `ctx`'s device. A frame of more passes than one query set
-    /// can time (`wgpu::QUERY_SET_MAX_QUERIES / 2`: a scene of thousands of silhouettes under
-    /// `wedges-blend`) records no pass times, rather than some of them.
-    pub fn new(ctx: &GpuContext, passes: usize) -> Self {
+    /// Room for `passes` passes on `ctx`'s device, counting them when `counters`. A frame of
+    /// more passes than one query set can time (`wgpu::QUERY_SET_MAX_QUERIES / 2`: a scene of
+    /// thousands of silhouettes under `wedges-blend`) records no pass times, rather than some
+    /// of them.
+    pub fn new(ctx: &GpuContext, passes: usize, counters: bool) -> Self {
         let fits = 2 * passes <= wgpu::QUERY_SET_MAX_QUERIES as usize;
         let queries = (ctx.timestamps && fits).then(|| {
             ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
@@ -113,6 +195,7 @@ impl Timer {
         Timer {
             queries,
             kinds: RefCell::new(Vec::with_capacity(passes)),
+            counters: counters.then(|| Counters::new(ctx, passes)),
         }
     }
 
@@ -121,31 +204,18 @@ impl Timer {
         Timer {
             queries: None,
             kinds: RefCell::new(Vec::new()),
+            counters: None,
         }
     }
 
-    /// The timestamp writes of the next render pass, of kind `kind`.
-    pub fn render(&self, kind: Pass) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    /// The queries of the next pass, of kind `kind`, binding `traffic` (counted only when the
+    /// frame counts).
+    pub(crate) fn pass(&self, kind: Pass, traffic: Traffic) -> PassQueries<'_> {
         let i = self.next(kind);
-        self.queries
-            .as_ref()
-            .map(|q| wgpu::RenderPassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(2 * i),
-                end_of_pass_write_index: Some(2 * i + 1),
-            })
-    }
-
-    /// The timestamp writes of the next compute pass, of kind `kind`.
-    pub fn compute(&self, kind: Pass) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        let i = self.next(kind);
-        self.queries
-            .as_ref()
-            .map(|q| wgpu::ComputePassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(2 * i),
-                end_of_pass_write_index: Some(2 * i + 1),
-            })
+        PassQueries {
+            timestamps: self.queries.as_ref().map(|q| (q, i)),
+            statistics: self.counters.as_ref().and_then(|c| c.next(kind, traffic)),
+        }
     }
 
     fn next(&self, kind: Pass) -> u32 {
@@ -200,24 +270,43 @@ impl Stamps {
     }
 }
 
+/// A frame read back: V, the pass times where the device has timestamp queries, and the
+/// passes' counts where they were asked for.
+pub struct Rendered {
+    /// V.
+    pub image: VisibilityImage,
+    /// The GPU time of each kind of pass.
+    pub times: Option<PassTimes>,
+    /// What each kind of pass did ([`PassCounters`]).
+    pub counters: Option<PassCounters>,
+}
+
 /// Submits a frame's commands `enc` and reads back its V from `visibility` (`R32Float`), with
-/// the pass times of `timer` where the device has timestamp queries.
+/// the pass times of `timer` where the device has timestamp queries and its counters where it
+/// counts.
 pub(crate) fn read_frame(
     ctx: &GpuContext,
     mut enc: wgpu::CommandEncoder,
     timer: &Timer,
     visibility: &wgpu::Texture,
-) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+) -> Result<Rendered, GpuError> {
     let (width, height) = (visibility.width(), visibility.height());
     let stamps = timer.resolve(&ctx.device, &mut enc);
+    let counts = timer
+        .counters
+        .as_ref()
+        .map(|c| c.resolve(&ctx.device, &mut enc));
     let data = read_r32f(ctx, &mut enc, visibility, width, height)?;
     let times = stamps.map(|s| s.read(ctx)).transpose()?;
-    Ok((
-        VisibilityImage {
+    let pixels = u64::from(width) * u64::from(height);
+    let counters = counts.map(|c| c.read(ctx, pixels)).transpose()?;
+    Ok(Rendered {
+        image: VisibilityImage {
             width,
             height,
             data,
         },
         times,
-    ))
+        counters,
+    })
 }

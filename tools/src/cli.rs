@@ -267,6 +267,13 @@ pub(crate) enum Command {
         /// `depth-complexity`: jitter its samples as the reference does.
         #[arg(long)]
         jitter: bool,
+        /// Instead of timing, render one frame of each technique on the GPU and print per pass
+        /// its vertex, primitive (clipper output), fragment and compute shader invocations
+        /// (pipeline-statistics queries, where the device has them: lavapipe does) and the bytes
+        /// of the buffers and textures it binds for reading and writing, each in total and per
+        /// pixel. Counts do not depend on the device's speed (docs/gpu.md, "Pass counters").
+        #[arg(long)]
+        counters: bool,
         /// Print JSON.
         #[arg(long)]
         json: bool,

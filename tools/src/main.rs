@@ -14,7 +14,7 @@ use clap::Parser;
 use penumbra::RenderOptions;
 
 use cli::{Cli, Command};
-use commands::{accuracy, bench, compare, geometry, probe, render};
+use commands::{accuracy, bench, compare, counters, geometry, probe, render};
 
 fn main() -> ExitCode {
     quiet_device_select();
@@ -110,11 +110,31 @@ fn run(cli: Cli) -> Result<()> {
         Command::Bench {
             scene,
             technique,
+            frames: _,
+            rounds: _,
+            backend,
+            samples,
+            jitter,
+            counters: true,
+            json,
+            params,
+        } => counters::counters(
+            &scene,
+            &technique,
+            backend,
+            RenderOptions { samples, jitter },
+            json,
+            &params,
+        ),
+        Command::Bench {
+            scene,
+            technique,
             frames,
             rounds,
             backend,
             samples,
             jitter,
+            counters: false,
             json,
             params,
         } => bench::bench(

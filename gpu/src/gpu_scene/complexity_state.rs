@@ -22,6 +22,7 @@
 //! [`ComplexityState`] is all a scene keeps for it: what it built of the scene for the current
 //! light and transforms, the frame's buffers, and its settings.
 
+use crate::counters::Traffic;
 use std::ops::Range;
 
 use penumbra_geom::{HalfEdgeMesh, RectLight};
@@ -165,6 +166,36 @@ impl ComplexityScene {
 }
 
 impl ComplexityFrame {
+    /// What the edge-list pass binds: it reads the receivers' positions, the edges, faces and
+    /// parameters, and writes the tiles' ranges, the list and its demand.
+    fn edge_list_traffic(&self, data: &ComplexityScene, gbuffer: &GBuffer) -> Traffic {
+        Traffic::new()
+            .reads(&gbuffer.position)
+            .reads(&data.edges)
+            .reads(&data.faces)
+            .reads(&self.params)
+            .writes(&self.tile_ranges)
+            .writes(&self.list)
+            .updates(&self.demand)
+    }
+
+    /// What the counting pass binds: it reads the receivers, their stencil counts, the
+    /// edges, faces, crossings, triangles, the tiles' lists and the parameters, and writes V.
+    fn count_traffic(&self, data: &ComplexityScene, gbuffer: &GBuffer) -> Traffic {
+        Traffic::new()
+            .reads(&gbuffer.position)
+            .reads(&gbuffer.depth)
+            .reads(&data.edges)
+            .reads(&data.faces)
+            .reads(&data.crossings)
+            .reads(&data.triangles)
+            .reads(&self.tile_ranges)
+            .reads(&self.list)
+            .reads(&self.params)
+            .updates(&self.demand)
+            .writes(&self.visibility)
+    }
+
     fn new(device: &wgpu::Device, size: (u32, u32), capacity: u32) -> Self {
         let (tx, ty) = tiles(size);
         let make = |label, bytes: u64, usage| {
@@ -389,7 +420,10 @@ impl ComplexityState {
                 bindings,
                 &data.volume,
                 &data.volume_ranges,
-                timer.render(Pass::Stencil),
+                timer.pass(
+                    Pass::Stencil,
+                    Traffic::new().reads(&data.volume).updates(&gbuffer.depth),
+                ),
             );
         }
         let group = frame.inputs(device, p, data, gbuffer);
@@ -398,7 +432,7 @@ impl ComplexityState {
             encoder,
             (parts.frame, &group),
             (tx, ty),
-            timer.compute(Pass::EdgeLists),
+            timer.pass(Pass::EdgeLists, frame.edge_list_traffic(data, gbuffer)),
         );
         frame.pending = true;
         let Some(target) = target else {
@@ -409,7 +443,7 @@ impl ComplexityState {
             encoder,
             (parts.frame, &group),
             (size.0.div_ceil(COUNT_GROUP), size.1.div_ceil(COUNT_GROUP)),
-            timer.compute(Pass::Count),
+            timer.pass(Pass::Count, frame.count_traffic(data, gbuffer)),
         );
         encoder.copy_buffer_to_buffer(&frame.demand, 0, &frame.demand_readback, 0, 8);
         let v = bind_group(
@@ -423,7 +457,13 @@ impl ComplexityState {
             bindings,
             ResolveInput::Visibility(&v),
             target,
-            timer.render(Pass::Resolve),
+            timer.pass(
+                Pass::Resolve,
+                gbuffer
+                    .receivers_read()
+                    .reads(&frame.visibility)
+                    .writes(target),
+            ),
         );
         Ok(())
     }

@@ -1,6 +1,7 @@
 //! Recording a frame of a [`GpuScene`]: the depth pre-pass, then the passes of the technique
 //! into the application's visibility target.
 
+use crate::counters::Traffic;
 use penumbra_geom::Technique;
 
 use super::{FrameInputs, GpuScene};
@@ -55,7 +56,7 @@ impl GpuScene {
                 ranges: &self.vertex_ranges,
             },
             gbuffer,
-            timer.render(Pass::Depth),
+            timer.pass(Pass::Depth, gbuffer.drawn().reads(&self.vertices)),
         );
         Ok(())
     }
@@ -146,7 +147,12 @@ impl GpuScene {
             bindings,
             &shadows.volume,
             &shadows.volume_ranges,
-            timer.render(Pass::Stencil),
+            timer.pass(
+                Pass::Stencil,
+                Traffic::new()
+                    .reads(&shadows.volume)
+                    .updates(&gbuffer.depth),
+            ),
         );
         let group;
         let input = if technique == Technique::Hard {
@@ -163,7 +169,15 @@ impl GpuScene {
                     ranges: std::slice::from_ref(&all_instances),
                 },
                 WedgeOutput::Additive(occlusion),
-                timer.render(Pass::Wedge),
+                timer.pass(
+                    Pass::Wedge,
+                    Traffic::new()
+                        .reads(&self.cube)
+                        .reads(&shadows.instance_buffer)
+                        .reads(&gbuffer.depth)
+                        .reads(&gbuffer.position)
+                        .updates(occlusion),
+                ),
             );
             group = bind_group(
                 device,
@@ -173,12 +187,17 @@ impl GpuScene {
             );
             ResolveInput::Additive(&group)
         };
+        let read = gbuffer.receivers_read();
+        let read = match technique {
+            Technique::Hard => read,
+            _ => read.reads(self.scratch.occlusion.as_ref().expect("prepared by record")),
+        };
         p.resolve.record(
             encoder,
             bindings,
             input,
             target,
-            timer.render(Pass::Resolve),
+            timer.pass(Pass::Resolve, read.writes(target)),
         );
     }
 }

@@ -3,6 +3,7 @@
 //! of their edges into the silhouette buffer and the blend of that buffer into the final one;
 //! then the resolve.
 
+use crate::counters::{Traffic, part};
 use std::ops::Range;
 
 use super::GpuScene;
@@ -70,6 +71,16 @@ impl GpuScene {
         let tiles = blend_tiles(device, &p.blend.tiles_layout, &groups);
         self.uploads.frame += tiles.bytes;
         let clears = silhouette_clears(sil);
+        // The vertex data of every volume and wedge, of which each group's passes draw theirs.
+        let drawn = |ranges: &[(u32, Range<u32>)]| -> u64 {
+            ranges.iter().map(|(_, r)| u64::from(r.len() as u32)).sum()
+        };
+        let all_volume = drawn(&shadows.volume_ranges);
+        let all_instances: u64 = shadows
+            .instance_ranges
+            .iter()
+            .map(|r| u64::from(r.len() as u32))
+            .sum();
         for (i, ((group, _), &count)) in groups.iter().zip(&tiles.counts).enumerate() {
             let volumes: Vec<(u32, Range<u32>)> = group
                 .iter()
@@ -85,7 +96,12 @@ impl GpuScene {
                 bindings,
                 &shadows.volume,
                 &volumes,
-                timer.render(Pass::Stencil),
+                timer.pass(
+                    Pass::Stencil,
+                    Traffic::new()
+                        .reads(&part(shadows.volume.size(), drawn(&volumes), all_volume))
+                        .updates(&gbuffer.depth),
+                ),
             );
             p.wedge.record(
                 encoder,
@@ -99,7 +115,21 @@ impl GpuScene {
                     targets: &clears,
                     stencil: &stencil_group,
                 },
-                timer.render(Pass::Wedge),
+                timer.pass(
+                    Pass::Wedge,
+                    sil.iter().fold(
+                        Traffic::new()
+                            .reads(&self.cube)
+                            .reads(&part(
+                                shadows.instance_buffer.size(),
+                                instances.iter().map(|r| u64::from(r.len() as u32)).sum(),
+                                all_instances,
+                            ))
+                            .reads(&gbuffer.depth)
+                            .reads(&gbuffer.position),
+                        |t, v| t.writes(v),
+                    ),
+                ),
             );
             let offset = (i as u64 * tiles.stride) as u32;
             p.blend.record(
@@ -107,7 +137,14 @@ impl GpuScene {
                 &self.frame,
                 &blend_inputs,
                 (&tiles.group, offset, count),
-                timer.compute(Pass::Blend),
+                timer.pass(
+                    Pass::Blend,
+                    sil.iter()
+                        .fold(Traffic::new(), |t, v| t.reads(v))
+                        .reads(&gbuffer.depth)
+                        .reads(&tiles.stride)
+                        .updates(final_buffer),
+                ),
             );
         }
         let final_group = bind_group(
@@ -121,7 +158,10 @@ impl GpuScene {
             bindings,
             ResolveInput::Blended(&final_group),
             target,
-            timer.render(Pass::Resolve),
+            timer.pass(
+                Pass::Resolve,
+                gbuffer.receivers_read().reads(final_buffer).writes(target),
+            ),
         );
     }
 }

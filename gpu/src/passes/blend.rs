@@ -1,5 +1,6 @@
 //! Blend pass of penumbra-wedges blending: drives `shaders/blend.wgsl`.
 
+use crate::timing::PassQueries;
 use bytemuck::{Pod, Zeroable};
 
 use crate::constants::{MAX_WORKGROUPS, TILE};
@@ -261,12 +262,13 @@ impl BlendPass {
         frame: &wgpu::BindGroup,
         inputs: &wgpu::BindGroup,
         (tiles, offset, count): (&wgpu::BindGroup, u32, u32),
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("blend"),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.compute_writes(),
         });
+        queries.begin_compute(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
@@ -274,6 +276,7 @@ impl BlendPass {
         if count > 0 {
             pass.dispatch_workgroups(count.min(MAX_WORKGROUPS), count.div_ceil(MAX_WORKGROUPS), 1);
         }
+        queries.end_compute(&mut pass);
     }
 }
 

@@ -3,6 +3,7 @@
 //! (`shaders/complexity.wgsl`): the potential silhouette edges as the GPU reads them, the
 //! uniforms and the bind group of both ([`inputs_layout`]).
 
+use crate::timing::PassQueries;
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, DVec4};
 use penumbra_geom::HalfEdgeMesh;
@@ -372,15 +373,17 @@ impl ComplexityPass {
         encoder: &mut wgpu::CommandEncoder,
         (frame, inputs): (&wgpu::BindGroup, &wgpu::BindGroup),
         groups: (u32, u32),
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(self.label),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.compute_writes(),
         });
+        queries.begin_compute(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
         pass.dispatch_workgroups(groups.0, groups.1, 1);
+        queries.end_compute(&mut pass);
     }
 }

@@ -1,6 +1,8 @@
 //! Depth pre-pass: drives `shaders/depth.wgsl`.
 
 use super::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT};
+use crate::counters::Traffic;
+use crate::timing::PassQueries;
 
 /// The depth pre-pass pipeline.
 pub struct DepthPass {
@@ -36,7 +38,7 @@ impl DepthPass {
         frame: &wgpu::BindGroup,
         meshes: MeshDraws<'_>,
         targets: &GBuffer,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("depth"),
@@ -55,10 +57,11 @@ impl DepthPass {
                     store: wgpu::StoreOp::Store,
                 }),
             }),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        queries.begin_render(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_vertex_buffer(0, meshes.vertices.slice(..));
@@ -67,6 +70,7 @@ impl DepthPass {
                 pass.draw(range.clone(), mesh as u32..mesh as u32 + 1);
             }
         }
+        queries.end_render(&mut pass);
     }
 }
 
@@ -117,6 +121,22 @@ pub struct GBuffer {
 }
 
 impl GBuffer {
+    /// What the depth pre-pass writes: depth (tested and written), positions, normals.
+    pub(crate) fn drawn(&self) -> Traffic {
+        Traffic::new()
+            .updates(&self.depth)
+            .writes(&self.position)
+            .writes(&self.normal)
+    }
+
+    /// What a pass over the receivers reads: depth and stencil (tested), positions, normals.
+    pub(crate) fn receivers_read(&self) -> Traffic {
+        Traffic::new()
+            .reads(&self.depth)
+            .reads(&self.position)
+            .reads(&self.normal)
+    }
+
     /// Targets of `width x height` pixels.
     pub fn new(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
         let sampled = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;

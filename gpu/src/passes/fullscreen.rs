@@ -5,6 +5,7 @@
 //! normals, and four input images.
 
 use crate::constants::BIG;
+use crate::timing::PassQueries;
 
 /// The declarations shared by the shadow-map techniques' shaders.
 pub const SHADOW_WGSL: &str = include_str!("../shaders/shadow.wgsl");
@@ -93,20 +94,22 @@ impl FullscreenPass {
         frame: &wgpu::BindGroup,
         inputs: &wgpu::BindGroup,
         target: &wgpu::TextureView,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(&self.label),
             color_attachments: &[super::cleared(target, wgpu::Color::TRANSPARENT)],
             depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        queries.begin_render(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
         pass.draw(0..3, 0..1);
+        queries.end_render(&mut pass);
     }
 }
 
@@ -149,7 +152,7 @@ impl LightMapPass {
         (frame, inputs): (&wgpu::BindGroup, &wgpu::BindGroup),
         (vertices, vertex_count): (&wgpu::Buffer, u32),
         (map, depth): (&wgpu::TextureView, &wgpu::TextureView),
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let big = wgpu::Color {
             r: BIG as f64,
@@ -168,10 +171,11 @@ impl LightMapPass {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        queries.begin_render(&mut pass);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
@@ -179,5 +183,6 @@ impl LightMapPass {
         if vertex_count > 0 {
             pass.draw(0..vertex_count, 0..1);
         }
+        queries.end_render(&mut pass);
     }
 }

@@ -2,6 +2,7 @@
 
 use super::depth::GBuffer;
 use super::{FrameBindings, VISIBILITY_FORMAT};
+use crate::timing::PassQueries;
 
 /// Stencil counts resolved one by one by the additive-wedges resolve; larger counts share the
 /// last draw (4 n already exceeds any wedge area that could be subtracted in practice).
@@ -170,7 +171,7 @@ impl ResolvePass {
         frame: FrameBindings<'_>,
         input: ResolveInput<'_>,
         visibility: &wgpu::TextureView,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("resolve"),
@@ -180,10 +181,11 @@ impl ResolvePass {
                 depth_ops: None,
                 stencil_ops: None,
             }),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        queries.begin_render(&mut pass);
         pass.set_bind_group(0, frame.frame, &[]);
         pass.set_bind_group(1, frame.position, &[]);
         match input {
@@ -218,6 +220,7 @@ impl ResolvePass {
                 }
             }
         }
+        queries.end_render(&mut pass);
     }
 }
 

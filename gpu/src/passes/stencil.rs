@@ -10,6 +10,7 @@
 //! is in front of it (passes `GreaterEqual`).
 
 use super::{DEPTH_FORMAT, FrameBindings};
+use crate::timing::PassQueries;
 
 /// The stencil pass pipelines.
 pub struct StencilPass {
@@ -114,7 +115,7 @@ impl StencilPass {
         frame: FrameBindings<'_>,
         vertices: &wgpu::Buffer,
         ranges: &[(u32, std::ops::Range<u32>)],
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("stencil"),
@@ -130,10 +131,11 @@ impl StencilPass {
                     store: wgpu::StoreOp::Store,
                 }),
             }),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        queries.begin_render(&mut pass);
         pass.set_bind_group(0, frame.frame, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         for p in [&self.back, &self.front] {
@@ -142,5 +144,6 @@ impl StencilPass {
                 pass.draw(range.clone(), *mesh..*mesh + 1);
             }
         }
+        queries.end_render(&mut pass);
     }
 }

@@ -1,5 +1,6 @@
 //! Penumbra-wedge pass: drives `shaders/wedge.wgsl`.
 
+use crate::timing::PassQueries;
 use bytemuck::{Pod, Zeroable};
 use penumbra_volumes::WedgeFrustum;
 
@@ -245,7 +246,7 @@ impl WedgePass {
         frame: FrameBindings<'_>,
         draws: WedgeDraws<'_>,
         output: WedgeOutput<'_>,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        queries: PassQueries<'_>,
     ) {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = match output {
             WedgeOutput::Additive(view) => vec![super::cleared(view, wgpu::Color::TRANSPARENT)],
@@ -264,10 +265,11 @@ impl WedgePass {
                 depth_ops: None,
                 stencil_ops: None,
             }),
-            timestamp_writes: timestamps,
+            timestamp_writes: queries.render_writes(),
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        queries.begin_render(&mut pass);
         pass.set_bind_group(0, frame.frame, &[]);
         pass.set_bind_group(1, frame.position, &[]);
         pass.set_vertex_buffer(0, draws.cube.slice(..));
@@ -282,5 +284,6 @@ impl WedgePass {
         for r in draws.ranges.iter().filter(|r| !r.is_empty()) {
             pass.draw(0..36, r.clone());
         }
+        queries.end_render(&mut pass);
     }
 }

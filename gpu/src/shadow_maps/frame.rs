@@ -8,6 +8,7 @@ use penumbra_params::TechniqueParams;
 use super::inputs::{ShadowUniforms, back_faces};
 use super::pipelines::ShadowPipelines;
 use crate::context::GpuContext;
+use crate::counters::Traffic;
 use crate::frame::{FrameCamera, FrameUniforms, eye_relative, single_frame_group};
 use crate::passes::depth::{GBuffer, MeshDraws, visibility_target};
 use crate::passes::fullscreen::{INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT};
@@ -59,6 +60,7 @@ impl<'a> ShadowFrame<'a> {
         scene: &'a Scene,
         (world, closed): (&[[glam::DVec3; 3]], usize),
         base: ShadowUniforms,
+        counters: bool,
     ) -> Self {
         let device = &ctx.device;
         let params = &scene.params;
@@ -124,6 +126,7 @@ impl<'a> ShadowFrame<'a> {
             timer: Timer::new(
                 ctx,
                 8 + params.fractional_disk.passes as usize + params.gaussian.passes as usize,
+                counters,
             ),
         }
     }
@@ -167,8 +170,18 @@ impl<'a> ShadowFrame<'a> {
             &self.frame,
             &self.inputs(buffer, images),
             target,
-            self.timer.render(kind),
+            self.timer
+                .pass(kind, self.traffic(buffer, images).writes(target)),
         );
+    }
+
+    /// What a full-screen pass reading uniforms `buffer`, the receivers and `images` reads.
+    fn traffic(&self, buffer: &wgpu::Buffer, images: &[&wgpu::TextureView]) -> Traffic {
+        let t = Traffic::new()
+            .reads(buffer)
+            .reads(&self.gbuffer.position)
+            .reads(&self.gbuffer.normal);
+        images.iter().fold(t, |t, i| t.reads(*i))
     }
 
     /// A `size` texture of `format` that passes write and later passes read.
@@ -191,7 +204,10 @@ impl<'a> ShadowFrame<'a> {
                 ranges: std::slice::from_ref(&(0..self.triangles.len() as u32)),
             },
             &self.gbuffer,
-            self.timer.render(Pass::Depth),
+            self.timer.pass(
+                Pass::Depth,
+                self.gbuffer.drawn().reads(&self.triangle_buffer),
+            ),
         );
     }
 
@@ -208,7 +224,14 @@ impl<'a> ShadowFrame<'a> {
             (&self.frame, &base_group),
             (casters, count),
             (map, &self.light_depth),
-            self.timer.render(Pass::LightMap),
+            self.timer.pass(
+                Pass::LightMap,
+                Traffic::new()
+                    .reads(casters)
+                    .reads(&self.base_buf)
+                    .updates(&self.light_depth)
+                    .writes(map),
+            ),
         );
     }
 

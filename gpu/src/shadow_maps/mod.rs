@@ -24,7 +24,7 @@ use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 
 use crate::context::{GpuContext, GpuError};
-use crate::timing::{PassTimes, read_frame};
+use crate::timing::{Rendered, read_frame};
 use frame::{ShadowFrame, back_face_casters};
 pub use gaussian::multi_pass_kernel;
 pub use inputs::ShadowUniforms;
@@ -38,6 +38,7 @@ pub struct ShadowMapRenderer {
     ctx: GpuContext,
     technique: Technique,
     pipelines: ShadowPipelines,
+    counters: bool,
 }
 
 /// The shader and passes of `technique`.
@@ -77,7 +78,14 @@ impl ShadowMapRenderer {
             pipelines: ShadowPipelines::new(&ctx.device, technique, technique_passes(technique)),
             ctx: ctx.clone(),
             technique,
+            counters: false,
         }
+    }
+
+    /// Whether [`ShadowMapRenderer::render_timed`] counts what each pass does
+    /// ([`crate::PassCounters`]); off by default.
+    pub fn set_counters(&mut self, on: bool) {
+        self.counters = on;
     }
 
     /// The technique these pipelines render.
@@ -102,21 +110,25 @@ impl ShadowMapRenderer {
 
     /// Renders V of `scene` with the parameters of `scene.params`.
     pub fn render(&self, scene: &Scene) -> Result<VisibilityImage, GpuError> {
-        Ok(self.render_timed(scene)?.0)
+        Ok(self.render_timed(scene)?.image)
     }
 
     /// [`ShadowMapRenderer::render`], with the GPU time of each kind of pass when the device
     /// has timestamp queries (the light maps, the preprocessing passes, the filter passes, the
-    /// read-out).
-    pub fn render_timed(
-        &self,
-        scene: &Scene,
-    ) -> Result<(VisibilityImage, Option<PassTimes>), GpuError> {
+    /// read-out), and their counts when [`ShadowMapRenderer::set_counters`] turned them on.
+    pub fn render_timed(&self, scene: &Scene) -> Result<Rendered, GpuError> {
         let (world, closed) = closed_first(scene);
         let frustum =
             LightFrustum::fit_view(&scene.light, &world, &scene.camera).unwrap_or(EMPTY_FRUSTUM);
         let base = self.uniforms(scene, &frustum);
-        let f = ShadowFrame::new(&self.ctx, &self.pipelines, scene, (&world, closed), base);
+        let f = ShadowFrame::new(
+            &self.ctx,
+            &self.pipelines,
+            scene,
+            (&world, closed),
+            base,
+            self.counters,
+        );
         let mut enc = self.ctx.device.create_command_encoder(&Default::default());
         f.record_depth(&mut enc);
         // The light map: every triangle, or the back faces for fractional-disk.

@@ -1,6 +1,7 @@
 //! The probe passes of the techniques' shaders, for their property tests: a function of the
 //! shader run over a synthetic light map.
 
+use crate::timing::PassQueries;
 use bytemuck::Zeroable;
 use penumbra_geom::Technique;
 use wgpu::util::DeviceExt;
@@ -77,7 +78,7 @@ impl ShadowMapRenderer {
                 &frame,
                 &group([&base_view, &dummy, &dummy]),
                 &v,
-                None,
+                PassQueries::default(),
             );
             v
         });
@@ -89,9 +90,13 @@ impl ShadowMapRenderer {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let images = [&base_view, built.as_ref().unwrap_or(&dummy), &dummy];
-        self.pipelines
-            .pass(entry)
-            .record(&mut enc, &frame, &group(images), &view(&out), None);
+        self.pipelines.pass(entry).record(
+            &mut enc,
+            &frame,
+            &group(images),
+            &view(&out),
+            PassQueries::default(),
+        );
         read_r32f(&self.ctx, &mut enc, &out, size.0, size.1)
     }
 }

@@ -3,6 +3,7 @@
 pub(crate) mod accuracy;
 pub(crate) mod bench;
 pub(crate) mod compare;
+pub(crate) mod counters;
 pub(crate) mod geometry;
 pub(crate) mod probe;
 pub(crate) mod render;
