@@ -140,6 +140,14 @@ impl Traffic {
     pub(crate) fn updates(self, rw: &impl Footprint) -> Self {
         self.reads(rw).writes(rw)
     }
+
+    /// The part `some / all` of it (a pass that touches some tiles of its images).
+    pub(crate) fn scaled(self, some: u64, all: u64) -> Self {
+        Traffic {
+            read: part(self.read, some, all),
+            written: part(self.written, some, all),
+        }
+    }
 }
 
 /// The part `drawn / all` of `bytes` (vertex data of which a pass draws some ranges).

@@ -128,3 +128,125 @@ fn bench_refuses_bad_arguments() {
         let _ = std::fs::remove_dir_all(&d);
     }
 }
+
+/// GOOD_SCENE with a ground wide enough to cover every pixel, so that the depth pre-pass
+/// shades each pixel at least once.
+const COVERED_SCENE: &str = r#"
+[camera]
+eye = [0.0, 3.0, 4.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y_deg = 45.0
+width = 40
+height = 24
+
+[light]
+center = [0.0, 4.0, 0.0]
+normal = [0.0, -1.0, 0.0]
+tangent = [1.0, 0.0, 0.0]
+size = [1.0, 1.0]
+
+[[mesh]]
+obj = "m.obj"
+scale = 100.0
+
+[[mesh]]
+obj = "m.obj"
+translate = [0.0, 1.0, 0.0]
+"#;
+
+#[test]
+fn bench_counters_count_every_gpu_pass() {
+    let d = case_dir("bench-counters", COVERED_SCENE, GOOD_OBJ);
+    let out = penumbra()
+        .arg("bench")
+        .arg(d.join("s.toml"))
+        .args(["--technique", "hard,wedges-blend,depth-complexity,pcf"])
+        .args([
+            "--samples",
+            "16",
+            "--backend",
+            "gpu",
+            "--counters",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() && err.contains("adapter") && std::env::var_os("CI").is_none() {
+        println!("SKIPPED (no adapter): {err}");
+        return;
+    }
+    let j = json_of(&out);
+    let reports = j.as_array().expect("one report per technique");
+    assert_eq!(reports.len(), 4, "{j}");
+    let pixels = 40 * 24;
+    // The pass `name` of the report of `technique`, and one of its statistics.
+    let pass = |technique: &str, name: &str| -> serde_json::Value {
+        let r = reports
+            .iter()
+            .find(|r| r["technique"] == technique)
+            .unwrap_or_else(|| panic!("no report of {technique}: {j}"));
+        assert_eq!(r["counters"]["pixels"], pixels, "{r}");
+        r["counters"]["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["pass"] == name)
+            .unwrap_or_else(|| panic!("{technique}: no {name} pass: {r}"))
+            .clone()
+    };
+    let stat = |p: &serde_json::Value, s: &str| -> u64 {
+        p["statistics"][s]
+            .as_u64()
+            .unwrap_or_else(|| panic!("no statistic {s} (lavapipe has them): {p}"))
+    };
+    for (technique, passes) in [
+        ("Hard", &["depth", "stencil", "resolve"][..]),
+        (
+            "WedgesBlend",
+            &["depth", "stencil", "wedge", "blend", "resolve"],
+        ),
+        (
+            "DepthComplexity",
+            &["depth", "stencil", "edge_lists", "count", "resolve"],
+        ),
+        ("Pcf", &["depth", "light_map", "filter"]),
+    ] {
+        for name in passes {
+            let p = pass(technique, name);
+            assert!(
+                p["passes"].as_u64().unwrap() >= 1,
+                "{technique} {name}: {p}"
+            );
+            for b in ["bytes_read", "bytes_written"] {
+                assert!(p[b].as_u64().unwrap() > 0, "{technique} {name} {b}: {p}");
+            }
+        }
+        // Every pixel is covered: the depth pre-pass shades each at least once, from the four
+        // triangles of the two quads (clipping may split them, never drop the ground).
+        let depth = pass(technique, "depth");
+        assert!(stat(&depth, "fragments") >= pixels, "{technique}: {depth}");
+        assert!(stat(&depth, "vertices") >= 12, "{technique}: {depth}");
+        assert!(stat(&depth, "primitives") >= 1, "{technique}: {depth}");
+        assert_eq!(stat(&depth, "compute"), 0, "{technique}: {depth}");
+        // It writes at least a depth and a position per pixel.
+        assert!(
+            depth["bytes_written"].as_u64().unwrap() >= 20 * pixels,
+            "{technique}: {depth}"
+        );
+    }
+    for (technique, name) in [("Hard", "resolve"), ("Pcf", "filter")] {
+        let p = pass(technique, name);
+        assert!(stat(&p, "fragments") >= pixels, "{technique} {name}: {p}");
+    }
+    // The occluder's volume and wedges are drawn; the blend and the counting pass run compute
+    // threads, the counting pass at least one per pixel.
+    assert!(stat(&pass("Hard", "stencil"), "vertices") > 0);
+    assert!(stat(&pass("WedgesBlend", "wedge"), "fragments") > 0);
+    assert!(stat(&pass("WedgesBlend", "blend"), "compute") > 0);
+    assert!(stat(&pass("DepthComplexity", "count"), "compute") >= pixels);
+    let tiles = 40u64.div_ceil(8) * 24u64.div_ceil(8);
+    assert!(stat(&pass("DepthComplexity", "edge_lists"), "compute") >= tiles);
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -3,6 +3,7 @@
 //! of their edges into the silhouette buffer and the blend of that buffer into the final one;
 //! then the resolve.
 
+use crate::constants::TILE;
 use crate::counters::{Traffic, part};
 use std::ops::Range;
 
@@ -76,6 +77,7 @@ impl GpuScene {
             ranges.iter().map(|(_, r)| u64::from(r.len() as u32)).sum()
         };
         let all_volume = drawn(&shadows.volume_ranges);
+        let pixels = u64::from(camera.size.0) * u64::from(camera.size.1);
         let all_instances: u64 = shadows
             .instance_ranges
             .iter()
@@ -137,14 +139,16 @@ impl GpuScene {
                 &self.frame,
                 &blend_inputs,
                 (&tiles.group, offset, count),
-                timer.pass(
-                    Pass::Blend,
-                    sil.iter()
+                timer.pass(Pass::Blend, {
+                    // It reads and updates the pixels of its tiles only.
+                    let covered = (u64::from(count) * u64::from(TILE * TILE)).min(pixels);
+                    let per_pixel = sil
+                        .iter()
                         .fold(Traffic::new(), |t, v| t.reads(v))
                         .reads(&gbuffer.depth)
-                        .reads(&tiles.stride)
-                        .updates(final_buffer),
-                ),
+                        .updates(final_buffer);
+                    per_pixel.scaled(covered, pixels).reads(&tiles.stride)
+                }),
             );
         }
         let final_group = bind_group(
