@@ -2,7 +2,7 @@
 //! workspace's), built in code.
 #![warn(missing_docs)]
 
-use glam::{DMat4, DVec2, DVec3};
+use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra_geom::{Camera, RectLight, Scene, TriangleMesh};
 
 /// A scene that the light's plane cuts, where the volume techniques clip what lies behind the
@@ -68,4 +68,63 @@ pub fn through_the_light() -> Scene {
         scene = scene.with_mesh(name, &m, DMat4::IDENTITY);
     }
     scene
+}
+
+/// The scene of `examples/scene_in_code.rs`: a ground, a sphere and a tilted box under a square
+/// 2.5 x 2.5 light, seen by a 320 x 240 camera. Its pixel (191, 90) has its centre 0.0006 pixels
+/// outside the box's outline, where two of the box's lit faces fold over; the rasteriser, which
+/// snaps corners to a fraction of a pixel, puts it on the box.
+pub fn scene_in_code() -> Scene {
+    let p = DVec3::new;
+    let mesh = |v: &[DVec3], t: &[[u32; 3]]| TriangleMesh::from_raw("memory", v, t).unwrap();
+    let ground = mesh(
+        &[
+            p(-6.0, 0.0, -6.0),
+            p(-6.0, 0.0, 6.0),
+            p(6.0, 0.0, 6.0),
+            p(6.0, 0.0, -6.0),
+        ],
+        &[[0, 1, 2], [0, 2, 3]],
+    );
+    let cube = mesh(
+        &[
+            p(-0.5, -0.5, -0.5),
+            p(0.5, -0.5, -0.5),
+            p(0.5, 0.5, -0.5),
+            p(-0.5, 0.5, -0.5),
+            p(-0.5, -0.5, 0.5),
+            p(0.5, -0.5, 0.5),
+            p(0.5, 0.5, 0.5),
+            p(-0.5, 0.5, 0.5),
+        ],
+        &[
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [2, 3, 7],
+            [2, 7, 6],
+            [1, 2, 6],
+            [1, 6, 5],
+            [0, 4, 7],
+            [0, 7, 3],
+        ],
+    );
+    let camera = Camera::look_at(p(0.0, 5.0, 7.0), p(0.0, 0.5, 0.0), DVec3::Y, 45.0, 320, 240);
+    let light = RectLight::new(p(-1.0, 6.0, 0.5), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.5));
+    let sphere = DMat4::from_scale_rotation_translation(
+        DVec3::splat(0.8),
+        DQuat::IDENTITY,
+        p(-0.8, 1.2, 0.0),
+    );
+    let tilted = DMat4::from_rotation_translation(
+        DQuat::from_axis_angle(DVec3::new(1.0, 1.0, 0.0).normalize(), 0.6),
+        p(1.0, 1.0, 0.6),
+    );
+    Scene::new(camera.unwrap(), light)
+        .with_mesh("ground", &ground, DMat4::IDENTITY)
+        .with_mesh("sphere", &TriangleMesh::uv_sphere(20, 24), sphere)
+        .with_mesh("box", &cube, tilted)
 }

@@ -86,10 +86,10 @@ pub struct FrameBindings<'a> {
     pub position: &'a wgpu::BindGroup,
 }
 
-/// Depth-stencil state of a full-screen pass that only tests the stencil against its reference
-/// with `compare` (reference on the left: `Less` passes where `reference < stencil`), writing
-/// neither depth nor stencil.
-pub fn stencil_test(compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+/// Depth-stencil state of a full-screen pass that only tests the stencil's bits `read_mask`
+/// against its reference's with `compare` (reference on the left: `Less` passes where
+/// `reference < stencil`), writing neither depth nor stencil.
+pub fn stencil_test(compare: wgpu::CompareFunction, read_mask: u32) -> wgpu::DepthStencilState {
     let face = wgpu::StencilFaceState {
         compare,
         fail_op: wgpu::StencilOperation::Keep,
@@ -103,7 +103,7 @@ pub fn stencil_test(compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
         stencil: wgpu::StencilState {
             front: face,
             back: face,
-            read_mask: 0xff,
+            read_mask,
             write_mask: 0,
         },
         bias: Default::default(),

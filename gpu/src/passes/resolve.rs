@@ -2,18 +2,30 @@
 
 use super::depth::GBuffer;
 use super::{FrameBindings, VISIBILITY_FORMAT};
+use crate::constants::STENCIL_SIGN;
 use crate::timing::PassQueries;
 
 /// Stencil counts resolved one by one by the additive-wedges resolve; larger counts share the
 /// last draw (4 n already exceeds any wedge area that could be subtracted in practice).
 pub const MAX_COUNT: u32 = 7;
 
-/// The resolve pipelines (one per stencil outcome).
+/// Every bit of a stencil count, as a read mask.
+const ALL: u32 = 0xff;
+
+/// The stencil test that passes where a count is negative ([`STENCIL_SIGN`] set), with the
+/// reference [`STENCIL_SIGN`].
+const NEGATIVE: (wgpu::CompareFunction, u32) = (wgpu::CompareFunction::Equal, STENCIL_SIGN);
+
+/// The resolve pipelines (one per stencil outcome). A count with [`STENCIL_SIGN`] set is
+/// negative, no caster: the draws for counts from 1 (`hard`) or `MAX_COUNT` (`wedges`) up take it
+/// too, and a last draw where the sign is set writes the count-0 value over theirs.
 pub struct ResolvePass {
     unshadowed: wgpu::RenderPipeline,
     shadowed: wgpu::RenderPipeline,
+    unshadowed_negative: wgpu::RenderPipeline,
     wedges_equal: wgpu::RenderPipeline,
     wedges_at_least: wgpu::RenderPipeline,
+    wedges_negative: wgpu::RenderPipeline,
     blended: wgpu::RenderPipeline,
     copied: wgpu::RenderPipeline,
     /// Layout of a single non-filterable float texture (the occlusion, group 2).
@@ -28,12 +40,12 @@ pub struct ResolvePass {
 
 /// The resolve pipeline of vertex entry `vertex` ("vs", or "vs_counted" for the draws that
 /// resolve one stencil count each) and fragment entry `entry` of `module`, where the stencil test
-/// `compare` passes.
+/// `compare` of the bits `read_mask` passes.
 fn pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     (vertex, entry): (&str, &str),
-    compare: wgpu::CompareFunction,
+    (compare, read_mask): (wgpu::CompareFunction, u32),
     layout: &wgpu::PipelineLayout,
 ) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -46,7 +58,7 @@ fn pipeline(
             buffers: &[],
         },
         primitive: Default::default(),
-        depth_stencil: Some(super::stencil_test(compare)),
+        depth_stencil: Some(super::stencil_test(compare, read_mask)),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
@@ -103,21 +115,28 @@ impl ResolvePass {
                 device,
                 &module,
                 ("vs", "fs_unshadowed"),
-                wgpu::CompareFunction::Equal,
+                (wgpu::CompareFunction::Equal, ALL),
                 &layout,
             ),
             shadowed: pipeline(
                 device,
                 &module,
                 ("vs", "fs_shadowed"),
-                wgpu::CompareFunction::NotEqual,
+                (wgpu::CompareFunction::NotEqual, ALL),
+                &layout,
+            ),
+            unshadowed_negative: pipeline(
+                device,
+                &module,
+                ("vs", "fs_unshadowed"),
+                NEGATIVE,
                 &layout,
             ),
             wedges_equal: pipeline(
                 device,
                 &module,
                 ("vs_counted", "fs_wedges"),
-                wgpu::CompareFunction::Equal,
+                (wgpu::CompareFunction::Equal, ALL),
                 &wedge_layout,
             ),
             // Passes where MAX_COUNT <= stencil.
@@ -125,7 +144,14 @@ impl ResolvePass {
                 device,
                 &module,
                 ("vs_counted", "fs_wedges"),
-                wgpu::CompareFunction::LessEqual,
+                (wgpu::CompareFunction::LessEqual, ALL),
+                &wedge_layout,
+            ),
+            wedges_negative: pipeline(
+                device,
+                &module,
+                ("vs_counted", "fs_wedges"),
+                NEGATIVE,
                 &wedge_layout,
             ),
             // The blended buffer already holds the hard shadows: count 0, every pixel.
@@ -133,7 +159,7 @@ impl ResolvePass {
                 device,
                 &module,
                 ("vs", "fs_blended"),
-                wgpu::CompareFunction::Always,
+                (wgpu::CompareFunction::Always, ALL),
                 &blended_layout,
             ),
             // V computed already, one value per pixel.
@@ -141,7 +167,7 @@ impl ResolvePass {
                 device,
                 &module,
                 ("vs", "fs_copied"),
-                wgpu::CompareFunction::Always,
+                (wgpu::CompareFunction::Always, ALL),
                 &blended_layout,
             ),
             texture_layout,
@@ -195,6 +221,9 @@ impl ResolvePass {
                     pass.set_stencil_reference(0);
                     pass.draw(0..3, 0..1);
                 }
+                pass.set_pipeline(&self.unshadowed_negative);
+                pass.set_stencil_reference(STENCIL_SIGN);
+                pass.draw(0..3, 0..1);
             }
             ResolveInput::Blended(o) => {
                 pass.set_bind_group(2, o, &[]);
@@ -218,6 +247,9 @@ impl ResolvePass {
                     // The instance index tells the shader which count it resolves.
                     pass.draw(0..3, n..n + 1);
                 }
+                pass.set_pipeline(&self.wedges_negative);
+                pass.set_stencil_reference(STENCIL_SIGN);
+                pass.draw(0..3, 0..1);
             }
         }
         queries.end_render(&mut pass);
@@ -227,7 +259,7 @@ impl ResolvePass {
 /// What the resolve turns into V.
 #[derive(Clone, Copy)]
 pub enum ResolveInput<'a> {
-    /// The hard shadow: lit where the stencil count is 0.
+    /// The hard shadow: lit where the stencil count is 0 or negative.
     Hard,
     /// Additive wedges: `1 - clamp(4 n + Σ parts, 0, 4) / 4` with `n` the stencil count and the
     /// parts' occlusion from a group of [`ResolvePass::texture_layout`].

@@ -64,7 +64,7 @@ fn blend(
         return;
     }
     let px = vec2<i32>(pixel);
-    let n = f32(textureLoad(stencil_count, px, 0).r);
+    let n = f32(casters(textureLoad(stencil_count, px, 0).r));
     let sa = textureLoad(sil_area, px, 0);
     let s_areas = clamp(vec4<f32>(n) + sa, vec4<f32>(0.0), vec4<f32>(1.0));
     if (all(s_areas <= vec4<f32>(0.0))) {

@@ -54,6 +54,12 @@ fn fullscreen(i: u32) -> vec4<f32> {
     return vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0);
 }
 
+// The casters a z-fail stencil count stands for: the winding number modulo 256 read as a signed
+// byte, a negative one (rasterisation's, at a caster's outline: `constants::STENCIL_SIGN`) as 0.
+fn casters(stencil: u32) -> u32 {
+    return select(stencil, 0u, (stencil & STENCIL_SIGN) != 0u);
+}
+
 // A rectangle as (min x, min y, max x, max y); empty when min > max. BIG (larger than any
 // coordinate) comes from Rust (`passes::shared_constants`).
 const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);

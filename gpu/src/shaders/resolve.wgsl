@@ -1,6 +1,7 @@
-// Resolve into V. Hard shadow: V = 0 where the stencil count is not zero or where P is not
+// Resolve into V. Hard shadow: V = 0 where the stencil count is positive or where P is not
 // strictly on the light's emitting side, V = 1 elsewhere and where the camera ray hit nothing.
-// Drawn twice as a full-screen triangle, once per stencil outcome.
+// Drawn as a full-screen triangle once per stencil outcome (zero, not zero, then negative:
+// `casters`, whose draw writes the unshadowed value over the second's).
 
 // `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
 @group(1) @binding(0) var position: texture_2d<f32>;
@@ -68,7 +69,8 @@ fn vs_counted(@builtin(vertex_index) i: u32, @builtin(instance_index) k: u32) ->
 }
 
 // Additive wedges: V = 1 - clamp(4 n + Σ parts, 0, 4) / 4 with n the stencil count (the draw
-// for count n runs with stencil reference n; the last draw takes every larger count too).
+// for count n runs with stencil reference n; the last draw takes every larger count too, and a
+// draw for count 0 where the count is negative, `casters`, follows).
 @fragment
 fn fs_wedges(in: ResolveOut) -> @location(0) vec4<f32> {
     let l = lit(in.pixel);

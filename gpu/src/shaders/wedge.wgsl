@@ -371,7 +371,7 @@ struct Silhouette {
 
 @fragment
 fn fs_silhouette(in: WedgeOut) -> Silhouette {
-    let hard = textureLoad(stencil_count, vec2<i32>(in.clip.xy), 0).r != 0u;
+    let hard = casters(textureLoad(stencil_count, vec2<i32>(in.clip.xy), 0).r) != 0u;
     let p = receiver(in.clip);
     if (p.w == 0.0) {
         discard;
