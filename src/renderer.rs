@@ -259,7 +259,7 @@ impl Renderer {
                 }
                 other => other?,
             };
-            let detail = format!(
+            let mut detail = format!(
                 "gpu: {}, {} multi-jittered samples, {} potential silhouette edges of {}, \
                  {} edge-list entries",
                 ctx.describe(),
@@ -268,6 +268,12 @@ impl Renderer {
                 out.all_edges,
                 out.list_entries
             );
+            if out.redone > 0 {
+                detail += &format!(
+                    ", rendered {} more time(s): the edge list overflowed",
+                    out.redone
+                );
+            }
             return Ok(frame(out.image, out.times, detail));
         }
         let volumes = volumes.expect("built above for a volume technique on the GPU");

@@ -182,40 +182,6 @@ fn corner_minus(i: u32, a: vec3<f32>, a_low: vec3<f32>) -> vec3<f32> {
     return (corners[i] - a) + (corners_low[i] - a_low);
 }
 
-// Error-free transformations (Knuth's two-sum; Dekker's product with Veltkamp's split): a
-// result and its rounding error, exactly. Shader compilers may fold `(a + b) - a` to `b`,
-// reassociate sums and lower `fma` to a rounded product and sum (lavapipe does all three), so
-// each step's result passes through `opaque`, which no floating-point rewrite crosses, and
-// products are split instead of using `fma`.
-fn opaque(x: f32) -> f32 {
-    return bitcast<f32>(bitcast<u32>(x) ^ params.zero);
-}
-
-fn two_sum(a: f32, b: f32) -> vec2<f32> {
-    let s = opaque(a + b);
-    let bb = opaque(s - a);
-    let av = opaque(s - bb);
-    return vec2<f32>(s, opaque(a - av) + opaque(b - bb));
-}
-
-// a as hi + lo, each of at most 12 significant bits.
-fn veltkamp(a: f32) -> vec2<f32> {
-    let c = opaque(a * 4097.0);
-    let t = opaque(c - a);
-    let hi = opaque(c - t);
-    return vec2<f32>(hi, opaque(a - hi));
-}
-
-fn two_product(a: f32, b: f32) -> vec2<f32> {
-    let p = opaque(a * b);
-    let x = veltkamp(a);
-    let y = veltkamp(b);
-    let e1 = opaque(x.x * y.x - p);
-    let e2 = opaque(e1 + x.x * y.y);
-    let e3 = opaque(e2 + x.y * y.x);
-    return vec2<f32>(p, e3 + x.y * y.y);
-}
-
 // (k + k_low) . (corner i - (a + a_low)) in about twice f32's precision: for a corner that f32
 // finds on the plane.
 fn precise_side(k: vec3<f32>, k_low: vec3<f32>, i: u32, a: vec3<f32>, a_low: vec3<f32>) -> f32 {
@@ -385,77 +351,38 @@ fn pyramid_planes(p: vec3<f32>) -> array<vec4<f32>, 5> {
     return planes;
 }
 
-// The pattern's permutation of 0..l chosen by p (`penumbra_volumes::samples::permute`,
-// Kensler 2013).
-fn permute(index: u32, l: u32, p: u32) -> u32 {
-    var w = l - 1u;
-    w |= w >> 1u;
-    w |= w >> 2u;
-    w |= w >> 4u;
-    w |= w >> 8u;
-    w |= w >> 16u;
-    var i = index;
-    loop {
-        spent++;
-        i ^= p;
-        i *= 0xe170893du;
-        i ^= p >> 16u;
-        i ^= (i & w) >> 4u;
-        i ^= p >> 8u;
-        i *= 0x0929eb3fu;
-        i ^= p >> 23u;
-        i ^= (i & w) >> 1u;
-        i *= 1u | (p >> 27u);
-        i *= 0x6935fa69u;
-        i ^= (i & w) >> 11u;
-        i *= 0x74dcb303u;
-        i ^= (i & w) >> 2u;
-        i *= 0x9e501cc3u;
-        i ^= (i & w) >> 2u;
-        i *= 0xc860a3dfu;
-        i &= w;
-        i ^= i >> 5u;
-        if (i < l) {
-            return (i + p) % l;
-        }
-    }
-    return 0u;
-}
+// The counting pass runs in dispatches so that no invocation runs more than a fixed number of
+// loop iterations whatever the scene (`passes::count`): `count_setup` finds each pixel's
+// receiver and its work (its tile's listed edges, or every edge where the tile's range did not
+// fit the list, then the crossings), each `count_chunk` dispatch takes the next `params.chunk`
+// entries of it, and `count_finish` turns the counts into V. Between dispatches a pixel keeps
+// its state in `visibility` (after V): P (3 words), the receiver, the centre's count, the
+// entries done, the entries in all and its flags (`STATE_WORDS`, from Rust); then its counts, one byte per sample.
+// Flags of a pixel's state: its V is still to be counted; a region changed its counts; an
+// invocation of it ran past `params.budget`.
+const ACTIVE: u32 = 1u;
+const CHANGED: u32 = 2u;
+const CUT: u32 = 4u;
 
-// `penumbra_volumes::samples::hash` (Kensler 2013).
-fn hash(index: u32, p: u32) -> u32 {
-    var i = index ^ p;
-    i ^= i >> 17u;
-    i ^= i >> 10u;
-    i *= 0xb36534e5u;
-    i ^= i >> 12u;
-    i ^= i >> 21u;
-    i *= 0x93fc4795u;
-    i ^= 0xdf6e307fu;
-    i ^= i >> 17u;
-    return i * (1u | (p >> 18u));
-}
-
-// A coordinate of the pattern: fine column (or row) `fine` of N² and its 16-bit jitter `jitter`,
-// -1 + (fine + jitter / 65536) 2 / N², rounded once to f32 where N² 65536 <= 2^24.
-fn pattern_coordinate(fine: u32, jitter: u32, nn: u32) -> f32 {
-    let units = fine * 65536u + jitter;
-    let total = nn * 65536u;
-    return f32(i32(2u * units) - i32(total)) / f32(total);
-}
-
-// Invocations per workgroup: COUNT_GROUP x COUNT_GROUP pixels (COUNT_GROUP from Rust).
-// Words of counts per invocation: one byte per sample.
-const COUNT_WORDS: u32 = MAX_SAMPLES / 4u;
-
-// Each invocation's sample counts, one byte each, modulo 256 (the stencil's range), in the
-// workgroup's memory (16 KiB): an array this large in each invocation's own memory takes
-// lavapipe half a minute to compile, and spills on GPUs. Zeroed at the workgroup's start.
-var<workgroup> counts: array<u32, COUNT_GROUP * COUNT_GROUP * COUNT_WORDS>;
 // The pattern's fine column per cell row and fine row per cell column.
 var<private> columns: array<u32, MAX_AXIS>;
 var<private> rows: array<u32, MAX_AXIS>;
 var<private> jitter_seed: u32;
+
+fn pixel_count() -> u32 {
+    return u32(frame.size.x) * u32(frame.size.y);
+}
+
+// The first word of pixel i's state.
+fn state_at(i: u32) -> u32 {
+    return pixel_count() + STATE_WORDS * i;
+}
+
+// The first word of pixel i's counts.
+fn counts_at(i: u32) -> u32 {
+    let n = params.per_axis;
+    return pixel_count() * (1u + STATE_WORDS) + i * ((n * n + 3u) / 4u);
+}
 
 // Adds the region's change to the samples inside it, visiting only the cells its box reaches.
 fn apply(r: Region, n: u32, own: u32) {
@@ -478,29 +405,30 @@ fn apply(r: Region, n: u32, own: u32) {
                 && line_at(r.l3, at) > 0.0) {
                 let w = own + s / 4u;
                 let shift = (s % 4u) * 8u;
-                let b = ((counts[w] >> shift) + bitcast<u32>(r.delta)) & 0xffu;
-                counts[w] = (counts[w] & ~(0xffu << shift)) | (b << shift);
+                let b = ((visibility[w] >> shift) + bitcast<u32>(r.delta)) & 0xffu;
+                visibility[w] = (visibility[w] & ~(0xffu << shift)) | (b << shift);
             }
         }
     }
 }
 
+// A pixel's flags with CUT where this invocation ran past its budget.
+fn with_cut(flags: u32) -> u32 {
+    return select(flags, flags | CUT, spent > params.budget);
+}
+
 @compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
-fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    // This invocation's counts: the first `own` word of `counts`, zeroed.
-    let own = li * COUNT_WORDS;
-    for (var w = 0u; w < COUNT_WORDS; w++) {
-        spent++;
-        counts[own + w] = 0u;
-    }
+fn count_setup(@builtin(global_invocation_id) gid: vec3<u32>) {
     let size = vec2<u32>(frame.size.xy);
     if (gid.x >= size.x || gid.y >= size.y) {
         return;
     }
     let pixel = gid.y * size.x + gid.x;
+    let st = state_at(pixel);
+    visibility[st + 7u] = 0u;
     let p = textureLoad(position, vec2<i32>(gid.xy), 0);
     if (p.w == 0.0) {
-        visibility[pixel] = 1.0;
+        visibility[pixel] = bitcast<u32>(1.0);
         return;
     }
     var pl = receiver_point(gid.xy, p);
@@ -518,9 +446,68 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
         }
     }
     if (!(pl.z > 0.0)) {
-        visibility[pixel] = 0.0;
+        visibility[pixel] = bitcast<u32>(0.0);
         return;
     }
+    // This pixel's counts, zeroed.
+    let own = counts_at(pixel);
+    let n = params.per_axis;
+    for (var w = 0u; w < (n * n + 3u) / 4u; w++) {
+        spent++;
+        visibility[own + w] = 0u;
+    }
+    let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
+    let complete = range.x + range.y <= params.capacity;
+    let total = select(params.edges, range.y, complete) + params.crossings;
+    visibility[st] = bitcast<u32>(pl.x);
+    visibility[st + 1u] = bitcast<u32>(pl.y);
+    visibility[st + 2u] = bitcast<u32>(pl.z);
+    visibility[st + 3u] = receiver;
+    visibility[st + 4u] = base;
+    visibility[st + 5u] = 0u;
+    visibility[st + 6u] = total;
+    visibility[st + 7u] = with_cut(ACTIVE);
+    atomicMax(&demand[2], total);
+}
+
+// The indirect arguments of the `params.chunks` dispatches of `count_chunk`: the whole image for
+// those that begin below the longest work of any pixel (`demand[2]`), nothing for the others.
+@group(2) @binding(0) var<storage, read_write> chunk_args: array<u32>;
+
+@compute @workgroup_size(64)
+fn count_args(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = gid.x;
+    if (c >= params.chunks) {
+        return;
+    }
+    let run = c * params.chunk < atomicLoad(&demand[2]);
+    let groups = (vec2<u32>(frame.size.xy) + vec2<u32>(COUNT_GROUP - 1u)) / COUNT_GROUP;
+    chunk_args[3u * c] = select(0u, groups.x, run);
+    chunk_args[3u * c + 1u] = groups.y;
+    chunk_args[3u * c + 2u] = 1u;
+}
+
+@compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
+fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = vec2<u32>(frame.size.xy);
+    if (gid.x >= size.x || gid.y >= size.y) {
+        return;
+    }
+    let pixel = gid.y * size.x + gid.x;
+    let st = state_at(pixel);
+    let flags = visibility[st + 7u];
+    let done = visibility[st + 5u];
+    let total = visibility[st + 6u];
+    if ((flags & ACTIVE) == 0u || done >= total) {
+        return;
+    }
+    let pl = vec3<f32>(
+        bitcast<f32>(visibility[st]),
+        bitcast<f32>(visibility[st + 1u]),
+        bitcast<f32>(visibility[st + 2u]),
+    );
+    let receiver = visibility[st + 3u];
+    set_receiver(pl, receiver);
     let n = params.per_axis;
     // The pattern of this pixel (`SamplePattern::points`).
     let seed = pixel;
@@ -531,46 +518,69 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     }
     jitter_seed = seed * 0xa399d265u;
     let pyramid = pyramid_planes(pl);
-    var changed = false;
+    let own = counts_at(pixel);
+    var changed = 0u;
     let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
     let complete = range.x + range.y <= params.capacity;
     let entries = select(params.edges, range.y, complete);
-    for (var k = 0u; k < entries; k++) {
+    let end = min(total, done + params.chunk);
+    for (var k = done; k < end; k++) {
         spent++;
-        var ei = k;
-        if (complete) {
-            ei = list[range.x + k];
-        } else if (!listed(edges[ei], side_keys(pl), pl, pl)) {
-            continue;
+        var r = no_region();
+        if (k < entries) {
+            var ei = k;
+            if (complete) {
+                ei = list[range.x + k];
+            } else if (!listed(edges[ei], side_keys(pl), pl, pl)) {
+                continue;
+            }
+            r = edge_region(ei, pl, pyramid, receiver);
+        } else {
+            r = crossing_region(crossings[k - entries], pl, receiver);
         }
-        let r = edge_region(ei, pl, pyramid, receiver);
         if (r.delta != 0 && r.lo.x <= r.hi.x) {
             apply(r, n, own);
-            changed = true;
+            changed = CHANGED;
         }
     }
-    for (var k = 0u; k < params.crossings; k++) {
-        spent++;
-        let r = crossing_region(crossings[k], pl, receiver);
-        if (r.delta != 0 && r.lo.x <= r.hi.x) {
-            apply(r, n, own);
-            changed = true;
-        }
+    visibility[st + 5u] = end;
+    visibility[st + 7u] = with_cut(flags | changed);
+}
+
+@compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
+fn count_finish(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = vec2<u32>(frame.size.xy);
+    if (gid.x >= size.x || gid.y >= size.y) {
+        return;
     }
+    let pixel = gid.y * size.x + gid.x;
+    let st = state_at(pixel);
+    let flags = visibility[st + 7u];
+    if ((flags & ACTIVE) == 0u) {
+        return;
+    }
+    // A pixel whose work the dispatches did not finish: reported (`demand[3]`), never left
+    // silently wrong.
+    if (visibility[st + 5u] < visibility[st + 6u]) {
+        atomicAdd(&demand[3], 1u);
+    }
+    let base = visibility[st + 4u];
+    let n = params.per_axis;
+    let own = counts_at(pixel);
     // D(P, s) modulo 256, read as a signed byte: zero (or, where rounding made the counts
     // disagree, negative) is visible, as the oracle's `D <= 0`.
     var seen = 0u;
-    if (changed) {
+    if ((flags & CHANGED) != 0u) {
         for (var s = 0u; s < n * n; s++) {
             spent++;
-            let c = (counts[own + s / 4u] >> ((s % 4u) * 8u)) + base;
+            let c = (visibility[own + s / 4u] >> ((s % 4u) * 8u)) + base;
             seen += select(0u, 1u, (c & 0xffu) == 0u || (c & 0x80u) != 0u);
         }
     } else {
         seen = select(0u, n * n, base == 0u || (base & 0x80u) != 0u);
     }
-    if (spent > params.budget) {
+    if ((with_cut(flags) & CUT) != 0u) {
         atomicAdd(&demand[1], 1u);
     }
-    visibility[pixel] = f32(seen) / f32(n * n);
+    visibility[pixel] = bitcast<u32>(f32(seen) / f32(n * n));
 }
