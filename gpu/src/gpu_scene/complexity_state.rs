@@ -396,6 +396,7 @@ impl ComplexityState {
             data.edge_count,
             data.crossing_count,
             self.edges_per_dispatch(),
+            data.triangle_count,
         );
         let shape = (self.samples_per_axis, chunks);
         if self.frame.as_ref().is_none_or(|f| {

@@ -8,12 +8,15 @@
 //! pass runs as:
 //!
 //! 1. `count_setup`: each pixel's receiver, the centre's count and the length of its work,
-//!    into a per-pixel state kept in the pass's storage buffer; the longest work into
-//!    `demand[2]`;
-//! 2. `count_args`: the indirect arguments of the chunk dispatches, the whole image for those
-//!    that begin below the longest work, none for the others;
+//!    into a per-pixel state kept in the pass's storage buffer; the most dispatches a pixel
+//!    needs into `demand[2]`;
+//! 2. `count_args`: the indirect arguments of the chunk dispatches, the whole image for as
+//!    many as a pixel needs, none for the others;
 //! 3. [`chunks`] dispatches of `count_chunk`, each taking the next [`edges_per_dispatch`]
-//!    entries of every pixel's work, its counts kept in the storage buffer between them;
+//!    entries of every pixel's work, its counts kept in the storage buffer between them; then,
+//!    for a pixel whose receiver is not the rasterised one (a pixel centre within the
+//!    rasteriser's snapping of an edge), [`DISPATCH_ITERATIONS`] triangles at a time of its
+//!    count towards the light's centre (the stencil counted the other point);
 //! 4. `count_finish`: V from the counts, and the pixels whose work was not finished (none,
 //!    as many dispatches as the longest possible work are recorded) or that ran past the loop
 //!    budget, counted in `demand[3]` and `demand[1]`.
@@ -43,10 +46,11 @@ pub fn edges_per_dispatch(n: u32, faces: u32) -> u32 {
     (DISPATCH_ITERATIONS / entry_iterations(n, faces)).max(1)
 }
 
-/// Dispatches of `count_chunk` that finish the longest possible work, every edge and every
-/// crossing, `chunk` entries at a time.
-pub fn chunks(edges: u32, crossings: u32, chunk: u32) -> u32 {
-    (edges + crossings).div_ceil(chunk.max(1))
+/// Dispatches of `count_chunk` that finish the longest possible work: every edge and every
+/// crossing, `chunk` entries at a time, then every one of `triangles` towards the centre,
+/// [`DISPATCH_ITERATIONS`] at a time.
+pub fn chunks(edges: u32, crossings: u32, chunk: u32, triangles: u32) -> u32 {
+    (edges + crossings).div_ceil(chunk.max(1)) + triangles.div_ceil(DISPATCH_ITERATIONS)
 }
 
 /// The counting pass's four pipelines and the layout of its indirect arguments (group 2 of
@@ -143,4 +147,27 @@ impl CountPass {
 /// dispatches ([`STATE_WORDS`]) and the counts, one byte per sample.
 pub fn words_per_pixel(n: u32) -> u64 {
     1 + STATE_WORDS as u64 + (n as u64 * n as u64).div_ceil(4)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constants::MAX_AXIS;
+
+    #[test]
+    fn a_dispatch_takes_at_most_its_iterations_at_every_sample_count() {
+        for n in 1..=MAX_AXIS {
+            for faces in [1, 2, 3, 8] {
+                let k = edges_per_dispatch(n, faces);
+                assert!(k >= 1);
+                assert!(
+                    k * entry_iterations(n, faces) <= DISPATCH_ITERATIONS,
+                    "{n} {faces}"
+                );
+            }
+        }
+        assert_eq!([8, 16, 32].map(|n| edges_per_dispatch(n, 2)), [68, 25, 7]);
+        assert_eq!(chunks(19_629, 0, 25, 38_658), 791);
+        assert_eq!(chunks(0, 0, 25, 0), 0);
+    }
 }

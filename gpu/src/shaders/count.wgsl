@@ -155,26 +155,6 @@ fn crosses_to_centre(t: Triangle) -> bool {
     return inside && at_p * dot(n, -v0) < 0.0;
 }
 
-// Whether `centre_count` fits in this invocation's loop budget with half of it left for the
-// rest of its work (always, on a hardware GPU).
-fn can_count_centre() -> bool {
-    return params.triangles <= (params.budget - min(spent, params.budget)) / 2u;
-}
-
-// D(P, c) for P on triangle `receiver` (`set_receiver`): every other triangle the segment to the
-// centre crosses, counted one by one (the stencil holds the count of the rasterised receiver's
-// point only).
-fn centre_count(receiver: u32) -> u32 {
-    var n = 0u;
-    for (var t = 0u; t < params.triangles; t++) {
-        spent++;
-        if (t != receiver && crosses_to_centre(triangles[t])) {
-            n++;
-        }
-    }
-    return n & 0xffu;
-}
-
 // Corner i minus the point (a, a_low): the difference of the f32 parts is exact for points
 // within a factor of two of each other (Sterbenz), so the result is within f32 rounding of the
 // f64 difference.
@@ -359,10 +339,11 @@ fn pyramid_planes(p: vec3<f32>) -> array<vec4<f32>, 5> {
 // its state in `visibility` (after V): P (3 words), the receiver, the centre's count, the
 // entries done, the entries in all and its flags (`STATE_WORDS`, from Rust); then its counts, one byte per sample.
 // Flags of a pixel's state: its V is still to be counted; a region changed its counts; an
-// invocation of it ran past `params.budget`.
+// invocation of it ran past `params.budget`; it counts D(P, c) over the triangles.
 const ACTIVE: u32 = 1u;
 const CHANGED: u32 = 2u;
 const CUT: u32 = 4u;
+const RECOUNT: u32 = 8u;
 
 // The pattern's fine column per cell row and fine row per cell column.
 var<private> columns: array<u32, MAX_AXIS>;
@@ -436,14 +417,15 @@ fn count_setup(@builtin(global_invocation_id) gid: vec3<u32>) {
     set_receiver(pl, receiver);
     var base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
     let better = ray_receiver(gid.xy, receiver, pl, all(weights >= vec3<f32>(0.0)));
-    let same_surface = length(better.xyz - pl) <= 1e-3 * length(pl - params.eye.xyz);
-    if (bitcast<u32>(better.w) != receiver && (same_surface || can_count_centre())) {
+    // A new receiver: the stencil counted the other point, so D(P, c) is counted again over
+    // every triangle, DISPATCH_ITERATIONS triangles per dispatch after its edges.
+    var recount = 0u;
+    if (bitcast<u32>(better.w) != receiver) {
         pl = better.xyz;
         receiver = bitcast<u32>(better.w);
         set_receiver(pl, receiver);
-        if (can_count_centre()) {
-            base = centre_count(receiver);
-        }
+        base = 0u;
+        recount = RECOUNT;
     }
     if (!(pl.z > 0.0)) {
         visibility[pixel] = bitcast<u32>(0.0);
@@ -459,6 +441,13 @@ fn count_setup(@builtin(global_invocation_id) gid: vec3<u32>) {
     let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
     let complete = range.x + range.y <= params.capacity;
     let total = select(params.edges, range.y, complete) + params.crossings;
+    // The dispatches this pixel needs: its edges and crossings `params.chunk` at a time, then
+    // the triangles towards the centre where it recounts them.
+    let chunk = max(params.chunk, 1u);
+    var needed = (total + chunk - 1u) / chunk;
+    if (recount != 0u) {
+        needed += (params.triangles + DISPATCH_ITERATIONS - 1u) / DISPATCH_ITERATIONS;
+    }
     visibility[st] = bitcast<u32>(pl.x);
     visibility[st + 1u] = bitcast<u32>(pl.y);
     visibility[st + 2u] = bitcast<u32>(pl.z);
@@ -466,12 +455,12 @@ fn count_setup(@builtin(global_invocation_id) gid: vec3<u32>) {
     visibility[st + 4u] = base;
     visibility[st + 5u] = 0u;
     visibility[st + 6u] = total;
-    visibility[st + 7u] = with_cut(ACTIVE);
-    atomicMax(&demand[2], total);
+    visibility[st + 7u] = with_cut(ACTIVE | recount);
+    atomicMax(&demand[2], needed);
 }
 
 // The indirect arguments of the `params.chunks` dispatches of `count_chunk`: the whole image for
-// those that begin below the longest work of any pixel (`demand[2]`), nothing for the others.
+// the first as many as any pixel needs (`demand[2]`), nothing for the others.
 @group(2) @binding(0) var<storage, read_write> chunk_args: array<u32>;
 
 @compute @workgroup_size(64)
@@ -480,11 +469,34 @@ fn count_args(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (c >= params.chunks) {
         return;
     }
-    let run = c * params.chunk < atomicLoad(&demand[2]);
+    let run = c < atomicLoad(&demand[2]);
     let groups = (vec2<u32>(frame.size.xy) + vec2<u32>(COUNT_GROUP - 1u)) / COUNT_GROUP;
     chunk_args[3u * c] = select(0u, groups.x, run);
     chunk_args[3u * c + 1u] = groups.y;
     chunk_args[3u * c + 2u] = 1u;
+}
+
+// Adds to pixel i's D(P, c) the triangles from `first` on, DISPATCH_ITERATIONS of them, that
+// the segment from P on `receiver` to the light's centre crosses (the oracle's count; the
+// stencil counted the rasterised receiver's point).
+fn count_centre(i: u32, st: u32, first: u32, receiver: u32, flags: u32) {
+    let pl = vec3<f32>(
+        bitcast<f32>(visibility[st]),
+        bitcast<f32>(visibility[st + 1u]),
+        bitcast<f32>(visibility[st + 2u]),
+    );
+    set_receiver(pl, receiver);
+    let end = min(params.triangles, first + DISPATCH_ITERATIONS);
+    var n = 0u;
+    for (var t = first; t < end; t++) {
+        spent++;
+        if (t != receiver && crosses_to_centre(triangles[t])) {
+            n++;
+        }
+    }
+    visibility[st + 4u] = (visibility[st + 4u] + n) & 0xffu;
+    visibility[st + 5u] = visibility[st + 6u] + end;
+    visibility[st + 7u] = with_cut(flags);
 }
 
 @compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
@@ -498,7 +510,14 @@ fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let flags = visibility[st + 7u];
     let done = visibility[st + 5u];
     let total = visibility[st + 6u];
-    if ((flags & ACTIVE) == 0u || done >= total) {
+    if ((flags & ACTIVE) == 0u) {
+        return;
+    }
+    let receiver = visibility[st + 3u];
+    if (done >= total) {
+        if ((flags & RECOUNT) != 0u && done - total < params.triangles) {
+            count_centre(pixel, st, done - total, receiver, flags);
+        }
         return;
     }
     let pl = vec3<f32>(
@@ -506,7 +525,6 @@ fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
         bitcast<f32>(visibility[st + 1u]),
         bitcast<f32>(visibility[st + 2u]),
     );
-    let receiver = visibility[st + 3u];
     set_receiver(pl, receiver);
     let n = params.per_axis;
     // The pattern of this pixel (`SamplePattern::points`).
@@ -561,7 +579,8 @@ fn count_finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     // A pixel whose work the dispatches did not finish: reported (`demand[3]`), never left
     // silently wrong.
-    if (visibility[st + 5u] < visibility[st + 6u]) {
+    let recounted = select(0u, params.triangles, (flags & RECOUNT) != 0u);
+    if (visibility[st + 5u] < visibility[st + 6u] + recounted) {
         atomicAdd(&demand[3], 1u);
     }
     let base = visibility[st + 4u];
