@@ -148,8 +148,8 @@ fn frame(
 }
 
 /// A frame whose edge list holds ten entries for a scene that needs tens of thousands (every
-/// tile then reads every potential edge) and whose counting pass takes three entries per
-/// dispatch (thousands of dispatches) gives the same image as a frame with a fitting list and
+/// tile then reads every potential edge), whose counting pass takes three entries per
+/// dispatch (thousands of dispatches) and keeps eight rows' counts at a time gives the same image as a frame with a fitting list and
 /// the default chunks, bit for bit, with the overflow reported and no pixel cut short or left
 /// unfinished; both agree with the oracle as every fixture does.
 #[test]
@@ -174,6 +174,8 @@ fn a_tiny_list_and_tiny_chunks_give_the_same_image() {
     assert!(gpu_scene.edges_per_dispatch() > 3);
     gpu_scene.set_edge_list_capacity(10);
     gpu_scene.set_edges_per_dispatch(3);
+    // And the state and counts of eight rows at a time: five bands.
+    gpu_scene.set_count_band_rows(8);
     let (tiny, report) = frame(&ctx, &mut gpu_scene, &scene);
     let (potential, _) = gpu_scene.potential_edges();
     assert!(potential >= 2_000, "{potential} potential edges");

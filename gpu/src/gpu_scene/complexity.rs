@@ -88,6 +88,14 @@ impl GpuScene {
         self.complexity.set_edges_per_dispatch(entries);
     }
 
+    /// Makes the counting pass keep the state and counts of at most `rows` image rows at once
+    /// from the next frame on, in bands from the top (0: as many as one storage binding of
+    /// the device holds, the whole image at most; at least 4): less memory, more dispatches,
+    /// the same image. A frame refuses with [`GpuError::TooLarge`] where not even 4 rows fit.
+    pub fn set_count_band_rows(&mut self, rows: u32) {
+        self.complexity.set_most_band_rows(rows);
+    }
+
     /// Records the passes of depth-complexity sampling for `camera` into `target`; without a
     /// target, only the edge lists, for [`GpuScene::complexity_report`] to size the list.
     pub(super) fn record_complexity(

@@ -31,11 +31,11 @@ use penumbra_volumes::{ShadowVolume, VolumeVertex};
 
 use super::meshes::{StoredMesh, world};
 use super::uploads::Uploads;
-use crate::constants::{MAX_AXIS, TILE};
+use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameCamera;
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
-use crate::passes::count::{chunks, edges_per_dispatch, words_per_pixel};
+use crate::passes::count::{band_rows, chunks, count_bytes, edges_per_dispatch};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
@@ -75,6 +75,8 @@ pub(super) struct ComplexityFrame {
     /// Samples per axis and dispatches of the counting pass the buffers are made for.
     per_axis: u32,
     chunks: u32,
+    /// Rows whose state and counts the counting pass keeps at once.
+    band_rows: u32,
     tile_ranges: wgpu::Buffer,
     list: wgpu::Buffer,
     demand: wgpu::Buffer,
@@ -86,12 +88,6 @@ pub(super) struct ComplexityFrame {
     args: wgpu::Buffer,
     /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
     pending: bool,
-}
-
-/// Bytes of the counting pass's buffer for an image of `size` pixels at `per_axis` samples per
-/// axis (`passes::count::words_per_pixel`).
-fn count_bytes(size: (u32, u32), per_axis: u32) -> u64 {
-    4 * words_per_pixel(per_axis) * size.0 as u64 * size.1 as u64
 }
 
 /// Tiles per row and rows of tiles of an image of `size` pixels.
@@ -196,7 +192,7 @@ impl ComplexityFrame {
         device: &wgpu::Device,
         size: (u32, u32),
         capacity: u32,
-        (per_axis, chunks): (u32, u32),
+        (per_axis, chunks, band_rows): (u32, u32, u32),
     ) -> Self {
         let (tx, ty) = tiles(size);
         let make = |label, bytes: u64, usage| {
@@ -214,9 +210,10 @@ impl ComplexityFrame {
             capacity,
             per_axis,
             chunks,
+            band_rows,
             tile_ranges: make("tile ranges", 8 * (tx * ty) as u64, storage),
             list: make("edge list", 4 * capacity as u64, storage),
-            demand: make("depth-complexity report", 16, storage | copy),
+            demand: make("depth-complexity report", 32, storage | copy),
             demand_readback: make(
                 "depth-complexity report readback",
                 16,
@@ -227,7 +224,11 @@ impl ComplexityFrame {
                 std::mem::size_of::<ComplexityParams>() as u64,
                 wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             ),
-            visibility: make("visibility", count_bytes(size, per_axis), storage),
+            visibility: make(
+                "visibility",
+                count_bytes(size, per_axis, band_rows),
+                storage,
+            ),
             args: make(
                 "count arguments",
                 12 * chunks as u64,
@@ -254,6 +255,8 @@ pub(super) struct ComplexityState {
     /// Entries of a pixel's work per dispatch of the counting pass in place of
     /// [`edges_per_dispatch`]'s (0: that).
     chunk_override: u32,
+    /// The most rows the counting pass keeps state for at once (0: as many as fit).
+    most_band_rows: u32,
 }
 
 /// What recording a depth-complexity frame reads of its scene, and where it counts its uploads.
@@ -282,6 +285,7 @@ impl ComplexityState {
                 u32::MAX
             },
             chunk_override: 0,
+            most_band_rows: 0,
         }
     }
 
@@ -342,6 +346,10 @@ impl ComplexityState {
         self.chunk_override = entries;
     }
 
+    pub(super) fn set_most_band_rows(&mut self, rows: u32) {
+        self.most_band_rows = if rows == 0 { 0 } else { rows.max(COUNT_GROUP) };
+    }
+
     /// Waits for the last frame and reads its report, growing the list when it overflowed (a
     /// quarter more than it needed); `None` when no frame was recorded since the last call.
     pub(super) fn report(
@@ -380,17 +388,23 @@ impl ComplexityState {
         if self.list_capacity == 0 {
             self.list_capacity = (tx * ty).saturating_mul(FIRST_ENTRIES_PER_TILE);
         }
-        // V and the list are storage buffers: each must fit one binding.
-        let limit = device.limits().max_storage_buffer_binding_size;
-        let largest = count_bytes(size, self.samples_per_axis).max(4 * self.list_capacity as u64);
-        if largest > limit {
+        // The counting pass's buffer and the list are storage buffers: each must fit one
+        // binding. The former keeps as many rows' state and counts at once as fit.
+        let limits = device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let n = self.samples_per_axis;
+        let rows = band_rows(size, n, limit, self.most_band_rows);
+        let list_bytes = 4 * self.list_capacity as u64;
+        let (Some(rows), true) = (rows, list_bytes <= limit) else {
             return Err(GpuError::TooLarge {
                 size,
-                bytes: largest,
+                bytes: count_bytes(size, n, size.1.min(COUNT_GROUP)).max(list_bytes),
                 entries: self.list_capacity,
                 limit,
             });
-        }
+        };
         let data = self.scene.as_ref().expect("built above");
         let chunks = chunks(
             data.edge_count,
@@ -398,9 +412,11 @@ impl ComplexityState {
             self.edges_per_dispatch(),
             data.triangle_count,
         );
-        let shape = (self.samples_per_axis, chunks);
+        let shape = (self.samples_per_axis, chunks, rows);
         if self.frame.as_ref().is_none_or(|f| {
-            f.size != size || f.capacity != self.list_capacity || (f.per_axis, f.chunks) != shape
+            f.size != size
+                || f.capacity != self.list_capacity
+                || (f.per_axis, f.chunks, f.band_rows) != shape
         }) {
             self.frame = Some(ComplexityFrame::new(
                 device,
@@ -440,6 +456,7 @@ impl ComplexityState {
             budget: self.loop_budget,
             chunk,
             chunks: frame.chunks,
+            band_rows: frame.band_rows,
             ..Default::default()
         };
         params.set_camera(camera, parts.light);
@@ -487,7 +504,7 @@ impl ComplexityState {
             encoder,
             (parts.frame, &group, &args),
             (&frame.args, frame.chunks),
-            size,
+            (size, frame.band_rows),
             timer.compute(Pass::Count),
         );
         encoder.copy_buffer_to_buffer(&frame.demand, 0, &frame.demand_readback, 0, 16);

@@ -104,8 +104,10 @@ pub struct ComplexityParams {
     pub chunk: u32,
     /// Dispatches of the counting pass recorded for them.
     pub chunks: u32,
+    /// Image rows whose state and counts the counting pass keeps at once (`passes::count`).
+    pub band_rows: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
     /// The eye in light space (`w` unused).
     pub eye: [f32; 4],
     /// The light-space direction of the ray through normalised device coordinates `(x, y)`:

@@ -20,6 +20,10 @@
 //! 4. `count_finish`: V from the counts, and the pixels whose work was not finished (none,
 //!    as many dispatches as the longest possible work are recorded) or that ran past the loop
 //!    budget, counted in `demand[3]` and `demand[1]`.
+//!
+//! The state and counts (a byte per sample) of every pixel would not fit one storage binding
+//! for large images at many samples, so the four steps run per band of [`band_rows`] rows,
+//! `count_band` moving to the next; most images are one band.
 
 use super::complexity::COMPLEXITY_WGSL;
 use super::complexity::COUNT_WGSL;
@@ -60,6 +64,7 @@ pub struct CountPass {
     args: wgpu::ComputePipeline,
     chunk: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
+    band: wgpu::ComputePipeline,
     /// Group 2 of `count_args`: the indirect arguments, written.
     pub args_layout: wgpu::BindGroupLayout,
 }
@@ -107,46 +112,78 @@ impl CountPass {
             ),
             chunk: pipeline("count_chunk", &two),
             finish: pipeline("count_finish", &two),
+            band: pipeline("count_band", &two),
             args_layout,
         }
     }
 
-    /// Records the pass over an image of `size` pixels in one compute pass: the set-up, the
-    /// arguments of `chunks` chunk dispatches (in `args`, bound by `args_group`), the chunks
-    /// and the finish.
+    /// Records the pass over an image of `size` pixels in one compute pass, band by band of
+    /// `band_rows` rows: the set-up, the arguments of `chunks` chunk dispatches (in `args`,
+    /// bound by `args_group`), the chunks, the finish, and the move to the next band.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         (frame, inputs, args_group): (&wgpu::BindGroup, &wgpu::BindGroup, &wgpu::BindGroup),
         (args, chunks): (&wgpu::Buffer, u32),
-        size: (u32, u32),
+        (size, band_rows): ((u32, u32), u32),
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let groups = (size.0.div_ceil(COUNT_GROUP), size.1.div_ceil(COUNT_GROUP));
+        let band_rows = band_rows.max(1);
+        let groups = (
+            size.0.div_ceil(COUNT_GROUP),
+            band_rows.div_ceil(COUNT_GROUP),
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("count"),
             timestamp_writes: timestamps,
         });
         pass.set_bind_group(0, frame, &[]);
         pass.set_bind_group(1, inputs, &[]);
-        pass.set_pipeline(&self.setup);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
-        pass.set_pipeline(&self.args);
         pass.set_bind_group(2, args_group, &[]);
-        pass.dispatch_workgroups(chunks.div_ceil(64).max(1), 1, 1);
-        pass.set_pipeline(&self.chunk);
-        for c in 0..chunks {
-            pass.dispatch_workgroups_indirect(args, 12 * c as u64);
+        for _ in 0..size.1.div_ceil(band_rows) {
+            pass.set_pipeline(&self.setup);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+            pass.set_pipeline(&self.args);
+            pass.dispatch_workgroups(chunks.div_ceil(64).max(1), 1, 1);
+            pass.set_pipeline(&self.chunk);
+            for c in 0..chunks {
+                pass.dispatch_workgroups_indirect(args, 12 * c as u64);
+            }
+            pass.set_pipeline(&self.finish);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+            pass.set_pipeline(&self.band);
+            pass.dispatch_workgroups(1, 1, 1);
         }
-        pass.set_pipeline(&self.finish);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 }
 
-/// Words of the counting pass's buffer per pixel at `n x n` samples: V, the state between
-/// dispatches ([`STATE_WORDS`]) and the counts, one byte per sample.
-pub fn words_per_pixel(n: u32) -> u64 {
-    1 + STATE_WORDS as u64 + (n as u64 * n as u64).div_ceil(4)
+/// Bytes of the counting pass's buffer for an image of `size` pixels at `n x n` samples
+/// keeping `band_rows` rows at once: V of every pixel (4), and for each pixel of a band its
+/// state between dispatches ([`STATE_WORDS`] words) and its counts, one byte per sample.
+pub fn count_bytes(size: (u32, u32), n: u32, band_rows: u32) -> u64 {
+    let pixels = size.0 as u64 * size.1 as u64;
+    4 * pixels + band_rows as u64 * size.0 as u64 * band_bytes(n)
+}
+
+/// Bytes per pixel of a band at `n x n` samples: its state and its counts.
+fn band_bytes(n: u32) -> u64 {
+    4 * (STATE_WORDS as u64 + (n as u64 * n as u64).div_ceil(4))
+}
+
+/// The most rows of an image of `size` pixels at `n x n` samples whose state and counts fit
+/// in `limit` bytes with V, a multiple of `COUNT_GROUP` (or the whole image), at most `most`
+/// (0: no other bound); `None` when not even `COUNT_GROUP` rows fit.
+pub fn band_rows(size: (u32, u32), n: u32, limit: u64, most: u32) -> Option<u32> {
+    let v = 4 * size.0 as u64 * size.1 as u64;
+    let row = size.0 as u64 * band_bytes(n);
+    let fit = (limit.checked_sub(v)? / row.max(1)).min(size.1 as u64) as u32;
+    let wanted = if most == 0 { fit } else { fit.min(most) };
+    let rows = if wanted >= size.1 {
+        size.1
+    } else {
+        wanted / COUNT_GROUP * COUNT_GROUP
+    };
+    (rows > 0).then_some(rows)
 }
 
 #[cfg(test)]
@@ -169,5 +206,15 @@ mod tests {
         assert_eq!([8, 16, 32].map(|n| edges_per_dispatch(n, 2)), [68, 25, 7]);
         assert_eq!(chunks(19_629, 0, 25, 38_658), 791);
         assert_eq!(chunks(0, 0, 25, 0), 0);
+        let mib = 128 << 20;
+        // 320x240 at 256 samples: one band; 1920x1080: bands of whole groups of rows.
+        assert_eq!(band_rows((320, 240), 16, mib, 0), Some(240));
+        let rows = band_rows((1920, 1080), 16, mib, 0).unwrap();
+        assert!(rows < 1080 && rows % COUNT_GROUP == 0);
+        assert!(count_bytes((1920, 1080), 16, rows) <= mib);
+        assert!(count_bytes((1920, 1080), 16, rows + COUNT_GROUP) > mib);
+        assert_eq!(band_rows((48, 36), 8, mib, 8), Some(8));
+        assert_eq!(band_rows((48, 36), 8, mib, 3), None);
+        assert_eq!(band_rows((10_000, 10_000), 32, mib, 0), None);
     }
 }

@@ -354,15 +354,33 @@ fn pixel_count() -> u32 {
     return u32(frame.size.x) * u32(frame.size.y);
 }
 
-// The first word of pixel i's state.
+// The first word of the state of the band's pixel i (`band_pixel`).
 fn state_at(i: u32) -> u32 {
     return pixel_count() + STATE_WORDS * i;
 }
 
-// The first word of pixel i's counts.
+// The first word of the counts of the band's pixel i.
 fn counts_at(i: u32) -> u32 {
     let n = params.per_axis;
-    return pixel_count() * (1u + STATE_WORDS) + i * ((n * n + 3u) / 4u);
+    let band = params.band_rows * u32(frame.size.x);
+    return pixel_count() + STATE_WORDS * band + i * ((n * n + 3u) / 4u);
+}
+
+// The image keeps the state and counts of `params.band_rows` rows at a time: the pass runs
+// band by band from the top, `count_band` moving to the next (`demand[4]`, its first row).
+// The pixel of invocation `id` of the current band, and its index in the band; (0, 0, 1) where
+// it lies outside the band or the image.
+fn band_pixel(id: vec3<u32>) -> vec3<u32> {
+    let row = id.y + atomicLoad(&demand[4]);
+    if (id.y >= params.band_rows || id.x >= u32(frame.size.x) || row >= u32(frame.size.y)) {
+        return vec3<u32>(0u, 0u, 1u);
+    }
+    return vec3<u32>(id.x, row, 0u);
+}
+
+@compute @workgroup_size(1)
+fn count_band() {
+    atomicAdd(&demand[4], params.band_rows);
 }
 
 // Adds the region's change to the samples inside it, visiting only the cells its box reaches.
@@ -399,13 +417,15 @@ fn with_cut(flags: u32) -> u32 {
 }
 
 @compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
-fn count_setup(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn count_setup(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.size.xy);
-    if (gid.x >= size.x || gid.y >= size.y) {
+    let gid = band_pixel(id);
+    if (gid.z != 0u) {
         return;
     }
     let pixel = gid.y * size.x + gid.x;
-    let st = state_at(pixel);
+    let local = id.y * size.x + id.x;
+    let st = state_at(local);
     visibility[st + 7u] = 0u;
     let p = textureLoad(position, vec2<i32>(gid.xy), 0);
     if (p.w == 0.0) {
@@ -432,7 +452,7 @@ fn count_setup(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     // This pixel's counts, zeroed.
-    let own = counts_at(pixel);
+    let own = counts_at(local);
     let n = params.per_axis;
     for (var w = 0u; w < (n * n + 3u) / 4u; w++) {
         spent++;
@@ -476,10 +496,10 @@ fn count_args(@builtin(global_invocation_id) gid: vec3<u32>) {
     chunk_args[3u * c + 2u] = 1u;
 }
 
-// Adds to pixel i's D(P, c) the triangles from `first` on, DISPATCH_ITERATIONS of them, that
+// Adds to the D(P, c) of the pixel whose state is at `st` the triangles from `first` on, DISPATCH_ITERATIONS of them, that
 // the segment from P on `receiver` to the light's centre crosses (the oracle's count; the
 // stencil counted the rasterised receiver's point).
-fn count_centre(i: u32, st: u32, first: u32, receiver: u32, flags: u32) {
+fn count_centre(st: u32, first: u32, receiver: u32, flags: u32) {
     let pl = vec3<f32>(
         bitcast<f32>(visibility[st]),
         bitcast<f32>(visibility[st + 1u]),
@@ -500,13 +520,15 @@ fn count_centre(i: u32, st: u32, first: u32, receiver: u32, flags: u32) {
 }
 
 @compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
-fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn count_chunk(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.size.xy);
-    if (gid.x >= size.x || gid.y >= size.y) {
+    let gid = band_pixel(id);
+    if (gid.z != 0u) {
         return;
     }
     let pixel = gid.y * size.x + gid.x;
-    let st = state_at(pixel);
+    let local = id.y * size.x + id.x;
+    let st = state_at(local);
     let flags = visibility[st + 7u];
     let done = visibility[st + 5u];
     let total = visibility[st + 6u];
@@ -516,7 +538,7 @@ fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
     let receiver = visibility[st + 3u];
     if (done >= total) {
         if ((flags & RECOUNT) != 0u && done - total < params.triangles) {
-            count_centre(pixel, st, done - total, receiver, flags);
+            count_centre(st, done - total, receiver, flags);
         }
         return;
     }
@@ -536,7 +558,7 @@ fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     jitter_seed = seed * 0xa399d265u;
     let pyramid = pyramid_planes(pl);
-    let own = counts_at(pixel);
+    let own = counts_at(local);
     var changed = 0u;
     let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
     let complete = range.x + range.y <= params.capacity;
@@ -566,13 +588,15 @@ fn count_chunk(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 @compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
-fn count_finish(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn count_finish(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.size.xy);
-    if (gid.x >= size.x || gid.y >= size.y) {
+    let gid = band_pixel(id);
+    if (gid.z != 0u) {
         return;
     }
     let pixel = gid.y * size.x + gid.x;
-    let st = state_at(pixel);
+    let local = id.y * size.x + id.x;
+    let st = state_at(local);
     let flags = visibility[st + 7u];
     if ((flags & ACTIVE) == 0u) {
         return;
@@ -585,7 +609,7 @@ fn count_finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let base = visibility[st + 4u];
     let n = params.per_axis;
-    let own = counts_at(pixel);
+    let own = counts_at(local);
     // D(P, s) modulo 256, read as a signed byte: zero (or, where rounding made the counts
     // disagree, negative) is visible, as the oracle's `D <= 0`.
     var seen = 0u;
