@@ -13,10 +13,12 @@ use penumbra_volumes::PotentialEdges;
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
 
 /// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), its sample
-/// pattern (`count_pattern.wgsl`), then the pass (`count.wgsl`), one shader in three files.
+/// pattern (`count_pattern.wgsl`), its receiver (`count_receiver.wgsl`), then the pass
+/// (`count.wgsl`), one shader in four files.
 pub const COUNT_WGSL: &str = concat!(
     include_str!("../shaders/count_regions.wgsl"),
     include_str!("../shaders/count_pattern.wgsl"),
+    include_str!("../shaders/count_receiver.wgsl"),
     include_str!("../shaders/count.wgsl")
 );
 
