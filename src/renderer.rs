@@ -271,7 +271,7 @@ impl Renderer {
                 }
                 other => other?,
             };
-            let detail = format!(
+            let mut detail = format!(
                 "gpu: {}, {} multi-jittered samples, {} potential silhouette edges of {}, \
                  {} edge-list entries",
                 ctx.describe(),
@@ -280,6 +280,12 @@ impl Renderer {
                 out.all_edges,
                 out.list_entries
             );
+            if out.redone > 0 {
+                detail += &format!(
+                    ", rendered {} more time(s): the edge list overflowed",
+                    out.redone
+                );
+            }
             let rendered = Rendered {
                 image: out.image,
                 times: out.times,

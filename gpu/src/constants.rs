@@ -28,10 +28,13 @@ pub const MAX_TAPS: usize = 64;
 /// 32): each invocation of the counting pass keeps one count per sample.
 pub const MAX_SAMPLES: u32 = MAX_AXIS * MAX_AXIS;
 
-/// Side of the square of pixels of one workgroup of depth-complexity sampling's counting pass:
-/// each pixel keeps a byte per sample in the workgroup's memory, 16 KiB for 4 x 4 pixels of
-/// [`MAX_SAMPLES`] samples (the least every device has).
+/// Side of the square of pixels of one workgroup of depth-complexity sampling's counting pass
+/// (each pixel keeps its counts, a byte per sample, in a storage buffer between dispatches).
 pub const COUNT_GROUP: u32 = 4;
+
+/// Words of a pixel's state between the counting pass's dispatches (`count.wgsl`): P (3), its
+/// receiver, the centre's count, the entries done, the entries in all, its flags.
+pub const STATE_WORDS: u32 = 8;
 
 /// Most samples per axis of depth-complexity sampling on the GPU.
 pub const MAX_AXIS: u32 = 32;
@@ -65,6 +68,11 @@ pub fn shared_constants() -> String {
         ("MAX_SAMPLES", MAX_SAMPLES),
         ("MAX_AXIS", MAX_AXIS),
         ("COUNT_GROUP", COUNT_GROUP),
+        ("STATE_WORDS", STATE_WORDS),
+        (
+            "DISPATCH_ITERATIONS",
+            crate::passes::count::DISPATCH_ITERATIONS,
+        ),
         ("TRIANGLE_BIAS", TRIANGLE_BIAS),
         ("STENCIL_SIGN", STENCIL_SIGN),
     ];

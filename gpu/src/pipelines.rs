@@ -8,6 +8,7 @@ use crate::context::{GpuContext, GpuError};
 use crate::passes::{
     blend::BlendPass,
     complexity::{ComplexityPass, inputs_layout},
+    count::CountPass,
     depth::DepthPass,
     frame_layout,
     resolve::ResolvePass,
@@ -23,10 +24,10 @@ pub(crate) struct Pipelines {
     pub(crate) wedge: WedgePass,
     pub(crate) blend: BlendPass,
     pub(crate) resolve: ResolvePass,
-    /// Depth-complexity sampling's group 1 and its two compute passes.
+    /// Depth-complexity sampling's group 1 and its compute passes.
     pub(crate) complexity_layout: wgpu::BindGroupLayout,
     pub(crate) edge_lists: ComplexityPass,
-    pub(crate) count: ComplexityPass,
+    pub(crate) count: CountPass,
 }
 
 /// The volume techniques' pipelines on one device. Cloning it is cheap: the pipelines are
@@ -65,7 +66,7 @@ impl GpuRenderer {
         let complexity_layout = inputs_layout(device);
         let pipelines = Pipelines {
             edge_lists: ComplexityPass::edge_lists(device, &frame_layout, &complexity_layout),
-            count: ComplexityPass::count(device, &frame_layout, &complexity_layout),
+            count: CountPass::new(device, &frame_layout, &complexity_layout),
             complexity_layout,
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),

@@ -39,6 +39,9 @@ pub struct ComplexityImage {
     pub list_entries: u32,
     /// Entries the list held.
     pub list_capacity: u32,
+    /// Frames rendered again because the list overflowed: each was exact, and slower (its
+    /// tiles that did not fit read every edge); rendered again with the list grown to fit.
+    pub redone: u32,
 }
 
 impl GpuRenderer {
@@ -107,6 +110,7 @@ impl GpuRenderer {
         gpu_scene.record_edge_lists(&mut enc, &inputs, &gbuffer)?;
         self.context().queue.submit([enc.finish()]);
         gpu_scene.complexity_report()?;
+        let mut redone = 0;
         loop {
             // Depth, stencil, edge lists, count, resolve.
             let timer = Timer::new(self.context(), 5, self.counters());
@@ -121,10 +125,12 @@ impl GpuRenderer {
             let report = gpu_scene
                 .complexity_report()?
                 .expect("a frame was recorded");
-            if report.cut_short > 0 {
+            // Pixels past the loop budget or whose work was not finished, each found by the
+            // counting pass: none at the default budget, whose dispatches are bounded.
+            if report.cut_short > 0 || report.unfinished > 0 {
                 return Err(GpuError::CutShort {
                     adapter: self.context().describe(),
-                    pixels: report.cut_short,
+                    pixels: report.cut_short + report.unfinished,
                     budget: gpu_scene.loop_budget(),
                 });
             }
@@ -138,8 +144,10 @@ impl GpuRenderer {
                     all_edges,
                     list_entries: report.demand,
                     list_capacity: gpu_scene.edge_list_capacity(),
+                    redone,
                 });
             }
+            redone += 1;
         }
     }
 

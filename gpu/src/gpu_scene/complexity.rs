@@ -72,6 +72,30 @@ impl GpuScene {
         self.complexity.set_loop_budget(iterations);
     }
 
+    /// Entries of a pixel's work (its tile's potential edges, then the triangles through the
+    /// light's plane) that one dispatch of the counting pass takes: as many as keep an
+    /// invocation within [`DISPATCH_ITERATIONS`](crate::DISPATCH_ITERATIONS) loop iterations at
+    /// the scene's samples, whatever the scene; 0 until a depth-complexity frame built the
+    /// scene's edges. The pass records as many dispatches as the longest possible work needs.
+    pub fn edges_per_dispatch(&self) -> u32 {
+        self.complexity.edges_per_dispatch()
+    }
+
+    /// Makes one dispatch of the counting pass take `entries` of a pixel's work from the next
+    /// frame on (0: [`GpuScene::edges_per_dispatch`]'s own): fewer take more dispatches, with
+    /// the same image.
+    pub fn set_edges_per_dispatch(&mut self, entries: u32) {
+        self.complexity.set_edges_per_dispatch(entries);
+    }
+
+    /// Makes the counting pass keep the state and counts of at most `rows` image rows at once
+    /// from the next frame on, in bands from the top (0: as many as one storage binding of
+    /// the device holds, the whole image at most; at least 4): less memory, more dispatches,
+    /// the same image. A frame refuses with [`GpuError::TooLarge`] where not even 4 rows fit.
+    pub fn set_count_band_rows(&mut self, rows: u32) {
+        self.complexity.set_most_band_rows(rows);
+    }
+
     /// Records the passes of depth-complexity sampling for `camera` into `target`; without a
     /// target, only the edge lists, for [`GpuScene::complexity_report`] to size the list.
     pub(super) fn record_complexity(

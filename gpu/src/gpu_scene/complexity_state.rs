@@ -36,6 +36,7 @@ use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameCamera;
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
+use crate::passes::count::{band_rows, chunks, count_bytes, edges_per_dispatch};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
@@ -61,6 +62,8 @@ pub(super) struct ComplexityScene {
     edge_count: u32,
     crossing_count: u32,
     triangle_count: u32,
+    /// Most faces on one potential edge (the counting pass's work per edge grows with it).
+    max_faces: u32,
     /// Potential silhouette edges, and all edges, for reports.
     pub(super) potential: usize,
     pub(super) all_edges: usize,
@@ -70,12 +73,20 @@ pub(super) struct ComplexityScene {
 pub(super) struct ComplexityFrame {
     size: (u32, u32),
     capacity: u32,
+    /// Samples per axis and dispatches of the counting pass the buffers are made for.
+    per_axis: u32,
+    chunks: u32,
+    /// Rows whose state and counts the counting pass keeps at once.
+    band_rows: u32,
     tile_ranges: wgpu::Buffer,
     list: wgpu::Buffer,
     demand: wgpu::Buffer,
     demand_readback: wgpu::Buffer,
     params: wgpu::Buffer,
+    /// V, then each pixel's state and counts between the counting pass's dispatches.
     visibility: wgpu::Buffer,
+    /// The indirect arguments of the counting pass's chunk dispatches.
+    args: wgpu::Buffer,
     /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
     pending: bool,
 }
@@ -103,8 +114,14 @@ pub struct ComplexityReport {
     /// image is the same, only slower) and the list has grown for the next frames.
     pub overflowed: bool,
     /// Pixels whose counting took more loop iterations than a software device runs (see
-    /// [`SOFTWARE_LOOP_BUDGET`]): their V may be wrong. Always 0 on a hardware GPU.
+    /// [`SOFTWARE_LOOP_BUDGET`]): their V may be wrong. Always 0 on a hardware GPU, and on a
+    /// software one unless a receiver's own work outgrows the budget (a budget set below
+    /// what the counting pass's bounded dispatches take).
     pub cut_short: u32,
+    /// Pixels whose work (their tile's edges and the crossings) the counting pass's
+    /// dispatches did not finish: their V is wrong. Found exactly, by each pixel; 0 unless a
+    /// frame records fewer dispatches than the longest possible work needs, which none does.
+    pub unfinished: u32,
 }
 
 impl ComplexityScene {
@@ -158,6 +175,12 @@ impl ComplexityScene {
             edge_count: edges.len() as u32,
             crossing_count: crossings.len() as u32,
             triangle_count: triangles.len() as u32,
+            max_faces: potential
+                .edges
+                .iter()
+                .map(|e| e.face_count)
+                .max()
+                .unwrap_or(0),
             potential: potential.edges.len(),
             all_edges: potential.all_edges,
         };
@@ -180,7 +203,8 @@ impl ComplexityFrame {
     }
 
     /// What the counting pass binds: it reads the receivers, their stencil counts, the
-    /// edges, faces, crossings, triangles, the tiles' lists and the parameters, and writes V.
+    /// edges, faces, crossings, triangles, the tiles' lists, the parameters and its dispatches'
+    /// arguments, and updates V with each pixel's state and counts between dispatches.
     fn count_traffic(&self, data: &ComplexityScene, gbuffer: &GBuffer) -> Traffic {
         Traffic::new()
             .reads(&gbuffer.position)
@@ -192,11 +216,17 @@ impl ComplexityFrame {
             .reads(&self.tile_ranges)
             .reads(&self.list)
             .reads(&self.params)
+            .reads(&self.args)
             .updates(&self.demand)
-            .writes(&self.visibility)
+            .updates(&self.visibility)
     }
 
-    fn new(device: &wgpu::Device, size: (u32, u32), capacity: u32) -> Self {
+    fn new(
+        device: &wgpu::Device,
+        size: (u32, u32),
+        capacity: u32,
+        (per_axis, chunks, band_rows): (u32, u32, u32),
+    ) -> Self {
         let (tx, ty) = tiles(size);
         let make = |label, bytes: u64, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -211,12 +241,15 @@ impl ComplexityFrame {
         ComplexityFrame {
             size,
             capacity,
+            per_axis,
+            chunks,
+            band_rows,
             tile_ranges: make("tile ranges", 8 * (tx * ty) as u64, storage),
             list: make("edge list", 4 * capacity as u64, storage),
-            demand: make("depth-complexity report", 8, storage | copy),
+            demand: make("depth-complexity report", 32, storage | copy),
             demand_readback: make(
                 "depth-complexity report readback",
-                8,
+                16,
                 wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             ),
             params: make(
@@ -224,7 +257,16 @@ impl ComplexityFrame {
                 std::mem::size_of::<ComplexityParams>() as u64,
                 wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             ),
-            visibility: make("visibility", 4 * size.0 as u64 * size.1 as u64, storage),
+            visibility: make(
+                "visibility",
+                count_bytes(size, per_axis, band_rows),
+                storage,
+            ),
+            args: make(
+                "count arguments",
+                12 * chunks as u64,
+                storage | wgpu::BufferUsages::INDIRECT,
+            ),
             pending: false,
         }
     }
@@ -243,6 +285,11 @@ pub(super) struct ComplexityState {
     list_capacity: u32,
     /// Loop iterations an invocation may take before its pixel is reported cut short.
     loop_budget: u32,
+    /// Entries of a pixel's work per dispatch of the counting pass in place of
+    /// [`edges_per_dispatch`]'s (0: that).
+    chunk_override: u32,
+    /// The most rows the counting pass keeps state for at once (0: as many as fit).
+    most_band_rows: u32,
 }
 
 /// What recording a depth-complexity frame reads of its scene, and where it counts its uploads.
@@ -270,6 +317,8 @@ impl ComplexityState {
             } else {
                 u32::MAX
             },
+            chunk_override: 0,
+            most_band_rows: 0,
         }
     }
 
@@ -316,6 +365,24 @@ impl ComplexityState {
         self.loop_budget = iterations;
     }
 
+    /// Entries of a pixel's work one dispatch of the counting pass takes (0 until a frame
+    /// built the scene's edges).
+    pub(super) fn edges_per_dispatch(&self) -> u32 {
+        match (self.chunk_override, &self.scene) {
+            (0, Some(data)) => edges_per_dispatch(self.samples_per_axis, data.max_faces),
+            (0, None) => 0,
+            (k, _) => k,
+        }
+    }
+
+    pub(super) fn set_edges_per_dispatch(&mut self, entries: u32) {
+        self.chunk_override = entries;
+    }
+
+    pub(super) fn set_most_band_rows(&mut self, rows: u32) {
+        self.most_band_rows = if rows == 0 { 0 } else { rows.max(COUNT_GROUP) };
+    }
+
     /// Waits for the last frame and reads its report, growing the list when it overflowed (a
     /// quarter more than it needed); `None` when no frame was recorded since the last call.
     pub(super) fn report(
@@ -332,6 +399,7 @@ impl ComplexityState {
             demand: word(0),
             overflowed: word(0) > frame.capacity,
             cut_short: word(1),
+            unfinished: word(3),
         };
         if report.overflowed {
             self.list_capacity = report.demand.saturating_add(report.demand / 4);
@@ -353,23 +421,42 @@ impl ComplexityState {
         if self.list_capacity == 0 {
             self.list_capacity = (tx * ty).saturating_mul(FIRST_ENTRIES_PER_TILE);
         }
-        // V and the list are storage buffers: each must fit one binding.
-        let limit = device.limits().max_storage_buffer_binding_size;
-        let largest = (4 * size.0 as u64 * size.1 as u64).max(4 * self.list_capacity as u64);
-        if largest > limit {
+        // The counting pass's buffer and the list are storage buffers: each must fit one
+        // binding. The former keeps as many rows' state and counts at once as fit.
+        let limits = device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let n = self.samples_per_axis;
+        let rows = band_rows(size, n, limit, self.most_band_rows);
+        let list_bytes = 4 * self.list_capacity as u64;
+        let (Some(rows), true) = (rows, list_bytes <= limit) else {
             return Err(GpuError::TooLarge {
                 size,
-                bytes: largest,
+                bytes: count_bytes(size, n, size.1.min(COUNT_GROUP)).max(list_bytes),
                 entries: self.list_capacity,
                 limit,
             });
-        }
-        if self
-            .frame
-            .as_ref()
-            .is_none_or(|f| f.size != size || f.capacity != self.list_capacity)
-        {
-            self.frame = Some(ComplexityFrame::new(device, size, self.list_capacity));
+        };
+        let data = self.scene.as_ref().expect("built above");
+        let chunks = chunks(
+            data.edge_count,
+            data.crossing_count,
+            self.edges_per_dispatch(),
+            data.triangle_count,
+        );
+        let shape = (self.samples_per_axis, chunks, rows);
+        if self.frame.as_ref().is_none_or(|f| {
+            f.size != size
+                || f.capacity != self.list_capacity
+                || (f.per_axis, f.chunks, f.band_rows) != shape
+        }) {
+            self.frame = Some(ComplexityFrame::new(
+                device,
+                size,
+                self.list_capacity,
+                shape,
+            ));
         }
         Ok(())
     }
@@ -388,6 +475,7 @@ impl ComplexityState {
     ) -> Result<(), GpuError> {
         let size = camera.size;
         self.prepare(&mut parts, size)?;
+        let chunk = self.edges_per_dispatch();
         let (tx, ty) = tiles(size);
         let data = self.scene.as_ref().expect("built in prepare");
         let frame = self.frame.as_mut().expect("made in prepare");
@@ -399,6 +487,9 @@ impl ComplexityState {
             tiles_x: tx,
             triangles: data.triangle_count,
             budget: self.loop_budget,
+            chunk,
+            chunks: frame.chunks,
+            band_rows: frame.band_rows,
             ..Default::default()
         };
         params.set_camera(camera, parts.light);
@@ -436,21 +527,32 @@ impl ComplexityState {
         );
         frame.pending = true;
         let Some(target) = target else {
-            encoder.copy_buffer_to_buffer(&frame.demand, 0, &frame.demand_readback, 0, 8);
+            encoder.copy_buffer_to_buffer(&frame.demand, 0, &frame.demand_readback, 0, 16);
             return Ok(());
         };
+        let args = bind_group(
+            device,
+            "count arguments",
+            &p.count.args_layout,
+            &[frame.args.as_entire_binding()],
+        );
         p.count.record(
             encoder,
-            (parts.frame, &group),
-            (size.0.div_ceil(COUNT_GROUP), size.1.div_ceil(COUNT_GROUP)),
+            (parts.frame, &group, &args),
+            (&frame.args, frame.chunks),
+            (size, frame.band_rows),
             timer.pass(Pass::Count, frame.count_traffic(data, gbuffer)),
         );
-        encoder.copy_buffer_to_buffer(&frame.demand, 0, &frame.demand_readback, 0, 8);
+        encoder.copy_buffer_to_buffer(&frame.demand, 0, &frame.demand_readback, 0, 16);
         let v = bind_group(
             device,
             "visibility buffer",
             &p.resolve.final_layout,
-            &[frame.visibility.as_entire_binding()],
+            &[wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &frame.visibility,
+                offset: 0,
+                size: wgpu::BufferSize::new(4 * size.0 as u64 * size.1 as u64),
+            })],
         );
         p.resolve.record(
             encoder,

@@ -1,5 +1,5 @@
-//! The two compute passes of depth-complexity sampling, `shaders/edge_lists.wgsl` and
-//! `shaders/count.wgsl` ([`ComplexityPass`] drives either), and what they share
+//! The compute passes of depth-complexity sampling, `shaders/edge_lists.wgsl` ([`ComplexityPass`])
+//! and `shaders/count.wgsl` (`passes::count`, which builds its pipelines with it), and what they share
 //! (`shaders/complexity.wgsl`): the potential silhouette edges as the GPU reads them, the
 //! uniforms and the bind group of both ([`inputs_layout`]).
 
@@ -13,10 +13,13 @@ use penumbra_volumes::PotentialEdges;
 /// WGSL declarations shared by the edge-list and the counting pass.
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
 
-/// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), then the pass
-/// (`count.wgsl`), one shader in two files.
+/// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), its sample
+/// pattern (`count_pattern.wgsl`), its receiver (`count_receiver.wgsl`), then the pass
+/// (`count.wgsl`), one shader in four files.
 pub const COUNT_WGSL: &str = concat!(
     include_str!("../shaders/count_regions.wgsl"),
+    include_str!("../shaders/count_pattern.wgsl"),
+    include_str!("../shaders/count_receiver.wgsl"),
     include_str!("../shaders/count.wgsl")
 );
 
@@ -99,6 +102,15 @@ pub struct ComplexityParams {
     /// `opaque`), so that no algebraic rewrite (`(a + b) - a` to `b`) loses the rounding error
     /// they measure.
     pub zero: u32,
+    /// Entries of a pixel's work (its tile's edges, then the crossings) that one dispatch of
+    /// the counting pass takes (`passes::count::edges_per_dispatch`).
+    pub chunk: u32,
+    /// Dispatches of the counting pass recorded for them.
+    pub chunks: u32,
+    /// Image rows whose state and counts the counting pass keeps at once (`passes::count`).
+    pub band_rows: u32,
+    /// Padding.
+    pub pad: u32,
     /// The eye in light space (`w` unused).
     pub eye: [f32; 4],
     /// The light-space direction of the ray through normalised device coordinates `(x, y)`:
@@ -224,7 +236,7 @@ const _: () = assert!(std::mem::size_of::<GpuEdge>() == 80);
 const _: () = assert!(std::mem::size_of::<GpuFace>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuCrossing>() == 32);
-const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 96);
+const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 112);
 
 /// The edges, their faces and the crossings of `edges` as the GPU reads them.
 pub fn gpu_edges(edges: &PotentialEdges) -> (Vec<GpuEdge>, Vec<GpuFace>, Vec<GpuCrossing>) {
@@ -326,21 +338,6 @@ impl ComplexityPass {
             device,
             (frame_layout, inputs),
             ("edge lists", source, "lists"),
-        )
-    }
-
-    /// The counting pass (`count.wgsl`): one invocation per pixel, in workgroups of
-    /// [`crate::constants::COUNT_GROUP`] x `COUNT_GROUP`, turns the centre's stencil count and
-    /// the tile's edges into V.
-    pub fn count(
-        device: &wgpu::Device,
-        frame_layout: &wgpu::BindGroupLayout,
-        inputs: &wgpu::BindGroupLayout,
-    ) -> Self {
-        Self::new(
-            device,
-            (frame_layout, inputs),
-            ("count", COUNT_WGSL, "count"),
         )
     }
 

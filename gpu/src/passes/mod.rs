@@ -2,6 +2,7 @@
 
 pub mod blend;
 pub mod complexity;
+pub mod count;
 pub mod depth;
 pub mod fullscreen;
 pub mod resolve;

@@ -17,14 +17,23 @@ fn every_wgsl_file_validates_with_naga() {
         }
         let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
         // Declarations compiled ahead of the passes' shaders, and the counting pass's first
-        // part: each is validated in the shaders that take it.
-        if ["frame", "shadow", "complexity", "count_regions"].contains(&stem.as_str()) {
+        // parts: each is validated in the shaders that take it.
+        if [
+            "frame",
+            "shadow",
+            "complexity",
+            "count_regions",
+            "count_pattern",
+            "count_receiver",
+        ]
+        .contains(&stem.as_str())
+        {
             continue;
         }
         // Each pass's shader is compiled after the shared constants and frame.wgsl
         // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
         // (`fullscreen::shadow_shader`), depth-complexity sampling's passes with
-        // complexity.wgsl, and the counting pass from its two files (`complexity::COUNT_WGSL`).
+        // complexity.wgsl, and the counting pass from its four files (`complexity::COUNT_WGSL`).
         let file = std::fs::read_to_string(&p).unwrap();
         let source = if SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             format!("{SHADOW_WGSL}\n{file}")

@@ -54,6 +54,13 @@ struct Params {
     budget: u32,
     // 0, unknown to the compiler (`passes::complexity::ComplexityParams::zero`).
     zero: u32,
+    // Entries of a pixel's work (its tile's edges, then the crossings) one dispatch of the
+    // counting pass takes (`passes::count`), and the dispatches recorded for them.
+    chunk: u32,
+    chunks: u32,
+    // Image rows whose state and counts the counting pass keeps at once.
+    band_rows: u32,
+    pad0: u32,
     // The eye in light space (w unused).
     eye: vec4<f32>,
     // The light-space direction of the ray through normalised device coordinates (x, y):
@@ -74,10 +81,14 @@ struct Params {
 @group(1) @binding(6) var<storage, read_write> list: array<u32>;
 // [0]: the entries the frame's tiles asked for (more than `params.capacity`: an overflow);
 // [1]: the pixels whose counting went past `params.budget` loop iterations.
+// [2]: the most dispatches of `count_chunk` a pixel of the bands so far needs; [3]: the pixels whose
+// work they did not finish; [4]: the first row of the counting pass's current band.
 @group(1) @binding(7) var<storage, read_write> demand: array<atomic<u32>>;
 @group(1) @binding(8) var<uniform> params: Params;
 // V, one per pixel, row by row.
-@group(1) @binding(9) var<storage, read_write> visibility: array<f32>;
+// The counting pass's buffer: V (f32 bits) of every pixel, then each pixel's state between its
+// dispatches (`STATE_WORDS` words), then each pixel's sample counts (`count.wgsl`).
+@group(1) @binding(9) var<storage, read_write> visibility: array<u32>;
 // A scene triangle in light space (`passes::complexity::GpuTriangle`): its plane, unit normal n
 // and n . x = w, and its corners (w unused), the same f32 points as the edges' ends they share.
 struct Triangle {

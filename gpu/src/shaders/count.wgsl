@@ -7,113 +7,6 @@
 // reach) and of the correlated multi-jittered pattern of `penumbra_volumes::samples`, so that the
 // GPU and the CPU oracle agree sample for sample up to f32 rounding.
 
-// The receiver's triangle, for the side tests: its corners and P's barycentric weights on it.
-// The side of P of a plane through an edge's end `a` is the weighted sum of its corners' sides
-// (`side_of_p`), each zero where the corner lies on the plane within rounding. A corner the
-// receiver shares with the edge or a face lies on that plane, so a face next to the receiver, or
-// the plane of an edge of its own and the light's centre, takes its side from the receiver's
-// other corners: P's f32 rounding, which can move P across a plane that passes within a fraction
-// of a pixel of it, does not enter. Each corner and each edge's end carries what its f32 rounded
-// off, so that corner - end is as precise as in the oracle's f64. Where the triangle is unknown
-// or degenerate, P stands for all three corners.
-var<private> corners: array<vec3<f32>, 3>;
-var<private> corners_low: array<vec3<f32>, 3>;
-var<private> weights: vec3<f32>;
-
-fn set_receiver(pl: vec3<f32>, receiver: u32) {
-    corners = array<vec3<f32>, 3>(pl, pl, pl);
-    corners_low = array<vec3<f32>, 3>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-    weights = vec3<f32>(1.0, 0.0, 0.0);
-    if (receiver >= params.triangles) {
-        return;
-    }
-    let t = triangles[receiver];
-    let w = barycentric(t, pl);
-    let sum = w.x + w.y + w.z;
-    if (!(sum > 0.0) || !(sum < BIG)) {
-        return;
-    }
-    corners = array<vec3<f32>, 3>(t.corners[0].xyz, t.corners[1].xyz, t.corners[2].xyz);
-    corners_low = array<vec3<f32>, 3>(t.corners_low[0].xyz, t.corners_low[1].xyz, t.corners_low[2].xyz);
-    weights = w / sum;
-}
-
-// The barycentric weights of q, a point of triangle t's plane, times twice its area squared.
-fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
-    let c0 = t.corners[0].xyz;
-    let c1 = t.corners[1].xyz;
-    let c2 = t.corners[2].xyz;
-    let n = cross(c1 - c0, c2 - c0);
-    return vec3<f32>(
-        dot(n, cross(c1 - q, c2 - q)),
-        dot(n, cross(c2 - q, c0 - q)),
-        dot(n, cross(c0 - q, c1 - q)),
-    );
-}
-
-// The receiver through pixel `px` as the oracle's first hit finds it. The rasteriser snaps the
-// triangles' corners to a fraction of a pixel, so a pixel centre that close to an edge can land
-// on the wrong triangle, or on the wrong surface at an outline: where the rasteriser's,
-// `receiver` (P at `pl`), does not hold the pixel's ray, or (`holds`) where another triangle
-// nearer the eye does, of the triangles across the receiver's sides and those of the
-// neighbouring pixels, the nearest to the eye that holds the ray: (P on it, its index);
-// `receiver` and `pl` where none does.
-fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>, holds: bool) -> vec4<f32> {
-    best_hit = vec4<f32>(pl, bitcast<f32>(receiver));
-    best_depth = select(BIG, length(pl - params.eye.xyz) * (1.0 - 1e-5), holds);
-    let size = vec2<i32>(frame.size.xy);
-    let across = triangles[receiver].neighbours;
-    for (var k = 0u; k < 3u; k++) {
-        spent++;
-        consider(px, across[k], receiver, pl);
-    }
-    // A neighbouring pixel's triangle, and those across its sides: a triangle smaller than a
-    // pixel may be no pixel's.
-    for (var k = 0u; k < 9u; k++) {
-        spent++;
-        let q = vec2<i32>(px) + vec2<i32>(i32(k % 3u) - 1, i32(k / 3u) - 1);
-        if (k == 4u || any(q < vec2<i32>(0)) || any(q >= size)) {
-            continue;
-        }
-        let w = textureLoad(position, q, 0).w;
-        let c = receiver_triangle(w);
-        if (w == 0.0 || c == receiver || c >= params.triangles) {
-            continue;
-        }
-        if (!consider(px, c, receiver, pl)) {
-            let next = triangles[c].neighbours;
-            consider(px, next[0], receiver, pl);
-            consider(px, next[1], receiver, pl);
-            consider(px, next[2], receiver, pl);
-        }
-    }
-    return best_hit;
-}
-
-// `ray_receiver`'s best candidate so far and its distance from the eye.
-var<private> best_hit: vec4<f32>;
-var<private> best_depth: f32;
-
-// Takes triangle c as `ray_receiver`'s best candidate where it holds the pixel's ray nearer the
-// eye than the best so far; whether it holds the ray at all.
-fn consider(px: vec2<u32>, c: u32, receiver: u32, pl: vec3<f32>) -> bool {
-    if (c == receiver || c >= params.triangles) {
-        return false;
-    }
-    let t = triangles[c];
-    let at = on_plane(px, t.plane);
-    let eye = params.eye.xyz;
-    if (!(dot(at - eye, pl - eye) > 0.0) || !all(barycentric(t, at) >= vec3<f32>(0.0))) {
-        return false;
-    }
-    let depth = length(at - eye);
-    if (depth < best_depth) {
-        best_hit = vec4<f32>(at, bitcast<f32>(c));
-        best_depth = depth;
-    }
-    return true;
-}
-
 // Σ w_k f(corner k) for f(x) = k . x, the receiver's corners on the plane (`set_receiver`)
 // dropping out exactly: the side of P of the plane through the light's centre with normal k,
 // up to a positive factor.
@@ -155,65 +48,11 @@ fn crosses_to_centre(t: Triangle) -> bool {
     return inside && at_p * dot(n, -v0) < 0.0;
 }
 
-// Whether `centre_count` fits in this invocation's loop budget with half of it left for the
-// rest of its work (always, on a hardware GPU).
-fn can_count_centre() -> bool {
-    return params.triangles <= (params.budget - min(spent, params.budget)) / 2u;
-}
-
-// D(P, c) for P on triangle `receiver` (`set_receiver`): every other triangle the segment to the
-// centre crosses, counted one by one (the stencil holds the count of the rasterised receiver's
-// point only).
-fn centre_count(receiver: u32) -> u32 {
-    var n = 0u;
-    for (var t = 0u; t < params.triangles; t++) {
-        spent++;
-        if (t != receiver && crosses_to_centre(triangles[t])) {
-            n++;
-        }
-    }
-    return n & 0xffu;
-}
-
 // Corner i minus the point (a, a_low): the difference of the f32 parts is exact for points
 // within a factor of two of each other (Sterbenz), so the result is within f32 rounding of the
 // f64 difference.
 fn corner_minus(i: u32, a: vec3<f32>, a_low: vec3<f32>) -> vec3<f32> {
     return (corners[i] - a) + (corners_low[i] - a_low);
-}
-
-// Error-free transformations (Knuth's two-sum; Dekker's product with Veltkamp's split): a
-// result and its rounding error, exactly. Shader compilers may fold `(a + b) - a` to `b`,
-// reassociate sums and lower `fma` to a rounded product and sum (lavapipe does all three), so
-// each step's result passes through `opaque`, which no floating-point rewrite crosses, and
-// products are split instead of using `fma`.
-fn opaque(x: f32) -> f32 {
-    return bitcast<f32>(bitcast<u32>(x) ^ params.zero);
-}
-
-fn two_sum(a: f32, b: f32) -> vec2<f32> {
-    let s = opaque(a + b);
-    let bb = opaque(s - a);
-    let av = opaque(s - bb);
-    return vec2<f32>(s, opaque(a - av) + opaque(b - bb));
-}
-
-// a as hi + lo, each of at most 12 significant bits.
-fn veltkamp(a: f32) -> vec2<f32> {
-    let c = opaque(a * 4097.0);
-    let t = opaque(c - a);
-    let hi = opaque(c - t);
-    return vec2<f32>(hi, opaque(a - hi));
-}
-
-fn two_product(a: f32, b: f32) -> vec2<f32> {
-    let p = opaque(a * b);
-    let x = veltkamp(a);
-    let y = veltkamp(b);
-    let e1 = opaque(x.x * y.x - p);
-    let e2 = opaque(e1 + x.x * y.y);
-    let e3 = opaque(e2 + x.y * y.x);
-    return vec2<f32>(p, e3 + x.y * y.y);
 }
 
 // (k + k_low) . (corner i - (a + a_low)) in about twice f32's precision: for a corner that f32
@@ -385,77 +224,57 @@ fn pyramid_planes(p: vec3<f32>) -> array<vec4<f32>, 5> {
     return planes;
 }
 
-// The pattern's permutation of 0..l chosen by p (`penumbra_volumes::samples::permute`,
-// Kensler 2013).
-fn permute(index: u32, l: u32, p: u32) -> u32 {
-    var w = l - 1u;
-    w |= w >> 1u;
-    w |= w >> 2u;
-    w |= w >> 4u;
-    w |= w >> 8u;
-    w |= w >> 16u;
-    var i = index;
-    loop {
-        spent++;
-        i ^= p;
-        i *= 0xe170893du;
-        i ^= p >> 16u;
-        i ^= (i & w) >> 4u;
-        i ^= p >> 8u;
-        i *= 0x0929eb3fu;
-        i ^= p >> 23u;
-        i ^= (i & w) >> 1u;
-        i *= 1u | (p >> 27u);
-        i *= 0x6935fa69u;
-        i ^= (i & w) >> 11u;
-        i *= 0x74dcb303u;
-        i ^= (i & w) >> 2u;
-        i *= 0x9e501cc3u;
-        i ^= (i & w) >> 2u;
-        i *= 0xc860a3dfu;
-        i &= w;
-        i ^= i >> 5u;
-        if (i < l) {
-            return (i + p) % l;
-        }
-    }
-    return 0u;
-}
+// The counting pass runs in dispatches so that no invocation runs more than a fixed number of
+// loop iterations whatever the scene (`passes::count`): `count_setup` finds each pixel's
+// receiver and its work (its tile's listed edges, or every edge where the tile's range did not
+// fit the list, then the crossings), each `count_chunk` dispatch takes the next `params.chunk`
+// entries of it, and `count_finish` turns the counts into V. Between dispatches a pixel keeps
+// its state in `visibility` (after V): P (3 words), the receiver, the centre's count, the
+// entries done, the entries in all and its flags (`STATE_WORDS`, from Rust); then its counts, one byte per sample.
+// Flags of a pixel's state: its V is still to be counted; a region changed its counts; an
+// invocation of it ran past `params.budget`; it counts D(P, c) over the triangles.
+const ACTIVE: u32 = 1u;
+const CHANGED: u32 = 2u;
+const CUT: u32 = 4u;
+const RECOUNT: u32 = 8u;
 
-// `penumbra_volumes::samples::hash` (Kensler 2013).
-fn hash(index: u32, p: u32) -> u32 {
-    var i = index ^ p;
-    i ^= i >> 17u;
-    i ^= i >> 10u;
-    i *= 0xb36534e5u;
-    i ^= i >> 12u;
-    i ^= i >> 21u;
-    i *= 0x93fc4795u;
-    i ^= 0xdf6e307fu;
-    i ^= i >> 17u;
-    return i * (1u | (p >> 18u));
-}
-
-// A coordinate of the pattern: fine column (or row) `fine` of N² and its 16-bit jitter `jitter`,
-// -1 + (fine + jitter / 65536) 2 / N², rounded once to f32 where N² 65536 <= 2^24.
-fn pattern_coordinate(fine: u32, jitter: u32, nn: u32) -> f32 {
-    let units = fine * 65536u + jitter;
-    let total = nn * 65536u;
-    return f32(i32(2u * units) - i32(total)) / f32(total);
-}
-
-// Invocations per workgroup: COUNT_GROUP x COUNT_GROUP pixels (COUNT_GROUP from Rust).
-// Words of counts per invocation: one byte per sample.
-const COUNT_WORDS: u32 = MAX_SAMPLES / 4u;
-
-// Each invocation's sample counts, one byte each, modulo 256 (the stencil's range), in the
-// workgroup's memory (16 KiB): an array this large in each invocation's own memory takes
-// lavapipe half a minute to compile, and spills on GPUs. Zeroed at the workgroup's start.
-var<workgroup> counts: array<u32, COUNT_GROUP * COUNT_GROUP * COUNT_WORDS>;
 // The pattern's fine column per cell row and fine row per cell column.
 var<private> columns: array<u32, MAX_AXIS>;
 var<private> rows: array<u32, MAX_AXIS>;
 var<private> jitter_seed: u32;
+
+fn pixel_count() -> u32 {
+    return u32(frame.size.x) * u32(frame.size.y);
+}
+
+// The first word of the state of the band's pixel i (`band_pixel`).
+fn state_at(i: u32) -> u32 {
+    return pixel_count() + STATE_WORDS * i;
+}
+
+// The first word of the counts of the band's pixel i.
+fn counts_at(i: u32) -> u32 {
+    let n = params.per_axis;
+    let band = params.band_rows * u32(frame.size.x);
+    return pixel_count() + STATE_WORDS * band + i * ((n * n + 3u) / 4u);
+}
+
+// The image keeps the state and counts of `params.band_rows` rows at a time: the pass runs
+// band by band from the top, `count_band` moving to the next (`demand[4]`, its first row).
+// The pixel of invocation `id` of the current band, and its index in the band; (0, 0, 1) where
+// it lies outside the band or the image.
+fn band_pixel(id: vec3<u32>) -> vec3<u32> {
+    let row = id.y + atomicLoad(&demand[4]);
+    if (id.y >= params.band_rows || id.x >= u32(frame.size.x) || row >= u32(frame.size.y)) {
+        return vec3<u32>(0u, 0u, 1u);
+    }
+    return vec3<u32>(id.x, row, 0u);
+}
+
+@compute @workgroup_size(1)
+fn count_band() {
+    atomicAdd(&demand[4], params.band_rows);
+}
 
 // Adds the region's change to the samples inside it, visiting only the cells its box reaches.
 fn apply(r: Region, n: u32, own: u32) {
@@ -478,29 +297,32 @@ fn apply(r: Region, n: u32, own: u32) {
                 && line_at(r.l3, at) > 0.0) {
                 let w = own + s / 4u;
                 let shift = (s % 4u) * 8u;
-                let b = ((counts[w] >> shift) + bitcast<u32>(r.delta)) & 0xffu;
-                counts[w] = (counts[w] & ~(0xffu << shift)) | (b << shift);
+                let b = ((visibility[w] >> shift) + bitcast<u32>(r.delta)) & 0xffu;
+                visibility[w] = (visibility[w] & ~(0xffu << shift)) | (b << shift);
             }
         }
     }
 }
 
+// A pixel's flags with CUT where this invocation ran past its budget.
+fn with_cut(flags: u32) -> u32 {
+    return select(flags, flags | CUT, spent > params.budget);
+}
+
 @compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
-fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    // This invocation's counts: the first `own` word of `counts`, zeroed.
-    let own = li * COUNT_WORDS;
-    for (var w = 0u; w < COUNT_WORDS; w++) {
-        spent++;
-        counts[own + w] = 0u;
-    }
+fn count_setup(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.size.xy);
-    if (gid.x >= size.x || gid.y >= size.y) {
+    let gid = band_pixel(id);
+    if (gid.z != 0u) {
         return;
     }
     let pixel = gid.y * size.x + gid.x;
+    let local = id.y * size.x + id.x;
+    let st = state_at(local);
+    visibility[st + 7u] = 0u;
     let p = textureLoad(position, vec2<i32>(gid.xy), 0);
     if (p.w == 0.0) {
-        visibility[pixel] = 1.0;
+        visibility[pixel] = bitcast<u32>(1.0);
         return;
     }
     var pl = receiver_point(gid.xy, p);
@@ -508,19 +330,117 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     set_receiver(pl, receiver);
     var base = textureLoad(stencil_count, vec2<i32>(gid.xy), 0).r;
     let better = ray_receiver(gid.xy, receiver, pl, all(weights >= vec3<f32>(0.0)));
-    let same_surface = length(better.xyz - pl) <= 1e-3 * length(pl - params.eye.xyz);
-    if (bitcast<u32>(better.w) != receiver && (same_surface || can_count_centre())) {
+    // A new receiver: the stencil counted the other point, so D(P, c) is counted again over
+    // every triangle, DISPATCH_ITERATIONS triangles per dispatch after its edges.
+    var recount = 0u;
+    if (bitcast<u32>(better.w) != receiver) {
         pl = better.xyz;
         receiver = bitcast<u32>(better.w);
         set_receiver(pl, receiver);
-        if (can_count_centre()) {
-            base = centre_count(receiver);
-        }
+        base = 0u;
+        recount = RECOUNT;
     }
     if (!(pl.z > 0.0)) {
-        visibility[pixel] = 0.0;
+        visibility[pixel] = bitcast<u32>(0.0);
         return;
     }
+    // This pixel's counts, zeroed.
+    let own = counts_at(local);
+    let n = params.per_axis;
+    for (var w = 0u; w < (n * n + 3u) / 4u; w++) {
+        spent++;
+        visibility[own + w] = 0u;
+    }
+    let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
+    let complete = range.x + range.y <= params.capacity;
+    let total = select(params.edges, range.y, complete) + params.crossings;
+    // The dispatches this pixel needs: its edges and crossings `params.chunk` at a time, then
+    // the triangles towards the centre where it recounts them.
+    let chunk = max(params.chunk, 1u);
+    var needed = (total + chunk - 1u) / chunk;
+    if (recount != 0u) {
+        needed += (params.triangles + DISPATCH_ITERATIONS - 1u) / DISPATCH_ITERATIONS;
+    }
+    visibility[st] = bitcast<u32>(pl.x);
+    visibility[st + 1u] = bitcast<u32>(pl.y);
+    visibility[st + 2u] = bitcast<u32>(pl.z);
+    visibility[st + 3u] = receiver;
+    visibility[st + 4u] = base;
+    visibility[st + 5u] = 0u;
+    visibility[st + 6u] = total;
+    visibility[st + 7u] = with_cut(ACTIVE | recount);
+    atomicMax(&demand[2], needed);
+}
+
+// The indirect arguments of the `params.chunks` dispatches of `count_chunk`: the whole image for
+// the first as many as any pixel needs (`demand[2]`), nothing for the others.
+@group(2) @binding(0) var<storage, read_write> chunk_args: array<u32>;
+
+@compute @workgroup_size(64)
+fn count_args(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = gid.x;
+    if (c >= params.chunks) {
+        return;
+    }
+    let run = c < atomicLoad(&demand[2]);
+    let groups = (vec2<u32>(frame.size.xy) + vec2<u32>(COUNT_GROUP - 1u)) / COUNT_GROUP;
+    chunk_args[3u * c] = select(0u, groups.x, run);
+    chunk_args[3u * c + 1u] = groups.y;
+    chunk_args[3u * c + 2u] = 1u;
+}
+
+// Adds to the D(P, c) of the pixel whose state is at `st` the triangles from `first` on, DISPATCH_ITERATIONS of them, that
+// the segment from P on `receiver` to the light's centre crosses (the oracle's count; the
+// stencil counted the rasterised receiver's point).
+fn count_centre(st: u32, first: u32, receiver: u32, flags: u32) {
+    let pl = vec3<f32>(
+        bitcast<f32>(visibility[st]),
+        bitcast<f32>(visibility[st + 1u]),
+        bitcast<f32>(visibility[st + 2u]),
+    );
+    set_receiver(pl, receiver);
+    let end = min(params.triangles, first + DISPATCH_ITERATIONS);
+    var n = 0u;
+    for (var t = first; t < end; t++) {
+        spent++;
+        if (t != receiver && crosses_to_centre(triangles[t])) {
+            n++;
+        }
+    }
+    visibility[st + 4u] = (visibility[st + 4u] + n) & 0xffu;
+    visibility[st + 5u] = visibility[st + 6u] + end;
+    visibility[st + 7u] = with_cut(flags);
+}
+
+@compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
+fn count_chunk(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(frame.size.xy);
+    let gid = band_pixel(id);
+    if (gid.z != 0u) {
+        return;
+    }
+    let pixel = gid.y * size.x + gid.x;
+    let local = id.y * size.x + id.x;
+    let st = state_at(local);
+    let flags = visibility[st + 7u];
+    let done = visibility[st + 5u];
+    let total = visibility[st + 6u];
+    if ((flags & ACTIVE) == 0u) {
+        return;
+    }
+    let receiver = visibility[st + 3u];
+    if (done >= total) {
+        if ((flags & RECOUNT) != 0u && done - total < params.triangles) {
+            count_centre(st, done - total, receiver, flags);
+        }
+        return;
+    }
+    let pl = vec3<f32>(
+        bitcast<f32>(visibility[st]),
+        bitcast<f32>(visibility[st + 1u]),
+        bitcast<f32>(visibility[st + 2u]),
+    );
+    set_receiver(pl, receiver);
     let n = params.per_axis;
     // The pattern of this pixel (`SamplePattern::points`).
     let seed = pixel;
@@ -531,46 +451,72 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     }
     jitter_seed = seed * 0xa399d265u;
     let pyramid = pyramid_planes(pl);
-    var changed = false;
+    let own = counts_at(local);
+    var changed = 0u;
     let range = tile_ranges[(gid.y / TILE) * params.tiles_x + gid.x / TILE];
     let complete = range.x + range.y <= params.capacity;
     let entries = select(params.edges, range.y, complete);
-    for (var k = 0u; k < entries; k++) {
+    let end = min(total, done + params.chunk);
+    for (var k = done; k < end; k++) {
         spent++;
-        var ei = k;
-        if (complete) {
-            ei = list[range.x + k];
-        } else if (!listed(edges[ei], side_keys(pl), pl, pl)) {
-            continue;
+        var r = no_region();
+        if (k < entries) {
+            var ei = k;
+            if (complete) {
+                ei = list[range.x + k];
+            } else if (!listed(edges[ei], side_keys(pl), pl, pl)) {
+                continue;
+            }
+            r = edge_region(ei, pl, pyramid, receiver);
+        } else {
+            r = crossing_region(crossings[k - entries], pl, receiver);
         }
-        let r = edge_region(ei, pl, pyramid, receiver);
         if (r.delta != 0 && r.lo.x <= r.hi.x) {
             apply(r, n, own);
-            changed = true;
+            changed = CHANGED;
         }
     }
-    for (var k = 0u; k < params.crossings; k++) {
-        spent++;
-        let r = crossing_region(crossings[k], pl, receiver);
-        if (r.delta != 0 && r.lo.x <= r.hi.x) {
-            apply(r, n, own);
-            changed = true;
-        }
+    visibility[st + 5u] = end;
+    visibility[st + 7u] = with_cut(flags | changed);
+}
+
+@compute @workgroup_size(COUNT_GROUP, COUNT_GROUP)
+fn count_finish(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(frame.size.xy);
+    let gid = band_pixel(id);
+    if (gid.z != 0u) {
+        return;
     }
+    let pixel = gid.y * size.x + gid.x;
+    let local = id.y * size.x + id.x;
+    let st = state_at(local);
+    let flags = visibility[st + 7u];
+    if ((flags & ACTIVE) == 0u) {
+        return;
+    }
+    // A pixel whose work the dispatches did not finish: reported (`demand[3]`), never left
+    // silently wrong.
+    let recounted = select(0u, params.triangles, (flags & RECOUNT) != 0u);
+    if (visibility[st + 5u] < visibility[st + 6u] + recounted) {
+        atomicAdd(&demand[3], 1u);
+    }
+    let base = visibility[st + 4u];
+    let n = params.per_axis;
+    let own = counts_at(local);
     // D(P, s) modulo 256, read as a signed byte: zero (or, where rounding made the counts
     // disagree, negative) is visible, as the oracle's `D <= 0`.
     var seen = 0u;
-    if (changed) {
+    if ((flags & CHANGED) != 0u) {
         for (var s = 0u; s < n * n; s++) {
             spent++;
-            let c = (counts[own + s / 4u] >> ((s % 4u) * 8u)) + base;
+            let c = (visibility[own + s / 4u] >> ((s % 4u) * 8u)) + base;
             seen += select(0u, 1u, (c & 0xffu) == 0u || (c & 0x80u) != 0u);
         }
     } else {
         seen = select(0u, n * n, base == 0u || (base & 0x80u) != 0u);
     }
-    if (spent > params.budget) {
+    if ((with_cut(flags) & CUT) != 0u) {
         atomicAdd(&demand[1], 1u);
     }
-    visibility[pixel] = f32(seen) / f32(n * n);
+    visibility[pixel] = bitcast<u32>(f32(seen) / f32(n * n));
 }

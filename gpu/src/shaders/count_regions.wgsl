@@ -132,3 +132,36 @@ fn slab(za: f32, zb: f32, zp: f32) -> vec2<f32> {
     return t;
 }
 
+// Error-free transformations (Knuth's two-sum; Dekker's product with Veltkamp's split): a
+// result and its rounding error, exactly. Shader compilers may fold `(a + b) - a` to `b`,
+// reassociate sums and lower `fma` to a rounded product and sum (lavapipe does all three), so
+// each step's result passes through `opaque`, which no floating-point rewrite crosses, and
+// products are split instead of using `fma`.
+fn opaque(x: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(x) ^ params.zero);
+}
+
+fn two_sum(a: f32, b: f32) -> vec2<f32> {
+    let s = opaque(a + b);
+    let bb = opaque(s - a);
+    let av = opaque(s - bb);
+    return vec2<f32>(s, opaque(a - av) + opaque(b - bb));
+}
+
+// a as hi + lo, each of at most 12 significant bits.
+fn veltkamp(a: f32) -> vec2<f32> {
+    let c = opaque(a * 4097.0);
+    let t = opaque(c - a);
+    let hi = opaque(c - t);
+    return vec2<f32>(hi, opaque(a - hi));
+}
+
+fn two_product(a: f32, b: f32) -> vec2<f32> {
+    let p = opaque(a * b);
+    let x = veltkamp(a);
+    let y = veltkamp(b);
+    let e1 = opaque(x.x * y.x - p);
+    let e2 = opaque(e1 + x.x * y.y);
+    let e3 = opaque(e2 + x.y * y.x);
+    return vec2<f32>(p, e3 + x.y * y.y);
+}
