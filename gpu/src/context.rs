@@ -168,10 +168,15 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::DEPTH_CLIP_CONTROL
     .union(wgpu::Features::PIPELINE_STATISTICS_QUERY);
 
 /// Limits beyond wgpu's defaults that the passes need: the silhouette buffer's six colour
-/// targets take 56 bytes per sample, and wgpu's default allows 32.
+/// targets take 56 bytes per sample, and wgpu's default allows 32; the counting pass of
+/// depth-complexity binds nine storage buffers (the scene's edges, faces, crossings and
+/// triangles, the tiles' ranges and lists, the demand, V with the pixels' state, and its
+/// dispatches' arguments), and wgpu's default allows eight (desktop Vulkan, Metal and D3D12
+/// devices allow far more).
 pub fn required_limits() -> wgpu::Limits {
     wgpu::Limits {
         max_color_attachment_bytes_per_sample: 64,
+        max_storage_buffers_per_shader_stage: 9,
         ..Default::default()
     }
 }
@@ -279,6 +284,14 @@ impl GpuContext {
             return Err(GpuError::MissingFeature {
                 adapter: info.name.clone(),
                 feature: "max_color_attachment_bytes_per_sample >= 64",
+            });
+        }
+        if device.limits().max_storage_buffers_per_shader_stage
+            < needed.max_storage_buffers_per_shader_stage
+        {
+            return Err(GpuError::MissingFeature {
+                adapter: info.name.clone(),
+                feature: "max_storage_buffers_per_shader_stage >= 9",
             });
         }
         Ok(GpuContext {
