@@ -5,7 +5,7 @@
 //! need an adapter (lavapipe in CI), as `gpu.rs` does.
 
 mod common;
-use common::{context, view};
+use common::{agreement, context, view};
 
 use std::path::PathBuf;
 
@@ -58,17 +58,6 @@ fn large_scenes() -> [(&'static str, Scene); 2] {
         ("beetle-alt", over_ground("beetle-alt", 3.0, 0.53)),
         ("nefertiti", over_ground("nefertiti", 0.008, 1.47)),
     ]
-}
-
-/// The share of pixels where `gpu` equals `cpu`, and the pixels that differ by more than one
-/// sample's share of V, `step`.
-fn agreement(cpu: &VisibilityImage, gpu: &VisibilityImage, step: f32) -> (f64, usize) {
-    let pairs = || cpu.data.iter().zip(&gpu.data);
-    let equal = pairs().filter(|(a, b)| a == b).count();
-    let beyond = pairs()
-        .filter(|(a, b)| (*a - *b).abs() > 1.5 * step)
-        .count();
-    (equal as f64 / cpu.data.len() as f64, beyond)
 }
 
 /// The acceptance of GPU depth complexity on the large meshes, at 64 and 256 samples: at least

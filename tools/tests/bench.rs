@@ -129,35 +129,15 @@ fn bench_refuses_bad_arguments() {
     }
 }
 
-/// GOOD_SCENE with a ground wide enough to cover every pixel, so that the depth pre-pass
-/// shades each pixel at least once.
-const COVERED_SCENE: &str = r#"
-[camera]
-eye = [0.0, 3.0, 4.0]
-target = [0.0, 0.0, 0.0]
-up = [0.0, 1.0, 0.0]
-fov_y_deg = 45.0
-width = 40
-height = 24
-
-[light]
-center = [0.0, 4.0, 0.0]
-normal = [0.0, -1.0, 0.0]
-tangent = [1.0, 0.0, 0.0]
-size = [1.0, 1.0]
-
-[[mesh]]
-obj = "m.obj"
-scale = 100.0
-
-[[mesh]]
-obj = "m.obj"
-translate = [0.0, 1.0, 0.0]
-"#;
-
 #[test]
 fn bench_counters_count_every_gpu_pass() {
-    let d = case_dir("bench-counters", COVERED_SCENE, GOOD_OBJ);
+    // GOOD_SCENE at 40 x 24 with a ground wide enough to cover every pixel, so that the depth
+    // pre-pass shades each pixel at least once.
+    let covered = GOOD_SCENE
+        .replace("width = 24\nheight = 16", "width = 40\nheight = 24")
+        .replace("scale = 4.0", "scale = 100.0");
+    assert!(covered.contains("width = 40") && covered.contains("scale = 100.0"));
+    let d = case_dir("bench-counters", &covered, GOOD_OBJ);
     let out = penumbra()
         .arg("bench")
         .arg(d.join("s.toml"))

@@ -70,3 +70,19 @@ pub fn texture(
         view_formats: &[],
     })
 }
+
+/// How far the GPU's depth-complexity image `gpu` is from the oracle's `cpu` at light samples
+/// of weight `step`: the share of equal pixels, and the pixels more than one sample apart.
+#[allow(dead_code)] // Not every test file that shares this module uses it.
+pub fn agreement(
+    cpu: &penumbra_geom::VisibilityImage,
+    gpu: &penumbra_geom::VisibilityImage,
+    step: f32,
+) -> (f64, usize) {
+    let pairs = || cpu.data.iter().zip(&gpu.data);
+    let equal = pairs().filter(|(a, b)| a == b).count();
+    let beyond = pairs()
+        .filter(|(a, b)| (*a - *b).abs() > 1.5 * step)
+        .count();
+    (equal as f64 / cpu.data.len() as f64, beyond)
+}
