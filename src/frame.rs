@@ -74,11 +74,17 @@ impl fmt::Display for Warning {
 
 /// The warnings of a frame of `technique` rendered where `placement` says: each mesh whose cut
 /// by the light's plane holds the light's centre, for the techniques built from the light's
-/// centre (hard, wedges, shadow maps); on the GPU, a triangle wider than its floats hold.
-pub(crate) fn warnings(scene: &Scene, technique: Technique, placement: Placement) -> Vec<Warning> {
+/// centre (hard, wedges, shadow maps); on the GPU, a triangle wider than its floats hold
+/// (`extent`, the scene's [`crate::backend::extent_ratio`] where already measured).
+pub(crate) fn warnings(
+    scene: &Scene,
+    technique: Technique,
+    placement: Placement,
+    extent: Option<f64>,
+) -> Vec<Warning> {
     let mut out = Vec::new();
     if placement == Placement::Gpu {
-        let ratio = crate::backend::extent_ratio(scene);
+        let ratio = extent.unwrap_or_else(|| crate::backend::extent_ratio(scene));
         if ratio > crate::backend::MAX_GPU_EXTENT_RATIO {
             out.push(Warning::GpuExtent { ratio, technique });
         }

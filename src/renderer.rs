@@ -51,12 +51,14 @@ impl GpuState {
 }
 
 /// What the machine offers one render of `scene`: the GPU, the scene's volumes (the caller's,
-/// or built here on first ask and kept for the GPU's render), the memory.
+/// or built here on first ask and kept for the GPU's render), its extent ratio (measured on
+/// first ask and kept for the frame's warnings), the memory.
 struct Offers<'a> {
     gpu: &'a mut GpuState,
     scene: &'a Scene,
     volumes: Option<&'a Volumes>,
     built: &'a mut Option<Volumes>,
+    extent: &'a mut Option<f64>,
 }
 
 impl Machine for Offers<'_> {
@@ -75,7 +77,9 @@ impl Machine for Offers<'_> {
     }
 
     fn extent_ratio(&mut self) -> f64 {
-        backend::extent_ratio(self.scene)
+        *self
+            .extent
+            .get_or_insert_with(|| backend::extent_ratio(self.scene))
     }
 
     fn available_memory(&mut self) -> Option<u64> {
@@ -187,7 +191,7 @@ impl Renderer {
             width: scene.camera.width,
             height: scene.camera.height,
         };
-        let mut built = None;
+        let (mut built, mut extent) = (None, None);
         let choice = backend::choose(
             &request,
             &mut Offers {
@@ -195,6 +199,7 @@ impl Renderer {
                 scene,
                 volumes,
                 built: &mut built,
+                extent: &mut extent,
             },
         )?;
         let mut frame = match choice.placement {
@@ -214,7 +219,7 @@ impl Renderer {
                 frame
             }
         };
-        frame.warnings = frame::warnings(scene, technique, choice.placement);
+        frame.warnings = frame::warnings(scene, technique, choice.placement, extent);
         Ok(frame)
     }
 

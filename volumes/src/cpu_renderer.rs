@@ -201,7 +201,15 @@ impl CpuRenderer {
         let d = c - p.position;
         let dist = d.length();
         let eps = self.tracer.epsilon;
+        // The casters within the segment's `f32` start offset of `p`, tested in `f64` over the
+        // whole segment as the reference does: that offset grows with the scene's extent, and a
+        // caster inside it (a small occluder over a huge ground) still casts its shadow.
         let mut out = Vec::new();
+        self.tracer.near_triangles(p, &mut out);
+        out.retain(|&t| {
+            self.triangle_occluder[t as usize] & CASTER_BIT != 0
+                && self.tracer.crosses(p.position, c, t)
+        });
         if dist > 2.0 * eps {
             let dir = d / dist;
             self.tracer.bvh.for_each_hit(
@@ -217,16 +225,8 @@ impl CpuRenderer {
                 },
             );
         }
-        // The casters within the segment's `f32` start offset of `p`, tested in `f64` over the
-        // whole segment as the reference does: that offset grows with the scene's extent, and a
-        // caster inside it (a small occluder over a huge ground) still casts its shadow.
-        let mut near = Vec::new();
-        self.tracer.near_triangles(p, &mut near);
-        out.extend(near.into_iter().filter(|&t| {
-            self.triangle_occluder[t as usize] & CASTER_BIT != 0
-                && self.tracer.crosses(p.position, c, t)
-        }));
-        // A triangle split over several leaves is reported once per leaf.
+        // A triangle split over several leaves is reported once per leaf, a near one perhaps
+        // twice.
         out.sort_unstable();
         out.dedup();
         let mut counts: Vec<(u32, u32)> = Vec::new();
