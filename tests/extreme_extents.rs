@@ -9,18 +9,10 @@ use glam::{DMat4, DVec2, DVec3};
 use penumbra::geom::compare;
 use penumbra::geom::{Camera, RectLight, Scene, TriangleMesh, VisibilityImage};
 use penumbra::{Backend, RenderOptions, Renderer, Technique, Warning};
+use penumbra_testkit::square;
 
 fn mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleMesh {
     TriangleMesh::from_raw("memory", positions, triangles).unwrap()
-}
-
-/// A horizontal square of side `2 h` at height `y`, facing up.
-fn square(y: f64, h: f64) -> TriangleMesh {
-    let c = DVec3::new;
-    mesh(
-        &[c(-h, y, -h), c(-h, y, h), c(h, y, h), c(h, y, -h)],
-        &[[0, 1, 2], [0, 2, 3]],
-    )
 }
 
 fn light() -> RectLight {

@@ -7,19 +7,11 @@ use penumbra::Technique;
 use penumbra::geom::Camera;
 use penumbra::geom::compare;
 use penumbra::geom::{LightSamples, Reference};
-use penumbra::geom::{RectLight, Scene, TriangleMesh, VisibilityImage};
+use penumbra::geom::{RectLight, Scene, VisibilityImage};
 use penumbra::volumes::{CpuRenderer, DepthComplexity, SamplePattern};
+use penumbra_testkit::square;
 
 fn scene(distance: f64) -> Scene {
-    let quad = |y: f64, h: f64| {
-        let c = DVec3::new;
-        TriangleMesh::from_raw(
-            "memory",
-            &[c(-h, y, -h), c(-h, y, h), c(h, y, h), c(h, y, -h)],
-            &[[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap()
-    };
     let camera = Camera::look_at(
         DVec3::new(0.0, 3.0, 4.0),
         DVec3::ZERO,
@@ -38,8 +30,8 @@ fn scene(distance: f64) -> Scene {
         DVec2::splat(distance / 4.0),
     );
     Scene::new(camera, light)
-        .with_mesh("ground", &quad(0.0, 2.0), DMat4::IDENTITY)
-        .with_mesh("quad", &quad(1.0, 0.5), DMat4::IDENTITY)
+        .with_mesh("ground", &square(0.0, 2.0), DMat4::IDENTITY)
+        .with_mesh("quad", &square(1.0, 0.5), DMat4::IDENTITY)
 }
 
 fn differing(a: &VisibilityImage, b: &VisibilityImage) -> usize {

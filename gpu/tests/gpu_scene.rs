@@ -14,6 +14,7 @@ use penumbra_gpu::{
     FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene, read_r32f,
     visibility_target,
 };
+use penumbra_testkit::{square, unit_cube};
 use penumbra_volumes::CpuRenderer;
 
 const SIZE: (u32, u32) = (96, 72);
@@ -24,41 +25,8 @@ const FOV_DEG: f64 = 45.0;
 /// A ground, a sphere and a box, each in its own space, with their transforms.
 fn meshes() -> Vec<(TriangleMesh, DMat4)> {
     let p = DVec3::new;
-    let quad = |s: f64| {
-        TriangleMesh::from_raw(
-            "ground",
-            &[p(-s, 0.0, -s), p(-s, 0.0, s), p(s, 0.0, s), p(s, 0.0, -s)],
-            &[[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap()
-    };
-    let c = [
-        p(-0.5, -0.5, -0.5),
-        p(0.5, -0.5, -0.5),
-        p(0.5, 0.5, -0.5),
-        p(-0.5, 0.5, -0.5),
-        p(-0.5, -0.5, 0.5),
-        p(0.5, -0.5, 0.5),
-        p(0.5, 0.5, 0.5),
-        p(-0.5, 0.5, 0.5),
-    ];
-    let faces = [
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [2, 3, 7],
-        [2, 7, 6],
-        [1, 2, 6],
-        [1, 6, 5],
-        [0, 4, 7],
-        [0, 7, 3],
-    ];
-    let cube = TriangleMesh::from_raw("cube", &c, &faces).unwrap();
     vec![
-        (quad(6.0), DMat4::IDENTITY),
+        (square(0.0, 6.0), DMat4::IDENTITY),
         (
             TriangleMesh::uv_sphere(12, 16),
             DMat4::from_scale_rotation_translation(
@@ -67,7 +35,7 @@ fn meshes() -> Vec<(TriangleMesh, DMat4)> {
                 p(-0.8, 1.2, 0.0),
             ),
         ),
-        (cube, box_transform(0.3)),
+        (unit_cube(), box_transform(0.3)),
     ]
 }
 

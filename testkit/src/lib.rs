@@ -5,21 +5,57 @@
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra_geom::{Camera, RectLight, Scene, TriangleMesh};
 
+/// A horizontal square of side `2 half` at height `y`, facing up (`+y`), as two triangles.
+pub fn square(y: f64, half: f64) -> TriangleMesh {
+    let (c, h) = (DVec3::new, half);
+    TriangleMesh::from_raw(
+        "square",
+        &[c(-h, y, -h), c(-h, y, h), c(h, y, h), c(h, y, -h)],
+        &[[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap()
+}
+
+/// The cube `[-0.5, 0.5]^3`, closed and wound outwards, as twelve triangles.
+pub fn unit_cube() -> TriangleMesh {
+    let c = DVec3::new;
+    TriangleMesh::from_raw(
+        "cube",
+        &[
+            c(-0.5, -0.5, -0.5),
+            c(0.5, -0.5, -0.5),
+            c(0.5, 0.5, -0.5),
+            c(-0.5, 0.5, -0.5),
+            c(-0.5, -0.5, 0.5),
+            c(0.5, -0.5, 0.5),
+            c(0.5, 0.5, 0.5),
+            c(-0.5, 0.5, 0.5),
+        ],
+        &[
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [2, 3, 7],
+            [2, 7, 6],
+            [1, 2, 6],
+            [1, 6, 5],
+            [0, 4, 7],
+            [0, 7, 3],
+        ],
+    )
+    .unwrap()
+}
+
 /// A scene that the light's plane cuts, where the volume techniques clip what lies behind the
 /// light: a closed box standing up through the light's plane beside its centre, and a quad
 /// tilted through it, over a ground, under a tilted 2.5 x 2 light, seen by a 64 x 48 camera.
 pub fn through_the_light() -> Scene {
     let c = DVec3::new;
     let mesh = |p: &[DVec3], t: &[[u32; 3]]| TriangleMesh::from_raw("memory", p, t).unwrap();
-    let ground = mesh(
-        &[
-            c(-6., 0., -6.),
-            c(-6., 0., 6.),
-            c(6., 0., 6.),
-            c(6., 0., -6.),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    );
+    let ground = square(0.0, 6.0);
     let cube = mesh(
         &[
             c(-0.1, 3.0, -0.7),
@@ -76,42 +112,8 @@ pub fn through_the_light() -> Scene {
 /// snaps corners to a fraction of a pixel, puts it on the box.
 pub fn scene_in_code() -> Scene {
     let p = DVec3::new;
-    let mesh = |v: &[DVec3], t: &[[u32; 3]]| TriangleMesh::from_raw("memory", v, t).unwrap();
-    let ground = mesh(
-        &[
-            p(-6.0, 0.0, -6.0),
-            p(-6.0, 0.0, 6.0),
-            p(6.0, 0.0, 6.0),
-            p(6.0, 0.0, -6.0),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    );
-    let cube = mesh(
-        &[
-            p(-0.5, -0.5, -0.5),
-            p(0.5, -0.5, -0.5),
-            p(0.5, 0.5, -0.5),
-            p(-0.5, 0.5, -0.5),
-            p(-0.5, -0.5, 0.5),
-            p(0.5, -0.5, 0.5),
-            p(0.5, 0.5, 0.5),
-            p(-0.5, 0.5, 0.5),
-        ],
-        &[
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [2, 3, 7],
-            [2, 7, 6],
-            [1, 2, 6],
-            [1, 6, 5],
-            [0, 4, 7],
-            [0, 7, 3],
-        ],
-    );
+    let ground = square(0.0, 6.0);
+    let cube = unit_cube();
     let camera = Camera::look_at(p(0.0, 5.0, 7.0), p(0.0, 0.5, 0.0), DVec3::Y, 45.0, 320, 240);
     let light = RectLight::new(p(-1.0, 6.0, 0.5), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.5));
     let sphere = DMat4::from_scale_rotation_translation(
