@@ -70,13 +70,56 @@ pub struct PointVisibility {
 #[derive(Default)]
 pub struct Scratch {
     points: Vec<DVec2>,
-    /// The points in `f32`, sorted by their angle around the light's centre.
+    /// The points in `f32`, in the pattern's order.
+    xs: Vec<f32>,
+    ys: Vec<f32>,
+    /// The same, sorted by their angle around the light's centre, for points with many regions.
     samples: Sectors,
-    /// Their depth complexities less the centre's, in the same order.
+    /// Their depth complexities less the centre's, in the order of `xs` or of `samples`.
     counts: Vec<i32>,
+    /// The regions of the point's edges, before any sample is placed.
+    regions: Vec<Region>,
     hits: Vec<u32>,
     near: Vec<u32>,
     candidates: Candidates,
+}
+
+/// Up to this many regions a point's samples are tested against every region in the pattern's
+/// order; beyond it they are first sorted by angle ([`Sectors`]), so that each region reads
+/// only the samples of its cone. Sorting costs about as much as testing every sample against
+/// this many regions.
+const SORT_FROM: usize = 24;
+
+impl Scratch {
+    /// Places the samples of `pixel` and adds every region in `regions` to their counts;
+    /// returns how many regions held a sample. Where there is no region the counts are one
+    /// zero: the visibility is that of the centre alone.
+    fn apply_regions(&mut self, pattern: SamplePattern, pixel: u64) -> usize {
+        self.counts.clear();
+        if self.regions.is_empty() {
+            self.counts.push(0);
+            return 0;
+        }
+        pattern.points(pixel, &mut self.points);
+        self.xs.clear();
+        self.xs.extend(self.points.iter().map(|q| q.x as f32));
+        self.ys.clear();
+        self.ys.extend(self.points.iter().map(|q| q.y as f32));
+        self.counts.resize(self.points.len(), 0);
+        let counts = &mut self.counts;
+        if self.regions.len() < SORT_FROM {
+            self.regions
+                .iter()
+                .filter(|r| r.apply_to_all(&self.xs, &self.ys, counts))
+                .count()
+        } else {
+            self.samples.fill(&self.xs, &self.ys);
+            self.regions
+                .iter()
+                .filter(|r| r.apply(&self.samples, counts))
+                .count()
+        }
+    }
 }
 
 /// The candidate edges of a point or a tile, with what the silhouette pre-test reads of each
@@ -272,44 +315,26 @@ impl DepthComplexity {
     ) -> PointVisibility {
         self.tracer.near_triangles(p, &mut scratch.near);
         let centre_count = self.centre_count(p, &scratch.near, &mut scratch.hits);
-        let n = pattern.per_axis;
-        let mut edges = 0;
-        let mut ready = false;
         let pyramid = pyramid_planes(pl);
         candidates.pretest(pl, self.reach2);
-        let mut add = |region: Region, scratch: &mut Scratch| {
-            if !ready {
-                // Only points that some edge reaches need their samples.
-                pattern.points(pixel, &mut scratch.points);
-                scratch.samples.fill(&scratch.points);
-                scratch.counts.clear();
-                scratch.counts.resize(n * n, 0);
-                ready = true;
-            }
-            if region.apply(&scratch.samples, &mut scratch.counts) {
-                edges += 1;
-            }
-        };
+        let regions = &mut scratch.regions;
+        regions.clear();
         for (k, (e, two)) in candidates.edges.iter().enumerate() {
             if candidates.keep[k] {
                 let faces = match e.face_count {
                     2 => &two[..],
                     _ => self.edges.faces_of(e),
                 };
-                if let Some(region) = edge_region(e, faces, pl, &pyramid, p.triangle) {
-                    add(region, scratch);
-                }
+                regions.extend(edge_region(e, faces, pl, &pyramid, p.triangle));
             }
         }
-        for x in &self.edges.crossings {
-            if let Some(region) = crossing_region(x, pl, p.triangle) {
-                add(region, scratch);
-            }
-        }
-        if !ready {
-            scratch.counts.clear();
-            scratch.counts.push(0);
-        }
+        regions.extend(
+            self.edges
+                .crossings
+                .iter()
+                .filter_map(|x| crossing_region(x, pl, p.triangle)),
+        );
+        let edges = scratch.apply_regions(pattern, pixel);
         let base = centre_count as i32;
         let counts = &scratch.counts;
         let seen = counts.iter().filter(|&&c| base + c <= 0).count();

@@ -64,19 +64,42 @@ impl Region {
         let k = self.lines.map(|l| l.k.as_vec3());
         let mut inside = 0;
         samples.in_cone(self.lines[1].k, self.lines[2].k, |r| {
-            for ((c, &x), &y) in counts[r.clone()]
-                .iter_mut()
-                .zip(&samples.xs[r.clone()])
-                .zip(&samples.ys[r])
-            {
-                let at = |k: glam::Vec3| k.x * x + k.y * y + k.z;
-                let hit = (at(k[0]) > 0.0) & (at(k[1]) > 0.0) & (at(k[2]) > 0.0) & (at(k[3]) > 0.0);
-                *c += self.delta * hit as i32;
-                inside += hit as u32;
-            }
+            inside += add(
+                &k,
+                self.delta,
+                &samples.xs[r.clone()],
+                &samples.ys[r.clone()],
+                &mut counts[r],
+            );
         });
         inside > 0
     }
+
+    /// [`Region::apply`] testing every sample (`xs[k], ys[k]` that of `counts[k]`): cheaper for a
+    /// point with few regions than sorting its samples.
+    pub(crate) fn apply_to_all(&self, xs: &[f32], ys: &[f32], counts: &mut [i32]) -> bool {
+        add(
+            &self.lines.map(|l| l.k.as_vec3()),
+            self.delta,
+            xs,
+            ys,
+            counts,
+        ) > 0
+    }
+}
+
+/// Adds `delta` to the counts of the samples where the four lines `k` are positive, returning
+/// how many were.
+#[inline(always)]
+fn add(k: &[glam::Vec3; 4], delta: i32, xs: &[f32], ys: &[f32], counts: &mut [i32]) -> u32 {
+    let mut inside = 0;
+    for ((c, &x), &y) in counts.iter_mut().zip(xs).zip(ys) {
+        let at = |k: glam::Vec3| k.x * x + k.y * y + k.z;
+        let hit = (at(k[0]) > 0.0) & (at(k[1]) > 0.0) & (at(k[2]) > 0.0) & (at(k[3]) > 0.0);
+        *c += delta * hit as i32;
+        inside += hit as u32;
+    }
+    inside
 }
 
 /// The samples whose count a triangle through the light's plane changes, as seen from `pl`

@@ -52,20 +52,19 @@ pub struct Sectors {
 }
 
 impl Sectors {
-    /// Sorts `points` (in `[-1, 1]^2`) into two sectors per sample: the thin cone of a short
+    /// Sorts the samples `(xs[k], ys[k])` (in `[-1, 1]^2`) into two sectors per sample: the thin cone of a short
     /// edge then reads one sample or two.
-    pub fn fill(&mut self, points: &[DVec2]) {
-        let sectors = (points.len() * 2).max(1);
+    pub fn fill(&mut self, xs: &[f32], ys: &[f32]) {
+        let sectors = (xs.len() * 2).max(1);
         let scale = sectors as f64 / 4.0;
         self.start.clear();
         self.start.resize(sectors + 2, 0);
         self.bucket.clear();
-        // The samples' angles in `f32`, without branches (so that the loop vectorises): their
+        // The samples' angles in `f32`: their
         // rounding, about 1e-7, is far inside the cones' margin.
         let (scale32, near2) = (scale as f32, (NEAR_CENTRE * NEAR_CENTRE) as f32);
         let last = (sectors - 1) as f32;
-        self.bucket.extend(points.iter().map(|q| {
-            let (x, y) = (q.x as f32, q.y as f32);
+        self.bucket.extend(xs.iter().zip(ys).map(|(&x, &y)| {
             let r = y / (x.abs() + y.abs());
             let p = if x < 0.0 {
                 2.0 - r
@@ -87,16 +86,16 @@ impl Sectors {
             self.start[b + 1] += self.start[b];
         }
         self.xs.clear();
-        self.xs.resize(points.len(), 0.0);
+        self.xs.resize(xs.len(), 0.0);
         self.ys.clear();
-        self.ys.resize(points.len(), 0.0);
+        self.ys.resize(xs.len(), 0.0);
         // `next` runs through `start` shifted by one: after the scatter, `start[b]` again
         // begins sector `b`.
         let mut next = std::mem::take(&mut self.start);
-        for (q, &b) in points.iter().zip(&self.bucket) {
+        for ((&x, &y), &b) in xs.iter().zip(ys).zip(&self.bucket) {
             let at = next[b as usize] as usize;
-            self.xs[at] = q.x as f32;
-            self.ys[at] = q.y as f32;
+            self.xs[at] = x;
+            self.ys[at] = y;
             next[b as usize] += 1;
         }
         next.rotate_right(1);
@@ -180,7 +179,9 @@ mod tests {
             .chain([DVec2::ZERO, DVec2::new(1e-4, -2e-4), DVec2::new(0.0, 0.5)])
             .collect();
         let mut s = Sectors::default();
-        s.fill(&points);
+        let xs: Vec<f32> = points.iter().map(|q| q.x as f32).collect();
+        let ys: Vec<f32> = points.iter().map(|q| q.y as f32).collect();
+        s.fill(&xs, &ys);
         assert_eq!(s.xs.len(), points.len());
         let mut checked = 0;
         for _ in 0..2000 {
