@@ -141,6 +141,10 @@ pub(crate) fn crossing_region(x: &LightCrossing, pl: DVec3, receiver: u32) -> Op
 /// strictly between depths 0 and `zp` (empty when `t0 >= t1`).
 fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    // The common case, without the divisions: the whole segment lies between the two depths.
+    if za > 0.0 && zb > 0.0 && za < zp && zb < zp {
+        return (t0, t1);
+    }
     let dz = zb - za;
     for (bound, above) in [(0.0, true), (zp, false)] {
         // Keep z > bound (above) or z < bound.
