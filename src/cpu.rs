@@ -29,7 +29,8 @@ pub(crate) fn render(
         }
         Technique::DepthComplexity => {
             let r = DepthComplexity::new(scene);
-            let detail = format!(
+            let image = r.render(pattern, progress);
+            let mut detail = format!(
                 "cpu, {} {} samples, {} potential silhouette edges of {}",
                 pattern.per_axis * pattern.per_axis,
                 if pattern.jitter {
@@ -40,7 +41,11 @@ pub(crate) fn render(
                 r.edges.edges.len(),
                 r.edges.all_edges
             );
-            (r.render(pattern, progress), detail)
+            if r.cast_pixels() > 0 {
+                let share = r.cast_pixels() as f64 / image.data.len() as f64;
+                detail += &format!(", {:.1}% of pixels by rays", 100.0 * share);
+            }
+            (image, detail)
         }
         _ => {
             let r = CpuRenderer::new(scene);

@@ -128,6 +128,15 @@ impl BoxTree {
 
     /// Calls `f` with every item in a leaf whose box no plane of `planes` leaves wholly outside.
     pub fn query_planes(&self, planes: &[Plane], f: &mut impl FnMut(u32)) {
+        self.query_planes_while(planes, &mut |i| {
+            f(i);
+            true
+        });
+    }
+
+    /// [`BoxTree::query_planes`] until `f` returns `false`; returns whether it never did (every
+    /// item was visited).
+    pub fn query_planes_while(&self, planes: &[Plane], f: &mut impl FnMut(u32) -> bool) -> bool {
         self.query(
             |lo, hi| {
                 !planes.iter().any(|pl| {
@@ -137,18 +146,23 @@ impl BoxTree {
                 })
             },
             f,
-        );
+        )
     }
 
     /// Calls `f` with every item in a leaf whose box meets the box `[lo, hi]`: every item whose
     /// own box meets it, and possibly others of the same leaves.
     pub fn query_box(&self, lo: DVec3, hi: DVec3, f: &mut impl FnMut(u32)) {
-        self.query(|a, b| a.cmple(hi).all() && b.cmpge(lo).all(), f);
+        self.query(|a, b| a.cmple(hi).all() && b.cmpge(lo).all(), &mut |i| {
+            f(i);
+            true
+        });
     }
 
-    fn query(&self, meets: impl Fn(DVec3, DVec3) -> bool, f: &mut impl FnMut(u32)) {
+    /// Calls `f` with the items of the leaves whose boxes `meets` accepts, until it returns
+    /// `false`; returns whether it never did.
+    fn query(&self, meets: impl Fn(DVec3, DVec3) -> bool, f: &mut impl FnMut(u32) -> bool) -> bool {
         if self.nodes.is_empty() {
-            return;
+            return true;
         }
         // The tree is balanced: its depth is about log2(items / 4), far below 64.
         let mut stack = [0u32; 64];
@@ -162,7 +176,9 @@ impl BoxTree {
             if node.count > 0 {
                 let s = node.start as usize;
                 for &i in &self.order[s..s + node.count as usize] {
-                    f(i);
+                    if !f(i) {
+                        return false;
+                    }
                 }
             } else {
                 stack[top] = node.start;
@@ -170,6 +186,7 @@ impl BoxTree {
                 top += 2;
             }
         }
+        true
     }
 }
 

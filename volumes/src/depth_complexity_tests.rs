@@ -322,3 +322,72 @@ fn occluders_through_the_light_plane() {
     }
     assert!(checked > 100, "only {checked} penumbra pixels");
 }
+
+/// A sheet of 24 x 24 quads with random heights over the ground: hundreds of potential
+/// silhouette edges.
+fn bumpy_sheet() -> TriangleMesh {
+    let n = 24u32;
+    let mut rng = penumbra_geom::Rng::stream(11, 0);
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (-2.0 + 4.0 * i as f64 / n as f64, -2.0 + 4.0 * j as f64 / n as f64);
+            p.push(DVec3::new(x, 1.5 + 0.3 * rng.next_f64(), z));
+        }
+    }
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    let mut t = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    mesh(&p, &t)
+}
+
+#[test]
+fn tiles_cast_by_rays_give_the_counts_image() {
+    let scene = scene(
+        vec![bumpy_sheet()],
+        DVec3::new(0.5, 6.0, 7.0),
+        DVec3::new(0.0, 0.5, 0.0),
+    );
+    let mut dc = DepthComplexity::new(&scene);
+    assert!(dc.edges.edges.len() > 300, "{}", dc.edges.edges.len());
+    let render = |dc: &DepthComplexity, jitter| {
+        dc.render(
+            SamplePattern {
+                per_axis: PER_AXIS,
+                jitter,
+            },
+            &|_| {},
+        )
+    };
+    dc.tile_cast_from = f64::INFINITY;
+    let counted = render(&dc, false);
+    assert_eq!(dc.cast_pixels(), 0);
+    // Every tile with a candidate edge casts: with the reference's points, the reference's
+    // image exactly (the same rays by the same rule).
+    dc.tile_cast_from = 0.0;
+    let cast = render(&dc, false);
+    let lit = cast.data.iter().filter(|&&v| v > 0.0).count() as u64;
+    assert!(dc.cast_pixels() >= lit / 2, "{} of {lit} lit pixels cast", dc.cast_pixels());
+    let want =
+        Reference::new(&scene).render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
+    assert_eq!(render(&dc, true).data, want.data);
+    let penumbra = counted.data.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
+    let differ: Vec<(usize, f32, f32)> = cast
+        .data
+        .iter()
+        .zip(&counted.data)
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .map(|(k, (a, b))| (k, *a, *b))
+        .collect();
+    println!("{penumbra} penumbra pixels; cast and counted differ at {differ:?}");
+    assert!(penumbra >= 500, "{penumbra} penumbra pixels");
+    assert!(differ.len() <= 3, "{} pixels differ", differ.len());
+    let samples = (PER_AXIS * PER_AXIS) as f32;
+    assert!(differ.iter().all(|(_, a, b)| (a - b).abs() <= 2.0 / samples));
+}

@@ -278,8 +278,21 @@ impl PotentialEdges {
     /// ordered by their angle with the light's plane, and a point lies inside those at least as
     /// steep as its own.
     pub fn for_each_near_any(&self, points: &[DVec3], mut f: impl FnMut(u32)) {
+        self.for_each_near_any_while(points, |i| {
+            f(i);
+            true
+        });
+    }
+
+    /// [`PotentialEdges::for_each_near_any`] until `f` returns `false`; returns whether it never
+    /// did (every edge was visited).
+    pub fn for_each_near_any_while(
+        &self,
+        points: &[DVec3],
+        mut f: impl FnMut(u32) -> bool,
+    ) -> bool {
         let Some((&first, rest)) = points.split_first() else {
-            return;
+            return true;
         };
         let mut planes = pyramid_planes(first);
         for &p in rest {
@@ -290,7 +303,7 @@ impl PotentialEdges {
                 }
             }
         }
-        self.bvh.query_planes(&planes, &mut f);
+        self.bvh.query_planes_while(&planes, &mut f)
     }
 }
 
