@@ -90,11 +90,24 @@ pub struct Scratch {
     candidates: Candidates,
 }
 
-/// A tile whose candidate edges outnumber its points' samples this many times has each sample
-/// tested by a ray instead ([`DepthComplexity::render`]). Measured on the scale scene, its
-/// 837,546-triangle refinement and under a light four times as large: 8 to 16 cost within 5%
-/// of one another, every tile counted by its edges costs up to 4x more.
-const TILE_CAST_FROM: f64 = 12.0;
+/// When a tile of pixels has each sample tested by a ray instead of counted from the edges
+/// ([`DepthComplexity::render`]): where its candidate edges outnumber its points' samples
+/// `candidates` times, or its middle point keeps (after the silhouette pre-test) `kept` times
+/// as many edges as samples.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CastFrom {
+    pub candidates: f64,
+    pub kept: f64,
+}
+
+/// Measured on the scale scene, its 10k- to 840k-triangle versions and under lights of a
+/// quarter to four times its size (`docs/benchmarks.md`): a lower `candidates` casts tiles
+/// that a small light's points count faster, a higher one spends long on queries under a large
+/// light.
+const CAST_FROM: CastFrom = CastFrom {
+    candidates: 24.0,
+    kept: 4.0,
+};
 
 /// Up to this many regions a point's samples are tested against every region in the pattern's
 /// order; beyond it they are first sorted by angle ([`Sectors`]), so that each region reads
@@ -199,8 +212,9 @@ impl Candidates {
         self.t1.push(t(n1));
     }
 
-    /// Marks in `keep` the edges that may change a count seen from `p`; `r2` is `R^2`.
-    fn pretest(&mut self, p: DVec3, r2: f32) {
+    /// Marks in `keep` the edges that may change a count seen from `p`, and returns how many;
+    /// `r2` is `R^2`.
+    fn pretest(&mut self, p: DVec3, r2: f32) -> usize {
         let n = self.ids.len();
         self.keep.clear();
         self.keep.resize(n, false);
@@ -218,6 +232,7 @@ impl Candidates {
             let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
             keep[k] = !apart;
         }
+        keep.iter().filter(|&&k| k).count()
     }
 }
 
@@ -233,8 +248,8 @@ pub struct DepthComplexity {
     reach2: f32,
     /// The camera whose pixels [`DepthComplexity::render`] renders.
     camera: Camera,
-    /// [`TILE_CAST_FROM`], which the tests vary.
-    pub(crate) tile_cast_from: f64,
+    /// [`CAST_FROM`], which the tests vary.
+    pub(crate) cast_from: CastFrom,
     /// Pixels of the last [`DepthComplexity::render`] whose samples were cast.
     cast_pixels: std::sync::atomic::AtomicU64,
 }
@@ -256,7 +271,7 @@ impl DepthComplexity {
             tracer,
             edges,
             camera: scene.camera,
-            tile_cast_from: TILE_CAST_FROM,
+            cast_from: CAST_FROM,
             cast_pixels: Default::default(),
         }
     }
@@ -392,9 +407,10 @@ impl DepthComplexity {
     ///
     /// Pixels go in tiles of [`TILE`] x [`TILE`]: one query of the edge hierarchy finds the
     /// candidates of a whole tile (the union of its points' pyramids), and its pixels share them.
-    /// A tile whose candidates outnumber its samples twelve times (a large light
-    /// over detailed meshes: thousands of potential silhouette edges around each point) tests
-    /// each sample by a ray instead, which costs less there; the query stops at that number.
+    /// A tile whose candidates outnumber its samples 24 times, or whose middle point keeps four
+    /// times as many edges as samples (a large light over detailed meshes: thousands of
+    /// potential silhouette edges around each point), tests each sample by a ray instead, which
+    /// costs less there; the query stops at the first number.
     pub fn render(
         &self,
         pattern: SamplePattern,
@@ -405,7 +421,8 @@ impl DepthComplexity {
         let light = &self.tracer.light;
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
-        self.cast_pixels.store(0, std::sync::atomic::Ordering::Relaxed);
+        self.cast_pixels
+            .store(0, std::sync::atomic::Ordering::Relaxed);
         img.data
             .par_chunks_mut(w * TILE)
             .enumerate()
@@ -441,13 +458,19 @@ impl DepthComplexity {
                     );
                     // A tile that would test more edges than rays would cost casts its samples.
                     let samples = pattern.per_axis * pattern.per_axis;
-                    let limit = (self.tile_cast_from * samples as f64) as usize;
-                    let tile_casts = !self.edges.for_each_near_any_while(&at, |ei| {
+                    let limit = (self.cast_from.candidates * samples as f64).min(1e18) as usize;
+                    let complete = self.edges.for_each_near_any_while(&at, |ei| {
                         if self.edges.may_fold_within(ei, lo, hi) {
                             candidates.push(&self.edges, ei);
                         }
                         candidates.ids.len() <= limit
                     });
+                    // Past the limit, or where the middle point keeps many edges, rays cost less.
+                    let tile_casts = !complete
+                        || lit.get(lit.len() / 2).is_some_and(|m| {
+                            candidates.pretest(m.2, self.reach2) as f64
+                                > self.cast_from.kept * samples as f64
+                        });
                     if tile_casts {
                         self.cast_pixels
                             .fetch_add(lit.len() as u64, std::sync::atomic::Ordering::Relaxed);

@@ -331,7 +331,10 @@ fn bumpy_sheet() -> TriangleMesh {
     let mut p = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
-            let (x, z) = (-2.0 + 4.0 * i as f64 / n as f64, -2.0 + 4.0 * j as f64 / n as f64);
+            let (x, z) = (
+                -2.0 + 4.0 * i as f64 / n as f64,
+                -2.0 + 4.0 * j as f64 / n as f64,
+            );
             p.push(DVec3::new(x, 1.5 + 0.3 * rng.next_f64(), z));
         }
     }
@@ -364,15 +367,25 @@ fn tiles_cast_by_rays_give_the_counts_image() {
             &|_| {},
         )
     };
-    dc.tile_cast_from = f64::INFINITY;
+    dc.cast_from = CastFrom {
+        candidates: f64::INFINITY,
+        kept: f64::INFINITY,
+    };
     let counted = render(&dc, false);
     assert_eq!(dc.cast_pixels(), 0);
     // Every tile with a candidate edge casts: with the reference's points, the reference's
     // image exactly (the same rays by the same rule).
-    dc.tile_cast_from = 0.0;
+    dc.cast_from = CastFrom {
+        candidates: 0.0,
+        kept: 0.0,
+    };
     let cast = render(&dc, false);
     let lit = cast.data.iter().filter(|&&v| v > 0.0).count() as u64;
-    assert!(dc.cast_pixels() >= lit / 2, "{} of {lit} lit pixels cast", dc.cast_pixels());
+    assert!(
+        dc.cast_pixels() >= lit / 2,
+        "{} of {lit} lit pixels cast",
+        dc.cast_pixels()
+    );
     let want =
         Reference::new(&scene).render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
     assert_eq!(render(&dc, true).data, want.data);
@@ -389,5 +402,9 @@ fn tiles_cast_by_rays_give_the_counts_image() {
     assert!(penumbra >= 500, "{penumbra} penumbra pixels");
     assert!(differ.len() <= 3, "{} pixels differ", differ.len());
     let samples = (PER_AXIS * PER_AXIS) as f32;
-    assert!(differ.iter().all(|(_, a, b)| (a - b).abs() <= 2.0 / samples));
+    assert!(
+        differ
+            .iter()
+            .all(|(_, a, b)| (a - b).abs() <= 2.0 / samples)
+    );
 }
