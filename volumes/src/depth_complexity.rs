@@ -378,6 +378,28 @@ impl DepthComplexity {
         }
     }
 
+    /// Gathers into `candidates` the edges that the light-space points `at` (a tile's lit
+    /// receivers, the middle one halfway along) may see fold, and returns whether the tile
+    /// should cast its `samples` instead ([`CAST_FROM`]); the gathering stops there.
+    fn tile_candidates(&self, at: &[DVec3], samples: usize, candidates: &mut Candidates) -> bool {
+        candidates.clear();
+        let (lo, hi) = at.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &q| (lo.min(q), hi.max(q)),
+        );
+        let limit = (self.cast_from.candidates * samples as f64).min(1e18) as usize;
+        let complete = self.edges.for_each_near_any_while(at, |ei| {
+            if self.edges.may_fold_within(ei, lo, hi) {
+                candidates.push(&self.edges, ei);
+            }
+            candidates.ids.len() <= limit
+        });
+        !complete
+            || at.get(at.len() / 2).is_some_and(|&m| {
+                candidates.pretest(m, self.reach2) as f64 > self.cast_from.kept * samples as f64
+            })
+    }
+
     /// How many pixels of the last [`DepthComplexity::render`] had their samples tested by rays
     /// rather than counted from the edges.
     pub fn cast_pixels(&self) -> u64 {
@@ -451,26 +473,8 @@ impl DepthComplexity {
                     at.clear();
                     at.extend(lit.iter().map(|l| l.2));
                     let mut candidates = std::mem::take(&mut scratch.candidates);
-                    candidates.clear();
-                    let (lo, hi) = at.iter().fold(
-                        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                        |(lo, hi), &q| (lo.min(q), hi.max(q)),
-                    );
-                    // A tile that would test more edges than rays would cost casts its samples.
                     let samples = pattern.per_axis * pattern.per_axis;
-                    let limit = (self.cast_from.candidates * samples as f64).min(1e18) as usize;
-                    let complete = self.edges.for_each_near_any_while(&at, |ei| {
-                        if self.edges.may_fold_within(ei, lo, hi) {
-                            candidates.push(&self.edges, ei);
-                        }
-                        candidates.ids.len() <= limit
-                    });
-                    // Past the limit, or where the middle point keeps many edges, rays cost less.
-                    let tile_casts = !complete
-                        || lit.get(lit.len() / 2).is_some_and(|m| {
-                            candidates.pretest(m.2, self.reach2) as f64
-                                > self.cast_from.kept * samples as f64
-                        });
+                    let tile_casts = self.tile_candidates(&at, samples, &mut candidates);
                     if tile_casts {
                         self.cast_pixels
                             .fetch_add(lit.len() as u64, std::sync::atomic::Ordering::Relaxed);
