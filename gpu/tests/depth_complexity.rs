@@ -12,7 +12,8 @@ use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::wgpu;
 use penumbra_gpu::{
     ComplexityReport, FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene,
-    SOFTWARE_LOOP_BUDGET, read_r32f, read_texels, visibility_target,
+    SOFTWARE_LOOP_BUDGET, count_buffer_bytes, read_r32f, read_texels, storage_binding_limit,
+    visibility_target,
 };
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
@@ -148,6 +149,27 @@ fn fixture(name: &str) -> Scene {
         .find(|(n, _)| n == name)
         .expect("fixture")
         .1
+}
+
+/// The counting pass's buffer that a frame allocates is the figure `count_buffer_bytes` gives
+/// (which the back-end policy charges): V, and each pixel's state and counts.
+#[test]
+fn the_counting_buffer_allocated_is_the_figure_given() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let limit = storage_binding_limit(&ctx.device.limits());
+    let scene = at_size(fixture("quad-over-plane"), (40, 30));
+    for samples in [64, 256] {
+        let mut gpu_scene = gpu_scene(&r, &scene, samples);
+        assert_eq!(gpu_scene.count_buffer_bytes(), None);
+        frame(&ctx, &mut gpu_scene, &scene, None);
+        let given = count_buffer_bytes((40, 30), samples, limit);
+        assert_eq!(gpu_scene.count_buffer_bytes(), given, "{samples}");
+        let per_pixel = 4 + 4 * (8 + samples as u64 / 4);
+        assert_eq!(given, Some(40 * 30 * per_pixel), "{samples}");
+    }
 }
 
 #[test]
