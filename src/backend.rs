@@ -109,8 +109,9 @@ const CPU_BYTES_PER_PIXEL: u64 = 16;
 
 /// Bytes per pixel a GPU render holds on the device and in the readback: depth-stencil (8),
 /// positions (16), normals (8), V (4), the silhouette buffer (40), the final buffer (24), the
-/// readback (4) and V on the CPU (4), with room. Depth-complexity sampling holds its counting
-/// pass's buffer besides ([`gpu_bytes`]).
+/// readback (4) and V on the CPU (4), with room. Depth-complexity sampling holds its receiver
+/// candidates (8) in place of the silhouette and final buffers, and its counting pass's buffer
+/// besides ([`gpu_bytes`]).
 const GPU_BYTES_PER_PIXEL: u64 = 128;
 
 /// Bytes a GPU render of `technique` at `width x height` holds: [`GPU_BYTES_PER_PIXEL`] per

@@ -36,13 +36,14 @@ use super::uploads::Uploads;
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameCamera;
+use crate::passes::candidates::{CANDIDATE_DEPTH_FORMAT, CANDIDATE_FORMAT};
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
 use crate::passes::count::{
     band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,
 };
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
-use crate::passes::{FrameBindings, bind_group, buffer};
+use crate::passes::{FrameBindings, bind_group, buffer, texture, view};
 use crate::pipelines::Pipelines;
 use crate::timing::{Pass, Timer};
 
@@ -90,6 +91,9 @@ pub(super) struct ComplexityFrame {
     visibility: wgpu::Buffer,
     /// The indirect arguments of the counting pass's chunk dispatches.
     args: wgpu::Buffer,
+    /// The receiver candidates (`passes::candidates`) and their depth.
+    candidate: wgpu::Texture,
+    candidate_depth: wgpu::Texture,
     /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
     pending: bool,
 }
@@ -241,6 +245,20 @@ impl ComplexityFrame {
                 "count arguments",
                 12 * chunks as u64,
                 storage | wgpu::BufferUsages::INDIRECT,
+            ),
+            candidate: texture(
+                device,
+                "receiver candidates",
+                size,
+                CANDIDATE_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            ),
+            candidate_depth: texture(
+                device,
+                "receiver candidates' depth",
+                size,
+                CANDIDATE_DEPTH_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
             ),
             pending: false,
         }
@@ -495,7 +513,11 @@ impl ComplexityState {
                 ),
             );
         }
-        let group = frame.inputs(device, p, data, gbuffer);
+        let candidate = view(&frame.candidate);
+        if target.is_some() {
+            frame.record_candidates(encoder, (device, p), (parts.frame, data), &candidate, timer);
+        }
+        let group = frame.inputs(device, p, data, gbuffer, &candidate);
         encoder.clear_buffer(&frame.demand, 0, None);
         p.edge_lists.record(
             encoder,
@@ -550,6 +572,31 @@ impl ComplexityState {
 }
 
 impl ComplexityFrame {
+    /// Records the receiver candidates' pass (`passes::candidates`) into `candidate`, a view
+    /// of [`ComplexityFrame::candidate`].
+    fn record_candidates(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (device, p): (&wgpu::Device, &Pipelines),
+        (frame, data): (&wgpu::BindGroup, &ComplexityScene),
+        candidate: &wgpu::TextureView,
+        timer: &Timer,
+    ) {
+        let inputs = p.candidates.inputs(device, &self.params, &data.triangles);
+        let traffic = Traffic::new()
+            .reads(&self.params)
+            .reads(&data.triangles)
+            .writes(&self.candidate)
+            .updates(&self.candidate_depth);
+        p.candidates.record(
+            encoder,
+            (frame, &inputs),
+            (candidate, &view(&self.candidate_depth)),
+            data.triangle_count,
+            timer.pass(Pass::Count, traffic),
+        );
+    }
+
     /// Group 1 of both compute passes (`passes::complexity::inputs_layout`).
     fn inputs(
         &self,
@@ -557,6 +604,7 @@ impl ComplexityFrame {
         p: &Pipelines,
         data: &ComplexityScene,
         gbuffer: &GBuffer,
+        candidate: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         bind_group(
             device,
@@ -574,6 +622,7 @@ impl ComplexityFrame {
                 self.params.as_entire_binding(),
                 self.visibility.as_entire_binding(),
                 data.triangles.as_entire_binding(),
+                wgpu::BindingResource::TextureView(candidate),
             ],
         )
     }
