@@ -31,19 +31,19 @@ use penumbra_volumes::Silhouette;
 use penumbra_volumes::{ShadowVolume, VolumeVertex};
 
 use super::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
+use super::complexity_receivers::{ReceiverInputs, ReceiverTargets};
 use super::meshes::{StoredMesh, world};
 use super::uploads::Uploads;
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameCamera;
-use crate::passes::candidates::{CANDIDATE_DEPTH_FORMAT, CANDIDATE_FORMAT};
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
 use crate::passes::count::{
     band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,
 };
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
-use crate::passes::{FrameBindings, bind_group, buffer, texture, view};
+use crate::passes::{FrameBindings, bind_group, buffer};
 use crate::pipelines::Pipelines;
 use crate::timing::{Pass, Timer};
 
@@ -91,9 +91,8 @@ pub(super) struct ComplexityFrame {
     visibility: wgpu::Buffer,
     /// The indirect arguments of the counting pass's chunk dispatches.
     args: wgpu::Buffer,
-    /// The receiver candidates (`passes::candidates`) and their depth.
-    candidate: wgpu::Texture,
-    candidate_depth: wgpu::Texture,
+    /// What the receivers' checks draw (`super::complexity_receivers`).
+    receivers: ReceiverTargets,
     /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
     pending: bool,
 }
@@ -246,20 +245,7 @@ impl ComplexityFrame {
                 12 * chunks as u64,
                 storage | wgpu::BufferUsages::INDIRECT,
             ),
-            candidate: texture(
-                device,
-                "receiver candidates",
-                size,
-                CANDIDATE_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            ),
-            candidate_depth: texture(
-                device,
-                "receiver candidates' depth",
-                size,
-                CANDIDATE_DEPTH_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            ),
+            receivers: ReceiverTargets::new(device, size),
             pending: false,
         }
     }
@@ -513,11 +499,15 @@ impl ComplexityState {
                 ),
             );
         }
-        let candidate = view(&frame.candidate);
         if target.is_some() {
-            frame.record_candidates(encoder, (device, p), (parts.frame, data), &candidate, timer);
+            let inputs = ReceiverInputs {
+                frame: parts.frame,
+                params: &frame.params,
+                triangles: (&data.triangles, data.triangle_count),
+            };
+            frame.receivers.record(encoder, (device, p), inputs, timer);
         }
-        let group = frame.inputs(device, p, data, gbuffer, &candidate);
+        let group = frame.inputs(device, p, data, gbuffer, &frame.receivers.candidates());
         encoder.clear_buffer(&frame.demand, 0, None);
         p.edge_lists.record(
             encoder,
@@ -572,31 +562,6 @@ impl ComplexityState {
 }
 
 impl ComplexityFrame {
-    /// Records the receiver candidates' pass (`passes::candidates`) into `candidate`, a view
-    /// of [`ComplexityFrame::candidate`].
-    fn record_candidates(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        (device, p): (&wgpu::Device, &Pipelines),
-        (frame, data): (&wgpu::BindGroup, &ComplexityScene),
-        candidate: &wgpu::TextureView,
-        timer: &Timer,
-    ) {
-        let inputs = p.candidates.inputs(device, &self.params, &data.triangles);
-        let traffic = Traffic::new()
-            .reads(&self.params)
-            .reads(&data.triangles)
-            .writes(&self.candidate)
-            .updates(&self.candidate_depth);
-        p.candidates.record(
-            encoder,
-            (frame, &inputs),
-            (candidate, &view(&self.candidate_depth)),
-            data.triangle_count,
-            timer.pass(Pass::Count, traffic),
-        );
-    }
-
     /// Group 1 of both compute passes (`passes::complexity::inputs_layout`).
     fn inputs(
         &self,

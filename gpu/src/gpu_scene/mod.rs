@@ -5,6 +5,7 @@
 //! CPU and uploaded again only in frames where the light or a mesh's transform changed.
 
 mod complexity;
+mod complexity_receivers;
 mod complexity_state;
 mod meshes;
 mod record;
