@@ -176,7 +176,7 @@ fn band_bytes(n: u32) -> u64 {
 /// Bytes of the counting pass's buffer that a depth-complexity frame of `size` pixels at
 /// `samples` light samples per pixel allocates on a device whose storage bindings hold at most
 /// `limit` bytes ([`storage_binding_limit`]): V of every pixel, and each pixel's state and
-/// counts for as many rows at once as fit ([`band_rows`]), the whole image unless it does not
+/// counts for as many rows at once as fit (`band_rows`), the whole image unless it does not
 /// fit one binding. `samples` is rounded up to a square. `None` where not even `COUNT_GROUP`
 /// rows fit: the frame is refused (`GpuError::TooLarge`).
 ///
