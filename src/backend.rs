@@ -108,9 +108,31 @@ pub fn extent_ratio(scene: &Scene) -> f64 {
 const CPU_BYTES_PER_PIXEL: u64 = 16;
 
 /// Bytes per pixel a GPU render holds on the device and in the readback: depth-stencil (8),
-/// positions (16), normals (8), V (4), the silhouette buffer (56), the final buffer (8), the
-/// readback (4) and V on the CPU (4), with room.
+/// positions (16), normals (8), V (4), the silhouette buffer (40), the final buffer (24), the
+/// readback (4) and V on the CPU (4), with room. Depth-complexity sampling holds its receiver
+/// candidates (8) in place of the silhouette and final buffers, and its counting pass's buffer
+/// besides ([`gpu_bytes`]).
 const GPU_BYTES_PER_PIXEL: u64 = 128;
+
+/// Bytes a GPU render of `technique` at `width x height` holds: [`GPU_BYTES_PER_PIXEL`] per
+/// pixel, and for depth-complexity sampling at `samples` samples the counting pass's buffer
+/// (V, and each pixel's state and counts, bounded by one storage binding of `max_binding`
+/// bytes: [`penumbra_gpu::count_buffer_bytes`], the figure its allocation uses). A frame whose
+/// buffer would not fit one binding is refused by the GPU before it allocates it
+/// ([`GpuError::TooLarge`]), and adds nothing here.
+fn gpu_bytes(
+    technique: Technique,
+    (width, height): (u32, u32),
+    samples: usize,
+    max_binding: u64,
+) -> u64 {
+    let targets = width as u64 * height as u64 * GPU_BYTES_PER_PIXEL;
+    if technique != Technique::DepthComplexity {
+        return targets;
+    }
+    let samples = u32::try_from(samples).unwrap_or(u32::MAX);
+    targets + penumbra_gpu::count_buffer_bytes((width, height), samples, max_binding).unwrap_or(0)
+}
 
 /// The processor a render runs on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -252,6 +274,9 @@ pub struct GpuOffer {
     pub software: bool,
     /// The largest texture side it takes.
     pub max_texture_side: u32,
+    /// The most bytes one storage binding holds ([`penumbra_gpu::storage_binding_limit`]):
+    /// what bounds the buffer of depth-complexity's counting pass.
+    pub max_storage_binding: u64,
 }
 
 /// What the machine offers the policy, each looked at only when a rule needs it.
@@ -327,17 +352,23 @@ pub fn choose(request: &Request, machine: &mut dyn Machine) -> Result<Choice, Re
     } = *request;
     let (mut placement, mut reason, offer) =
         place_technique(technique, backend, &mut || machine.gpu())?;
+    let mut max_binding = 0;
     if let Some(offer) = offer {
+        max_binding = offer.max_storage_binding;
         if let Some(why) = gpu_limits(request, offer, machine)? {
             placement = Placement::Cpu;
             reason = why;
         }
     }
-    let per_pixel = match placement {
-        Placement::Gpu => GPU_BYTES_PER_PIXEL,
-        Placement::Cpu => CPU_BYTES_PER_PIXEL,
+    let needed = match placement {
+        Placement::Gpu => gpu_bytes(
+            technique,
+            (width, height),
+            request.options.samples,
+            max_binding,
+        ),
+        Placement::Cpu => width as u64 * height as u64 * CPU_BYTES_PER_PIXEL,
     };
-    let needed = width as u64 * height as u64 * per_pixel;
     if let Some(available) = machine.available_memory().filter(|&a| needed > a) {
         return Err(RenderError::OutOfMemory {
             width,

@@ -46,6 +46,7 @@ impl GpuState {
             adapter: ctx.describe(),
             software: ctx.info.device_type == penumbra_gpu::wgpu::DeviceType::Cpu,
             max_texture_side: ctx.device.limits().max_texture_dimension_2d,
+            max_storage_binding: penumbra_gpu::storage_binding_limit(&ctx.device.limits()),
         })
     }
 }

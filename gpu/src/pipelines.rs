@@ -7,6 +7,7 @@ use std::sync::Arc;
 use crate::context::{GpuContext, GpuError};
 use crate::passes::{
     blend::BlendPass,
+    candidates::CandidatePass,
     complexity::{ComplexityPass, inputs_layout},
     count::CountPass,
     depth::DepthPass,
@@ -28,6 +29,8 @@ pub(crate) struct Pipelines {
     pub(crate) complexity_layout: wgpu::BindGroupLayout,
     pub(crate) edge_lists: ComplexityPass,
     pub(crate) count: CountPass,
+    /// Its receiver candidates.
+    pub(crate) candidates: CandidatePass,
 }
 
 /// The volume techniques' pipelines on one device. Cloning it is cheap: the pipelines are
@@ -67,6 +70,7 @@ impl GpuRenderer {
         let pipelines = Pipelines {
             edge_lists: ComplexityPass::edge_lists(device, &frame_layout, &complexity_layout),
             count: CountPass::new(device, &frame_layout, &complexity_layout),
+            candidates: CandidatePass::new(device, &frame_layout),
             complexity_layout,
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),

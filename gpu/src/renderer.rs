@@ -112,8 +112,8 @@ impl GpuRenderer {
         gpu_scene.complexity_report()?;
         let mut redone = 0;
         loop {
-            // Depth, stencil, edge lists, count, resolve.
-            let timer = Timer::new(self.context(), 5, self.counters());
+            // Depth, stencil, receiver candidates, edge lists, count, resolve.
+            let timer = Timer::new(self.context(), 6, self.counters());
             let mut enc = device.create_command_encoder(&Default::default());
             gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
             gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;

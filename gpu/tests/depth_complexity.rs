@@ -12,7 +12,8 @@ use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::wgpu;
 use penumbra_gpu::{
     ComplexityReport, FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene,
-    SOFTWARE_LOOP_BUDGET, read_r32f, read_texels, visibility_target,
+    SOFTWARE_LOOP_BUDGET, count_buffer_bytes, read_r32f, read_texels, storage_binding_limit,
+    visibility_target,
 };
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
@@ -76,10 +77,12 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
     check_every_fixture(None, 0.9995, 0);
 }
 
-/// At half the fixtures' size a pixel of `cheburashka` and one of `spot` are more than a sample
-/// apart: a junction of several triangles whose hit none of the neighbouring pixels' triangles
-/// holds, and a ground pixel whose stencil count is two above the oracle's (the segment to the
-/// centre passes through a crack of the mesh within 1e-4 of two triangles).
+/// At half the fixtures' size a pixel of `spot` is more than a sample apart: a ground pixel
+/// whose stencil count is two above the oracle's (the segment to the centre passes through a
+/// crack of the mesh within 1e-4 of two triangles, a tie the rasterised volumes decide against
+/// the oracle's `f64`). A pixel of `cheburashka` was too until the receiver candidates
+/// (`candidates.wgsl`): a junction of several triangles whose hit none of the neighbouring
+/// pixels' triangles held.
 #[test]
 fn gpu_depth_complexity_equals_the_cpu_oracle_at_half_size() {
     check_every_fixture(Some((160, 120)), 0.9998, 1);
@@ -148,6 +151,27 @@ fn fixture(name: &str) -> Scene {
         .find(|(n, _)| n == name)
         .expect("fixture")
         .1
+}
+
+/// The counting pass's buffer that a frame allocates is the figure `count_buffer_bytes` gives
+/// (which the back-end policy charges): V, and each pixel's state and counts.
+#[test]
+fn the_counting_buffer_allocated_is_the_figure_given() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let limit = storage_binding_limit(&ctx.device.limits());
+    let scene = at_size(fixture("quad-over-plane"), (40, 30));
+    for samples in [64, 256] {
+        let mut gpu_scene = gpu_scene(&r, &scene, samples);
+        assert_eq!(gpu_scene.count_buffer_bytes(), None);
+        frame(&ctx, &mut gpu_scene, &scene, None);
+        let given = count_buffer_bytes((40, 30), samples, limit);
+        assert_eq!(gpu_scene.count_buffer_bytes(), given, "{samples}");
+        let per_pixel = 4 + 4 * (8 + samples as u64 / 4);
+        assert_eq!(given, Some(40 * 30 * per_pixel), "{samples}");
+    }
 }
 
 #[test]

@@ -22,6 +22,7 @@ impl Fake {
                 adapter: "test adapter".into(),
                 software,
                 max_texture_side: 8192,
+                max_storage_binding: 128 << 20,
             }),
             ..Fake::without_gpu()
         }
@@ -247,6 +248,63 @@ fn an_image_the_memory_would_not_hold_is_refused_on_either_back_end() {
     machine.memory = Some(1_000_000);
     let err = ask(Technique::Reference, Backend::Auto, SMALL, &mut machine).unwrap_err();
     assert!(err.to_string().contains("too large"), "{err}");
+}
+
+#[test]
+fn depth_complexity_on_the_gpu_is_charged_its_counting_buffer() {
+    // 320 x 240 pixels at 256 samples: 9.8 MB of targets, and the counting pass's buffer of
+    // 4 bytes of V and 288 of state and counts per pixel, 22.4 MB: 32.3 MB in all.
+    let counting = penumbra_gpu::count_buffer_bytes((320, 240), 256, 128 << 20).unwrap();
+    assert_eq!(counting, 320 * 240 * (4 + 288));
+    let wide = RenderOptions {
+        samples: 256,
+        jitter: false,
+    };
+    let mut machine = Fake::with_gpu(false);
+    // Room for every other technique's GPU frame (128 bytes a pixel), not for this one.
+    machine.memory = Some(20_000_000);
+    assert_eq!(
+        placed(Technique::WedgesBlend, Backend::Gpu, wide, &mut machine),
+        Placement::Gpu
+    );
+    for backend in [Backend::Gpu, Backend::Auto] {
+        let err = ask(Technique::DepthComplexity, backend, wide, &mut machine).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                RenderError::OutOfMemory { needed, available: 20_000_000, .. }
+                    if needed == 9_830_400 + counting
+            ),
+            "{backend:?}: {err}"
+        );
+    }
+    // Where the buffer fits, the GPU renders it; on the CPU it needs 16 bytes a pixel.
+    machine.memory = Some(9_830_400 + counting);
+    assert_eq!(
+        placed(Technique::DepthComplexity, Backend::Gpu, wide, &mut machine),
+        Placement::Gpu
+    );
+    machine.memory = Some(2_000_000);
+    assert_eq!(
+        placed(Technique::DepthComplexity, Backend::Cpu, wide, &mut machine),
+        Placement::Cpu
+    );
+    // Fewer samples, a smaller buffer: 64 samples take 4 + 96 bytes a pixel.
+    let mut machine = Fake::with_gpu(false);
+    machine.memory = Some(9_830_400 + 320 * 240 * (4 + 96));
+    let options = RenderOptions {
+        samples: 64,
+        jitter: false,
+    };
+    assert_eq!(
+        placed(
+            Technique::DepthComplexity,
+            Backend::Gpu,
+            options,
+            &mut machine
+        ),
+        Placement::Gpu
+    );
 }
 
 #[test]

@@ -30,13 +30,17 @@ use penumbra_volumes::PotentialEdges;
 use penumbra_volumes::Silhouette;
 use penumbra_volumes::{ShadowVolume, VolumeVertex};
 
+use super::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
+use super::complexity_receivers::{ReceiverInputs, ReceiverTargets};
 use super::meshes::{StoredMesh, world};
 use super::uploads::Uploads;
 use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
 use crate::context::{GpuContext, GpuError};
 use crate::frame::FrameCamera;
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
-use crate::passes::count::{band_rows, chunks, count_bytes, edges_per_dispatch};
+use crate::passes::count::{
+    band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,
+};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
@@ -87,6 +91,8 @@ pub(super) struct ComplexityFrame {
     visibility: wgpu::Buffer,
     /// The indirect arguments of the counting pass's chunk dispatches.
     args: wgpu::Buffer,
+    /// What the receivers' checks draw (`super::complexity_receivers`).
+    receivers: ReceiverTargets,
     /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
     pending: bool,
 }
@@ -94,34 +100,6 @@ pub(super) struct ComplexityFrame {
 /// Tiles per row and rows of tiles of an image of `size` pixels.
 fn tiles((w, h): (u32, u32)) -> (u32, u32) {
     (w.div_ceil(TILE), h.div_ceil(TILE))
-}
-
-/// Loop iterations an invocation of the counting pass may take on a software device before its
-/// pixel counts as cut short. Mesa's llvmpipe (lavapipe) ends every loop of an invocation once
-/// they have run 65,535 iterations in all (`LP_MAX_TGSI_LOOP_ITERATIONS`), silently; the
-/// counting pass counts its loops' iterations (an upper bound of llvmpipe's count, which does
-/// not see the loops its compiler unrolls) and reports the pixels that may have reached that
-/// limit ([`ComplexityReport::cut_short`]).
-pub const SOFTWARE_LOOP_BUDGET: u32 = 65_000;
-
-/// What a depth-complexity frame reports once it has run
-/// ([`GpuScene::complexity_report`](super::GpuScene::complexity_report)).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ComplexityReport {
-    /// Entries the frame's edge list needed.
-    pub demand: u32,
-    /// Whether that was more than it held: the tiles that did not fit read every edge (the
-    /// image is the same, only slower) and the list has grown for the next frames.
-    pub overflowed: bool,
-    /// Pixels whose counting took more loop iterations than a software device runs (see
-    /// [`SOFTWARE_LOOP_BUDGET`]): their V may be wrong. Always 0 on a hardware GPU, and on a
-    /// software one unless a receiver's own work outgrows the budget (a budget set below
-    /// what the counting pass's bounded dispatches take).
-    pub cut_short: u32,
-    /// Pixels whose work (their tile's edges and the crossings) the counting pass's
-    /// dispatches did not finish: their V is wrong. Found exactly, by each pixel; 0 unless a
-    /// frame records fewer dispatches than the longest possible work needs, which none does.
-    pub unfinished: u32,
 }
 
 impl ComplexityScene {
@@ -267,6 +245,7 @@ impl ComplexityFrame {
                 12 * chunks as u64,
                 storage | wgpu::BufferUsages::INDIRECT,
             ),
+            receivers: ReceiverTargets::new(device, size),
             pending: false,
         }
     }
@@ -379,6 +358,12 @@ impl ComplexityState {
         self.chunk_override = entries;
     }
 
+    /// Bytes of the counting pass's buffer (V, the pixels' state and counts) of the last
+    /// frame's buffers; `None` before the first frame.
+    pub(super) fn count_buffer_bytes(&self) -> Option<u64> {
+        self.frame.as_ref().map(|f| f.visibility.size())
+    }
+
     pub(super) fn set_most_band_rows(&mut self, rows: u32) {
         self.most_band_rows = if rows == 0 { 0 } else { rows.max(COUNT_GROUP) };
     }
@@ -423,10 +408,7 @@ impl ComplexityState {
         }
         // The counting pass's buffer and the list are storage buffers: each must fit one
         // binding. The former keeps as many rows' state and counts at once as fit.
-        let limits = device.limits();
-        let limit = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
+        let limit = storage_binding_limit(&device.limits());
         let n = self.samples_per_axis;
         let rows = band_rows(size, n, limit, self.most_band_rows);
         let list_bytes = 4 * self.list_capacity as u64;
@@ -517,7 +499,15 @@ impl ComplexityState {
                 ),
             );
         }
-        let group = frame.inputs(device, p, data, gbuffer);
+        if target.is_some() {
+            let inputs = ReceiverInputs {
+                frame: parts.frame,
+                params: &frame.params,
+                triangles: (&data.triangles, data.triangle_count),
+            };
+            frame.receivers.record(encoder, (device, p), inputs, timer);
+        }
+        let group = frame.inputs(device, p, data, gbuffer, &frame.receivers.candidates());
         encoder.clear_buffer(&frame.demand, 0, None);
         p.edge_lists.record(
             encoder,
@@ -579,6 +569,7 @@ impl ComplexityFrame {
         p: &Pipelines,
         data: &ComplexityScene,
         gbuffer: &GBuffer,
+        candidate: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         bind_group(
             device,
@@ -596,6 +587,7 @@ impl ComplexityFrame {
                 self.params.as_entire_binding(),
                 self.visibility.as_entire_binding(),
                 data.triangles.as_entire_binding(),
+                wgpu::BindingResource::TextureView(candidate),
             ],
         )
     }

@@ -313,6 +313,11 @@ pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             },
             storage(false),
             storage(true),
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Uint,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
         ],
     )
 }

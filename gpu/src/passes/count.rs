@@ -173,6 +173,35 @@ fn band_bytes(n: u32) -> u64 {
     4 * (STATE_WORDS as u64 + (n as u64 * n as u64).div_ceil(4))
 }
 
+/// Bytes of the counting pass's buffer that a depth-complexity frame of `size` pixels at
+/// `samples` light samples per pixel allocates on a device whose storage bindings hold at most
+/// `limit` bytes ([`storage_binding_limit`]): V of every pixel, and each pixel's state and
+/// counts for as many rows at once as fit (`band_rows`), the whole image unless it does not
+/// fit one binding. `samples` is rounded up to a square. `None` where not even `COUNT_GROUP`
+/// rows fit: the frame is refused (`GpuError::TooLarge`).
+///
+/// ```
+/// use penumbra_gpu::count_buffer_bytes;
+///
+/// // 320 x 240 at 256 samples: 4 bytes of V and 288 of state and counts per pixel.
+/// assert_eq!(count_buffer_bytes((320, 240), 256, 128 << 20), Some(320 * 240 * (4 + 288)));
+/// // 1920 x 1080 at 256 samples: bands of rows, bounded by the binding.
+/// assert!(count_buffer_bytes((1920, 1080), 256, 128 << 20).unwrap() <= 128 << 20);
+/// assert_eq!(count_buffer_bytes((10_000, 10_000), 1024, 128 << 20), None);
+/// ```
+pub fn count_buffer_bytes(size: (u32, u32), samples: u32, limit: u64) -> Option<u64> {
+    let n = (samples as f64).sqrt().ceil() as u32;
+    band_rows(size, n, limit, 0).map(|rows| count_bytes(size, n, rows))
+}
+
+/// The most bytes one storage binding of a device with `limits` holds: the counting pass's
+/// buffer and the edge list must each fit one.
+pub fn storage_binding_limit(limits: &wgpu::Limits) -> u64 {
+    limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size)
+}
+
 /// The most rows of an image of `size` pixels at `n x n` samples whose state and counts fit
 /// in `limit` bytes with V, a multiple of `COUNT_GROUP` (or the whole image), at most `most`
 /// (0: no other bound); `None` when not even `COUNT_GROUP` rows fit.

@@ -1,6 +1,7 @@
 //! One module per pass, each driving the WGSL file of the same name in `src/shaders/`.
 
 pub mod blend;
+pub mod candidates;
 pub mod complexity;
 pub mod count;
 pub mod depth;

@@ -32,14 +32,14 @@ fn every_wgsl_file_validates_with_naga() {
         }
         // Each pass's shader is compiled after the shared constants and frame.wgsl
         // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
-        // (`fullscreen::shadow_shader`), depth-complexity sampling's passes with
-        // complexity.wgsl, and the counting pass from its four files (`complexity::COUNT_WGSL`).
+        // (`fullscreen::shadow_shader`), depth-complexity sampling's passes (and its receiver
+        // candidates) with complexity.wgsl, and the counting pass from its four files (`complexity::COUNT_WGSL`).
         let file = std::fs::read_to_string(&p).unwrap();
         let source = if SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             format!("{SHADOW_WGSL}\n{file}")
         } else if stem == "count" {
             format!("{COMPLEXITY_WGSL}\n{COUNT_WGSL}")
-        } else if stem == "edge_lists" {
+        } else if stem == "edge_lists" || stem == "candidates" {
             format!("{COMPLEXITY_WGSL}\n{file}")
         } else {
             file

@@ -104,6 +104,23 @@ struct Triangle {
 // Each scene triangle.
 @group(1) @binding(10) var<storage, read> triangles: array<Triangle>;
 
+// Per pixel, the nearest triangle that the ray through its centre meets, plus one (0: none), by
+// the receiver candidates' pass (`candidates.wgsl`).
+@group(1) @binding(11) var candidate: texture_2d<u32>;
+
+// The barycentric weights of q, a point of triangle t's plane, times twice its area squared.
+fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
+    let c0 = t.corners[0].xyz;
+    let c1 = t.corners[1].xyz;
+    let c2 = t.corners[2].xyz;
+    let n = cross(c1 - c0, c2 - c0);
+    return vec3<f32>(
+        dot(n, cross(c1 - q, c2 - q)),
+        dot(n, cross(c2 - q, c0 - q)),
+        dot(n, cross(c0 - q, c1 - q)),
+    );
+}
+
 // The receiver's triangle from the depth pre-pass's position w (`passes::depth::GBuffer`).
 fn receiver_triangle(w: f32) -> u32 {
     return bitcast<u32>(w) - TRIANGLE_BIAS;

@@ -340,6 +340,12 @@ fn count_setup(@builtin(global_invocation_id) id: vec3<u32>) {
         base = 0u;
         recount = RECOUNT;
     }
+    // A negative count (read as a signed byte) is never the exact D(P, c): the rasteriser
+    // decided a near tie of a volume's face with the receiver against it. Counted again too.
+    if ((base & 0x80u) != 0u) {
+        base = 0u;
+        recount = RECOUNT;
+    }
     if (!(pl.z > 0.0)) {
         visibility[pixel] = bitcast<u32>(0.0);
         return;

@@ -33,26 +33,13 @@ fn set_receiver(pl: vec3<f32>, receiver: u32) {
     weights = w / sum;
 }
 
-// The barycentric weights of q, a point of triangle t's plane, times twice its area squared.
-fn barycentric(t: Triangle, q: vec3<f32>) -> vec3<f32> {
-    let c0 = t.corners[0].xyz;
-    let c1 = t.corners[1].xyz;
-    let c2 = t.corners[2].xyz;
-    let n = cross(c1 - c0, c2 - c0);
-    return vec3<f32>(
-        dot(n, cross(c1 - q, c2 - q)),
-        dot(n, cross(c2 - q, c0 - q)),
-        dot(n, cross(c0 - q, c1 - q)),
-    );
-}
-
 // The receiver through pixel `px` as the oracle's first hit finds it. The rasteriser snaps the
 // triangles' corners to a fraction of a pixel, so a pixel centre that close to an edge can land
 // on the wrong triangle, or on the wrong surface at an outline: where the rasteriser's,
 // `receiver` (P at `pl`), does not hold the pixel's ray, or (`holds`) where another triangle
-// nearer the eye does, of the triangles across the receiver's sides and those of the
-// neighbouring pixels, the nearest to the eye that holds the ray: (P on it, its index);
-// `receiver` and `pl` where none does.
+// nearer the eye does, of the triangles across the receiver's sides, those of the
+// neighbouring pixels and the pixel's candidate (`candidates.wgsl`), the nearest to the eye
+// that holds the ray: (P on it, its index); `receiver` and `pl` where none does.
 fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>, holds: bool) -> vec4<f32> {
     best_hit = vec4<f32>(pl, bitcast<f32>(receiver));
     best_depth = select(BIG, length(pl - params.eye.xyz) * (1.0 - 1e-5), holds);
@@ -81,6 +68,12 @@ fn ray_receiver(px: vec2<u32>, receiver: u32, pl: vec3<f32>, holds: bool) -> vec
             consider(px, next[1], receiver, pl);
             consider(px, next[2], receiver, pl);
         }
+    }
+    // The nearest triangle that holds the ray, found by testing the ray against every
+    // triangle near the pixel (`candidates.wgsl`): a sliver the rasteriser drew on no pixel.
+    let nearest = textureLoad(candidate, vec2<i32>(px), 0).r;
+    if (nearest != 0u) {
+        consider(px, nearest - 1u, receiver, pl);
     }
     return best_hit;
 }
