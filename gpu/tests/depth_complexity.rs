@@ -4,7 +4,7 @@
 //! in CI), as `gpu.rs` does.
 
 mod common;
-use common::{agreement, context, fixtures, texture, view};
+use common::{against_the_oracle, agreement, context, fixtures, texture, view};
 
 use glam::DMat4;
 use penumbra_geom::VisibilityImage;
@@ -37,18 +37,7 @@ fn check_every_fixture(size: Option<(u32, u32)>, min_equal: f64, max_beyond: usi
             Some(size) => at_size(scene, size),
             None => scene,
         };
-        let oracle = DepthComplexity::new(&scene);
-        for per_axis in [8usize, 16] {
-            let samples = per_axis * per_axis;
-            let pattern = SamplePattern {
-                per_axis,
-                jitter: false,
-            };
-            let cpu = oracle.render(pattern, &|_| {});
-            let gpu = r
-                .render_depth_complexity(&scene, samples as u32)
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
+        for (samples, cpu, gpu) in against_the_oracle(&r, &name, &scene) {
             let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
             report.push(format!(
                 "{name} {samples}: {:.3}% equal, {beyond} pixels beyond one sample",

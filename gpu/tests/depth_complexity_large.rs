@@ -5,7 +5,7 @@
 //! need an adapter (lavapipe in CI), as `gpu.rs` does.
 
 mod common;
-use common::{agreement, context, view};
+use common::{against_the_oracle, agreement, context, view};
 
 use std::path::PathBuf;
 
@@ -73,23 +73,10 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_the_large_meshes() {
     let r = GpuRenderer::with_context(&ctx);
     let mut report = Vec::new();
     for (name, scene) in large_scenes() {
-        let oracle = DepthComplexity::new(&scene);
-        assert!(
-            oracle.edges.edges.len() >= 10_000,
-            "{name}: {} potential edges",
-            oracle.edges.edges.len()
-        );
-        for per_axis in [8usize, 16] {
-            let samples = per_axis * per_axis;
-            let pattern = SamplePattern {
-                per_axis,
-                jitter: false,
-            };
-            let cpu = oracle.render(pattern, &|_| {});
-            let gpu = r
-                .render_depth_complexity(&scene, samples as u32)
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
+        let runs = against_the_oracle(&r, name, &scene);
+        let potential = runs[0].2.potential_edges;
+        assert!(potential >= 10_000, "{name}: {potential} potential edges");
+        for (samples, cpu, gpu) in runs {
             let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
             report.push(format!(
                 "{name} {samples}: {} potential edges, {} list entries, {:.3}% equal, \
@@ -128,19 +115,8 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_the_scale_scene() {
     scene.camera.height = 72;
     let triangles: usize = scene.meshes.iter().map(|m| m.mesh.triangles.len()).sum();
     assert!(triangles >= 200_000, "{triangles} triangles");
-    let oracle = DepthComplexity::new(&scene);
     let mut report = Vec::new();
-    for per_axis in [8usize, 16] {
-        let samples = per_axis * per_axis;
-        let pattern = SamplePattern {
-            per_axis,
-            jitter: false,
-        };
-        let cpu = oracle.render(pattern, &|_| {});
-        let gpu = r
-            .render_depth_complexity(&scene, samples as u32)
-            .unwrap_or_else(|e| panic!("scale: {e}"));
-        assert_eq!(gpu.potential_edges, oracle.edges.edges.len());
+    for (samples, cpu, gpu) in against_the_oracle(&r, "scale", &scene) {
         let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
         let far: Vec<_> = (0..cpu.data.len())
             .filter(|&i| (cpu.data[i] - gpu.image.data[i]).abs() > 1.5 / samples as f32)

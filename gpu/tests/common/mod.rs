@@ -86,3 +86,34 @@ pub fn agreement(
         .count();
     (equal as f64 / cpu.data.len() as f64, beyond)
 }
+
+/// One scene rendered by depth complexity on the GPU and by the CPU oracle, at 64 and at 256
+/// multi-jittered samples: `(samples, oracle, GPU render)` for each.
+#[allow(dead_code)] // Not every test file that shares this module uses it.
+pub fn against_the_oracle(
+    r: &penumbra_gpu::GpuRenderer,
+    name: &str,
+    scene: &Scene,
+) -> Vec<(
+    usize,
+    penumbra_geom::VisibilityImage,
+    penumbra_gpu::ComplexityImage,
+)> {
+    let oracle = penumbra_volumes::DepthComplexity::new(scene);
+    [8usize, 16]
+        .into_iter()
+        .map(|per_axis| {
+            let samples = per_axis * per_axis;
+            let pattern = penumbra_volumes::SamplePattern {
+                per_axis,
+                jitter: false,
+            };
+            let cpu = oracle.render(pattern, &|_| {});
+            let gpu = r
+                .render_depth_complexity(scene, samples as u32)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
+            (samples, cpu, gpu)
+        })
+        .collect()
+}
