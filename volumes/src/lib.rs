@@ -12,6 +12,7 @@
 #![warn(unnameable_types)]
 
 mod blend;
+mod candidates;
 mod clip;
 mod cpu_renderer;
 mod depth_complexity;

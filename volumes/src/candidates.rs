@@ -1,0 +1,98 @@
+//! The candidate edges of a receiver point or a tile of them, and the `f32` silhouette
+//! pre-test that keeps, for one point, those that may change a sample's count
+//! ([`crate::DepthComplexity`]).
+
+use glam::DVec3;
+
+use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges};
+
+/// The candidate edges of a point or a tile, with what the silhouette pre-test reads of each
+/// in `f32`, one array per number so that the test runs four edges to an instruction.
+///
+/// A two-face edge changes no count unless both faces lie on one side of the plane through P
+/// and the edge, that is unless `F0(P)` and `F1(P)` have one sign (`F_k(x) = n_k . (x - a)`,
+/// [`crate::potential::EdgeFace`]). The pre-test drops an edge only when the two values have
+/// opposite signs and each is larger than a margin far above its `f32` rounding; every other
+/// edge (one within the margin, a boundary or non-manifold edge, whose second normal is stored
+/// as zero) goes to the exact `f64` test.
+#[derive(Default)]
+pub(crate) struct Candidates {
+    /// Their indices into the potential edges.
+    pub(crate) ids: Vec<u32>,
+    /// A copy of each edge and, for a two-face edge, of its faces: the exact test reads them
+    /// in the list's order instead of across the whole scene's edges.
+    pub(crate) edges: Vec<(PotentialEdge, [EdgeFace; 2])>,
+    a: [Vec<f32>; 3],
+    n0: [Vec<f32>; 3],
+    n1: [Vec<f32>; 3],
+    /// `(MARGIN |n_k|)^2`.
+    t0: Vec<f32>,
+    t1: Vec<f32>,
+    /// What the last pre-test kept.
+    pub(crate) keep: Vec<bool>,
+}
+
+/// What the pre-test reads for an edge without exactly two faces: a zero normal, never dropped.
+const NO_FACE: EdgeFace = EdgeFace {
+    normal: DVec3::ZERO,
+    normal_length2: 0.0,
+    triangle: u32::MAX,
+};
+
+/// The pre-test's margin, relative to `|n_k| sqrt(|P - a|^2 + R^2)` with `R` the largest
+/// light-space coordinate: a hundred times the rounding of the `f32` products.
+const MARGIN: f32 = 1e-5;
+
+impl Candidates {
+    pub(crate) fn clear(&mut self) {
+        self.ids.clear();
+        self.edges.clear();
+        for v in self.a.iter_mut().chain(&mut self.n0).chain(&mut self.n1) {
+            v.clear();
+        }
+        self.t0.clear();
+        self.t1.clear();
+    }
+
+    pub(crate) fn push(&mut self, edges: &PotentialEdges, ei: u32) {
+        let e = &edges.edges[ei as usize];
+        let faces = edges.faces_of(e);
+        let (n0, n1) = match faces {
+            [f0, f1] => (f0, f1),
+            _ => (&NO_FACE, &NO_FACE),
+        };
+        self.ids.push(ei);
+        self.edges.push((*e, [*n0, *n1]));
+        for k in 0..3 {
+            self.a[k].push(e.a[k] as f32);
+            self.n0[k].push(n0.normal[k] as f32);
+            self.n1[k].push(n1.normal[k] as f32);
+        }
+        let t = |f: &EdgeFace| (MARGIN * f.normal_length2.sqrt() as f32).powi(2);
+        self.t0.push(t(n0));
+        self.t1.push(t(n1));
+    }
+
+    /// Marks in `keep` the edges that may change a count seen from `p`, and returns how many;
+    /// `r2` is `R^2`.
+    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32) -> usize {
+        let n = self.ids.len();
+        self.keep.clear();
+        self.keep.resize(n, false);
+        // Slices of one length, so that the loop runs without bounds checks, four to a step.
+        let [ax, ay, az] = self.a.each_ref().map(|v| &v[..n]);
+        let [n0x, n0y, n0z] = self.n0.each_ref().map(|v| &v[..n]);
+        let [n1x, n1y, n1z] = self.n1.each_ref().map(|v| &v[..n]);
+        let (t0, t1, keep) = (&self.t0[..n], &self.t1[..n], &mut self.keep[..n]);
+        let (px, py, pz) = (p.x as f32, p.y as f32, p.z as f32);
+        for k in 0..n {
+            let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
+            let m = dx * dx + dy * dy + dz * dz + r2;
+            let s0 = n0x[k] * dx + n0y[k] * dy + n0z[k] * dz;
+            let s1 = n1x[k] * dx + n1y[k] * dy + n1z[k] * dz;
+            let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
+            keep[k] = !apart;
+        }
+        keep.iter().filter(|&&k| k).count()
+    }
+}
