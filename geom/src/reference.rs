@@ -200,18 +200,17 @@ impl Tracer {
         }
         let mut near = Vec::new();
         self.near_triangles(p, &mut near);
-        let mut seen = 0usize;
-        let cell = 2.0 / n as f64;
-        for j in 0..n {
-            for i in 0..n {
-                let u = -1.0 + (i as f64 + rng.next_f64()) * cell;
-                let v = -1.0 + (j as f64 + rng.next_f64()) * cell;
-                if self.sees(p, self.light.point(DVec2::new(u, v)), &near) {
-                    seen += 1;
-                }
-            }
-        }
-        seen as f64 / (n * n) as f64
+        self.share_seen(p, &near, &RectLight::stratified_samples(n, rng))
+    }
+
+    /// The share of the light points `uvs` (in the light's `[-1, 1]^2`) that `p` sees, each by
+    /// [`Tracer::sees`] (`near`: `p`'s near triangles, [`Tracer::near_triangles`]).
+    pub fn share_seen(&self, p: &SurfacePoint, near: &[u32], uvs: &[DVec2]) -> f64 {
+        let seen = uvs
+            .iter()
+            .filter(|&&uv| self.sees(p, self.light.point(uv), near))
+            .count();
+        seen as f64 / uvs.len() as f64
     }
 
     /// Hard visibility at `p`: 1 when the light's centre is visible, else 0.

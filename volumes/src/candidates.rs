@@ -73,9 +73,8 @@ impl Candidates {
         self.t1.push(t(n1));
     }
 
-    /// Marks in `keep` the edges that may change a count seen from `p`, and returns how many;
-    /// `r2` is `R^2`.
-    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32) -> usize {
+    /// Marks in `keep` the edges that may change a count seen from `p`; `r2` is `R^2`.
+    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32) {
         let n = self.ids.len();
         self.keep.clear();
         self.keep.resize(n, false);
@@ -93,6 +92,5 @@ impl Candidates {
             let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
             keep[k] = !apart;
         }
-        keep.iter().filter(|&&k| k).count()
     }
 }

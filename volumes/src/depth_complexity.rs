@@ -299,7 +299,8 @@ impl DepthComplexity {
             (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
             |(lo, hi), &q| (lo.min(q), hi.max(q)),
         );
-        let limit = (self.cast_from.candidates * samples as f64).min(1e18) as usize;
+        // Saturating: no limit for an infinite factor.
+        let limit = (self.cast_from.candidates * samples as f64) as usize;
         let complete = self.edges.for_each_near_any_while(at, |ei| {
             if self.edges.may_fold_within(ei, lo, hi) {
                 candidates.push(&self.edges, ei);
@@ -308,7 +309,9 @@ impl DepthComplexity {
         });
         !complete
             || at.get(at.len() / 2).is_some_and(|&m| {
-                candidates.pretest(m, self.reach2) as f64 > self.cast_from.kept * samples as f64
+                candidates.pretest(m, self.reach2);
+                let kept = candidates.keep.iter().filter(|&&k| k).count();
+                kept as f64 > self.cast_from.kept * samples as f64
             })
     }
 
@@ -319,7 +322,7 @@ impl DepthComplexity {
     }
 
     /// The share of `pixel`'s samples that `p` sees, each tested by a ray by the reference's rule
-    /// ([`Tracer::sees`]; `scratch.near` holds `p`'s near triangles).
+    /// ([`Tracer::share_seen`]; `scratch.near` holds `p`'s near triangles).
     fn cast(
         &self,
         p: &SurfacePoint,
@@ -328,13 +331,7 @@ impl DepthComplexity {
         scratch: &mut Scratch,
     ) -> f64 {
         pattern.points(pixel, &mut scratch.points);
-        let light = &self.tracer.light;
-        let seen = scratch
-            .points
-            .iter()
-            .filter(|&&uv| self.tracer.sees(p, light.point(uv), &scratch.near))
-            .count();
-        seen as f64 / scratch.points.len() as f64
+        self.tracer.share_seen(p, &scratch.near, &scratch.points)
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows.
