@@ -13,8 +13,8 @@ use glam::DMat4;
 use penumbra_geom::VisibilityImage;
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::{
-    ComplexityReport, FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, read_r32f,
-    visibility_target,
+    ComplexityImage, ComplexityReport, FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene,
+    read_r32f, visibility_target,
 };
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
@@ -60,6 +60,35 @@ fn large_scenes() -> [(&'static str, Scene); 2] {
     ]
 }
 
+/// Adds to `report` how each of `runs` (`common::against_the_oracle`'s) agrees with the oracle,
+/// with the pixels more than one sample apart, and asserts the large scenes' acceptance: at
+/// least 99.95% of the pixels equal, none more than one sample apart.
+fn assert_large_agrees(
+    name: &str,
+    runs: Vec<(usize, VisibilityImage, ComplexityImage)>,
+    report: &mut Vec<String>,
+) {
+    for (samples, cpu, gpu) in runs {
+        let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
+        let width = cpu.width as usize;
+        let far: Vec<_> = (0..cpu.data.len())
+            .filter(|&i| (cpu.data[i] - gpu.image.data[i]).abs() > 1.5 / samples as f32)
+            .map(|i| (i % width, i / width))
+            .collect();
+        report.push(format!(
+            "{name} {samples}: {} potential edges, {} list entries, {:.3}% equal, \
+             {beyond} beyond one sample: {far:?}",
+            gpu.potential_edges,
+            gpu.list_entries,
+            100.0 * equal
+        ));
+        assert!(
+            equal >= 0.9995 && beyond == 0,
+            "{name} at {samples} samples: {report:#?}"
+        );
+    }
+}
+
 /// The acceptance of GPU depth complexity on the large meshes, at 64 and 256 samples: at least
 /// 99.95% of the pixels equal to the oracle's, none more than one sample apart. Before the
 /// counting pass was split into bounded dispatches, `beetle-alt` at 256 samples came out with
@@ -76,20 +105,7 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_the_large_meshes() {
         let runs = against_the_oracle(&r, name, &scene);
         let potential = runs[0].2.potential_edges;
         assert!(potential >= 10_000, "{name}: {potential} potential edges");
-        for (samples, cpu, gpu) in runs {
-            let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
-            report.push(format!(
-                "{name} {samples}: {} potential edges, {} list entries, {:.3}% equal, \
-                 {beyond} beyond one sample",
-                gpu.potential_edges,
-                gpu.list_entries,
-                100.0 * equal
-            ));
-            assert!(
-                equal >= 0.9995 && beyond == 0,
-                "{name} at {samples} samples: {report:#?}"
-            );
-        }
+        assert_large_agrees(name, runs, &mut report);
     }
     println!("{report:#?}");
 }
@@ -116,24 +132,11 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_the_scale_scene() {
     let triangles: usize = scene.meshes.iter().map(|m| m.mesh.triangles.len()).sum();
     assert!(triangles >= 200_000, "{triangles} triangles");
     let mut report = Vec::new();
-    for (samples, cpu, gpu) in against_the_oracle(&r, "scale", &scene) {
-        let (equal, beyond) = agreement(&cpu, &gpu.image, 1.0 / samples as f32);
-        let far: Vec<_> = (0..cpu.data.len())
-            .filter(|&i| (cpu.data[i] - gpu.image.data[i]).abs() > 1.5 / samples as f32)
-            .map(|i| (i % 96, i / 96))
-            .collect();
-        report.push(format!(
-            "scale {samples}: {} potential edges, {} list entries, {:.3}% equal, \
-             {beyond} beyond one sample: {far:?}",
-            gpu.potential_edges,
-            gpu.list_entries,
-            100.0 * equal
-        ));
-        assert!(
-            equal >= 0.9995 && beyond == 0,
-            "scale at {samples} samples: {report:#?}"
-        );
-    }
+    assert_large_agrees(
+        "scale",
+        against_the_oracle(&r, "scale", &scene),
+        &mut report,
+    );
     println!("{report:#?}");
 }
 
