@@ -66,15 +66,15 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_every_fixture() {
     check_every_fixture(None, 0.9995, 0);
 }
 
-/// At half the fixtures' size a pixel of `spot` is more than a sample apart: a ground pixel
-/// whose stencil count is two above the oracle's (the segment to the centre passes through a
-/// crack of the mesh within 1e-4 of two triangles, a tie the rasterised volumes decide against
-/// the oracle's `f64`). A pixel of `cheburashka` was too until the receiver candidates
-/// (`candidates.wgsl`): a junction of several triangles whose hit none of the neighbouring
-/// pixels' triangles held.
+/// The same at half the fixtures' size, where the pixels fall elsewhere: a ground pixel of
+/// `spot` whose stencil count was two above the oracle's (the segment to the centre through a
+/// crack of the mesh within 1e-4 of two triangles, decided against the oracle's `f64` by the
+/// rasterised volumes) is counted again since its count differs from a neighbour's, and a
+/// pixel of `cheburashka` at a junction of several triangles whose hit none of the
+/// neighbouring pixels' triangles held is found by the receiver candidates (`candidates.wgsl`).
 #[test]
 fn gpu_depth_complexity_equals_the_cpu_oracle_at_half_size() {
-    check_every_fixture(Some((160, 120)), 0.9998, 1);
+    check_every_fixture(Some((160, 120)), 0.9998, 0);
 }
 
 /// Renders `scene` by depth complexity in a [`GpuScene`] with an edge list of `capacity`
@@ -234,6 +234,45 @@ fn pixels_beyond_the_loop_budget_are_reported() {
         report.cut_short as usize >= penumbra,
         "{report:?}, {penumbra} in penumbra"
     );
+}
+
+/// A stencil count two too many on one pixel, as a crack between two shadow volumes' faces
+/// leaves it (seen under a light four times the scale scene's), differs from a neighbour's and
+/// is counted again: the image is the one without the error, amid lit pixels and next to a
+/// hard shadow's outline, where the wrong count equals the far side's, alike.
+#[test]
+fn a_wrong_stencil_count_is_counted_again() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let r = GpuRenderer::with_context(&ctx);
+    let scene = at_size(fixture("sphere-over-plane"), (48, 36));
+    let mut gpu_scene = gpu_scene(&r, &scene, 64);
+    let (clean, _) = frame(&ctx, &mut gpu_scene, &scene, None);
+    let w = scene.camera.width as usize;
+    // A lit pixel amid lit ones and a penumbra pixel amid penumbra ones.
+    let lit = (1..clean.data.len() - w)
+        .find(|&i| clean.data[i - 1..=i + 1].iter().all(|&v| v == 1.0) && clean.data[i + w] == 1.0)
+        .expect("a lit pixel");
+    let penumbra = (w..clean.data.len() - w)
+        .find(|&i| {
+            [i - w, i - 1, i, i + 1, i + w]
+                .iter()
+                .all(|&k| clean.data[k] > 0.2 && clean.data[k] < 0.8)
+        })
+        .expect("a penumbra pixel");
+    for i in [lit, penumbra] {
+        let pixel = [(i % w) as u32, (i / w) as u32];
+        gpu_scene.set_stencil_error(Some(pixel));
+        let (hurt, report) = frame(&ctx, &mut gpu_scene, &scene, None);
+        assert_eq!(report.unfinished + report.cut_short, 0, "{report:?}");
+        let differ: Vec<_> = (0..clean.data.len())
+            .filter(|&k| clean.data[k] != hurt.data[k])
+            .map(|k| (k % w, k / w, clean.data[k], hurt.data[k]))
+            .collect();
+        assert!(differ.is_empty(), "error at {pixel:?}: {differ:?}");
+    }
+    gpu_scene.set_stencil_error(None);
 }
 
 /// A [`GBuffer`] whose depth target can be copied out (`GBuffer::new`'s, plus `COPY_SRC`).

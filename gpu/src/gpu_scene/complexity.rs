@@ -131,6 +131,14 @@ impl GpuScene {
         self.complexity.set_most_band_rows(rows);
     }
 
+    /// Makes the counting pass read the stencil count of pixel `[x, y]` two above what the
+    /// shadow volumes' rasterisation left there, from the next frame on (`None`: none), as a
+    /// crack between two volumes' faces can make it: a test that such a count is found and
+    /// counted again, not left to darken the pixel.
+    pub fn set_stencil_error(&mut self, pixel: Option<[u32; 2]>) {
+        self.complexity.set_stencil_error(pixel);
+    }
+
     /// Records the passes of depth-complexity sampling for `camera` into `target`; without a
     /// target, only the edge lists, for [`GpuScene::complexity_report`] to size the list.
     pub(super) fn record_complexity(

@@ -269,6 +269,8 @@ pub(super) struct ComplexityState {
     chunk_override: u32,
     /// The most rows the counting pass keeps state for at once (0: as many as fit).
     most_band_rows: u32,
+    /// The pixel whose stencil count the counting pass reads two too many (tests).
+    stencil_error: Option<[u32; 2]>,
 }
 
 /// What recording a depth-complexity frame reads of its scene, and where it counts its uploads.
@@ -298,6 +300,7 @@ impl ComplexityState {
             },
             chunk_override: 0,
             most_band_rows: 0,
+            stencil_error: None,
         }
     }
 
@@ -362,6 +365,10 @@ impl ComplexityState {
     /// frame's buffers; `None` before the first frame.
     pub(super) fn count_buffer_bytes(&self) -> Option<u64> {
         self.frame.as_ref().map(|f| f.visibility.size())
+    }
+
+    pub(super) fn set_stencil_error(&mut self, pixel: Option<[u32; 2]>) {
+        self.stencil_error = pixel;
     }
 
     pub(super) fn set_most_band_rows(&mut self, rows: u32) {
@@ -472,6 +479,10 @@ impl ComplexityState {
             chunk,
             chunks: frame.chunks,
             band_rows: frame.band_rows,
+            stencil_error: self
+                .stencil_error
+                .filter(|&[x, y]| x < size.0 && y < size.1)
+                .map_or(0, |[x, y]| 1 + y * size.0 + x),
             ..Default::default()
         };
         params.set_camera(camera, parts.light);

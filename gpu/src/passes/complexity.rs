@@ -109,8 +109,10 @@ pub struct ComplexityParams {
     pub chunks: u32,
     /// Image rows whose state and counts the counting pass keeps at once (`passes::count`).
     pub band_rows: u32,
-    /// Padding.
-    pub pad: u32,
+    /// `1 + y * width + x` of a pixel whose stencil count the counting pass reads two above
+    /// the rasteriser's, as a crack between the shadow volumes' faces makes it (tests,
+    /// [`crate::GpuScene::set_stencil_error`]); 0 for none.
+    pub stencil_error: u32,
     /// The eye in light space (`w` unused).
     pub eye: [f32; 4],
     /// The light-space direction of the ray through normalised device coordinates `(x, y)`:

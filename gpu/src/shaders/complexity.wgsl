@@ -60,7 +60,8 @@ struct Params {
     chunks: u32,
     // Image rows whose state and counts the counting pass keeps at once.
     band_rows: u32,
-    pad0: u32,
+    // 1 + y * width + x of a pixel whose stencil count reads two too many (tests); 0: none.
+    stencil_error: u32,
     // The eye in light space (w unused).
     eye: vec4<f32>,
     // The light-space direction of the ray through normalised device coordinates (x, y):
