@@ -245,7 +245,7 @@ fn pyramid_planes(p: vec3<f32>) -> array<vec4<f32>, 5> {
 // fit the list, then the crossings), each `count_chunk` dispatch takes the next `params.chunk`
 // entries of it, and `count_finish` turns the counts into V. Between dispatches a pixel keeps
 // its state in `visibility` (after V): P (3 words), the receiver, the centre's count (or, where
-// it is counted again, the first sample's), the entries done, the entries in all and its flags (`STATE_WORDS`, from Rust); then its counts, one byte per sample.
+// it is counted again, the counts towards it and two samples, a byte each), the entries done, the entries in all and its flags (`STATE_WORDS`, from Rust); then its counts, one byte per sample.
 // Flags of a pixel's state: its V is still to be counted; a region changed its counts; an
 // invocation of it ran past `params.budget`; it counts D(P, c) again over the triangles.
 const ACTIVE: u32 = 1u;
@@ -322,6 +322,11 @@ fn apply(r: Region, n: u32, own: u32) {
 // A pixel's flags with CUT where this invocation ran past its budget.
 fn with_cut(flags: u32) -> u32 {
     return select(flags, flags | CUT, spent > params.budget);
+}
+
+// The count byte of sample s among the counts at `own`.
+fn count_of(own: u32, s: u32) -> u32 {
+    return (visibility[own + s / 4u] >> ((s % 4u) * 8u)) & 0xffu;
 }
 
 // Whether the stencil count `base` of pixel `px` differs from that of one of its four
@@ -403,7 +408,7 @@ fn count_setup(@builtin(global_invocation_id) id: vec3<u32>) {
     let complete = range.x + range.y <= params.capacity;
     let total = select(params.edges, range.y, complete) + params.crossings;
     // The dispatches this pixel needs: its edges and crossings `params.chunk` at a time, then
-    // the triangles towards its first sample where it counts D(P, c) again.
+    // the triangles towards the centre and two samples where it counts D(P, c) again.
     let chunk = max(params.chunk, 1u);
     var needed = (total + chunk - 1u) / chunk;
     if (recount != 0u) {
@@ -437,38 +442,58 @@ fn count_args(@builtin(global_invocation_id) gid: vec3<u32>) {
     chunk_args[3u * c + 2u] = 1u;
 }
 
-// The pattern's first sample of pixel `seed` (`SamplePattern::points`), on the light's plane.
-fn first_sample(seed: u32) -> vec3<f32> {
+// The pattern's sample in cell (i, j) of pixel `seed` (`SamplePattern::points`), on the
+// light's plane.
+fn sample_in_cell(i: u32, j: u32, seed: u32) -> vec3<f32> {
     let n = params.per_axis;
-    let h = hash(0u, seed * 0xa399d265u);
-    let x = pattern_coordinate(permute(0u, n, seed * 0x63d83595u), h & 0xffffu, n * n);
-    let y = pattern_coordinate(permute(0u, n, seed * 0xa511e9b3u), h >> 16u, n * n);
+    let h = hash(j * n + i, seed * 0xa399d265u);
+    let x = pattern_coordinate(i * n + permute(j, n, seed * 0x63d83595u), h & 0xffffu, n * n);
+    let y = pattern_coordinate(j * n + permute(i, n, seed * 0xa511e9b3u), h >> 16u, n * n);
     return vec3<f32>(x, y, 0.0);
 }
 
-// Adds to the count of the pixel `seed` whose state is at `st` the triangles from `first` on,
-// DISPATCH_ITERATIONS of them, that the segment from P on `receiver` to its first light sample
-// crosses: D(P, s0), from which `count_finish` takes D(P, c) as D(P, s0) less the edges' change
-// to s0. Towards the centre itself, a hard shadow's outline through P (where the stencil may
-// be wrong, and so is counted again) would leave the count and the edges' changes to decide
-// the same near tie apart; towards s0 such a tie cancels out.
-fn count_first_sample(st: u32, first: u32, receiver: u32, flags: u32, seed: u32) {
+// The cells of the two samples towards which D(P, c) is counted again besides the centre:
+// halfway from the centre to opposite corners of the light, where the line of an edge through
+// the centre passes near at most one of them.
+fn vote_cells() -> vec4<u32> {
+    let n = params.per_axis;
+    return vec4<u32>(n / 4u, n / 4u, (3u * n) / 4u, (3u * n) / 4u);
+}
+
+// Adds to the counts of the pixel `seed` whose state is at `st` the triangles from `first` on,
+// DISPATCH_ITERATIONS of them, that the segment from P on `receiver` crosses towards the
+// light's centre, and towards the two samples of `vote_cells`, one byte each: `count_finish`
+// takes D(P, c) from the centre's count or from a sample's less the edges' change to it,
+// whichever two of the three agree on. A hard shadow's outline through P (where the stencil
+// may be wrong, and so is counted again) can leave the centre's count and the edge whose
+// outline it is deciding the same near tie apart; a sample's count turns any error of the
+// edges' changes to that sample into an error of every sample. Two of three are right.
+fn count_towards(st: u32, first: u32, receiver: u32, flags: u32, seed: u32) {
     let pl = vec3<f32>(
         bitcast<f32>(visibility[st]),
         bitcast<f32>(visibility[st + 1u]),
         bitcast<f32>(visibility[st + 2u]),
     );
     set_receiver(pl, receiver);
-    let s0 = first_sample(seed);
+    let cells = vote_cells();
+    let sa = sample_in_cell(cells.x, cells.y, seed);
+    let sb = sample_in_cell(cells.z, cells.w, seed);
     let end = min(params.triangles, first + DISPATCH_ITERATIONS);
-    var n = 0u;
+    var n = vec3<u32>(0u);
     for (var t = first; t < end; t++) {
         spent++;
-        if (t != receiver && crosses_to(triangles[t], s0)) {
-            n++;
+        if (t != receiver) {
+            let tri = triangles[t];
+            n += vec3<u32>(vec3<bool>(
+                crosses_to(tri, vec3<f32>(0.0)),
+                crosses_to(tri, sa),
+                crosses_to(tri, sb),
+            ));
         }
     }
-    visibility[st + 4u] = (visibility[st + 4u] + n) & 0xffu;
+    let w = visibility[st + 4u];
+    visibility[st + 4u] = ((w + n.x) & 0xffu) | ((((w >> 8u) + n.y) & 0xffu) << 8u)
+        | ((((w >> 16u) + n.z) & 0xffu) << 16u);
     visibility[st + 5u] = visibility[st + 6u] + end;
     visibility[st + 7u] = with_cut(flags);
 }
@@ -492,7 +517,7 @@ fn count_chunk(@builtin(global_invocation_id) id: vec3<u32>) {
     let receiver = visibility[st + 3u];
     if (done >= total) {
         if ((flags & RECOUNT) != 0u && done - total < params.triangles) {
-            count_first_sample(st, done - total, receiver, flags, pixel);
+            count_towards(st, done - total, receiver, flags, pixel);
         }
         return;
     }
@@ -563,10 +588,16 @@ fn count_finish(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let n = params.per_axis;
     let own = counts_at(local);
-    // D(P, c): the stencil's, or D(P, s0) counted again less the edges' change to s0, sample 0.
+    // D(P, c): the stencil's, or where counted again the count towards the centre or a
+    // sample's less the edges' change to it, whichever two agree on (`count_towards`).
     var base = visibility[st + 4u];
     if ((flags & RECOUNT) != 0u) {
-        base = (base - (visibility[own] & 0xffu)) & 0xffu;
+        let cells = vote_cells();
+        let w = base;
+        let bc = w & 0xffu;
+        let ba = ((w >> 8u) - count_of(own, cells.y * n + cells.x)) & 0xffu;
+        let bb = ((w >> 16u) - count_of(own, cells.w * n + cells.z)) & 0xffu;
+        base = select(bc, ba, ba == bb);
     }
     // D(P, s) modulo 256, read as a signed byte: zero (or, where rounding made the counts
     // disagree, negative) is visible, as the oracle's `D <= 0`.
