@@ -15,6 +15,7 @@ mod image;
 mod image_files;
 mod input;
 mod light;
+mod lights;
 mod memory;
 mod mesh;
 mod metrics;
@@ -35,6 +36,10 @@ pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeMesh, InvariantError, NO_TW
 pub use image::{ImageError, VisibilityImage};
 pub use image_files::{PngColor, write_png_bytes};
 pub use light::RectLight;
+pub use lights::{
+    LightNameError, MAX_LIGHT_NAME, NamedLight, check_light_name, check_light_names,
+    default_light_name, light_channel,
+};
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};

@@ -15,6 +15,11 @@
 //! tangent = [1, 0, 0]       # unit, orthogonal to normal
 //! size = [w, h]             # along tangent, along cross(normal, tangent)
 //!
+//! # or several lights, each rendered into its own channel `<name>.V`:
+//! # [[light]]
+//! # name = "key"            # optional: ASCII letters, digits, `-`, `_`; default light0, light1, ...
+//! # center = ...            # and the other keys of `[light]`
+//!
 //! [[mesh]]                  # any number
 //! obj = "meshes/foo.obj"    # relative to the scene file
 //! scale = 1.0               # optional: number or [sx, sy, sz]
@@ -33,10 +38,11 @@ use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
 use crate::light::RectLight;
+use crate::lights::{NamedLight, check_light_name, default_light_name};
 use crate::mesh::{MeshError, TriangleMesh};
 use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, UNIT_TOLERANCE, within_coordinates};
 use crate::scene::{Scene, SceneMesh};
-use crate::scene_values::{Scale, Table, Vector};
+use crate::scene_values::{OneOrMany, Scale, Table, Vector};
 use penumbra_params::TechniqueParams;
 
 /// What can be wrong with a scene file.
@@ -88,7 +94,7 @@ pub enum SceneError {
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     camera: Spanned<Table<CameraDesc>>,
-    light: Spanned<Table<LightDesc>>,
+    light: Spanned<OneOrMany<LightDesc, LightDesc>>,
     #[serde(default)]
     mesh: Vec<Spanned<MeshDesc>>,
     // The shadow-map techniques' tables (`penumbra_params::TABLES`; a test checks that these
@@ -115,6 +121,7 @@ struct CameraDesc {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LightDesc {
+    name: Option<Spanned<String>>,
     center: Spanned<Vector<3>>,
     normal: Spanned<Vector<3>>,
     tangent: Spanned<Vector<3>>,
@@ -181,6 +188,16 @@ impl Scene {
         // A UTF-8 byte-order mark is not part of the first line.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let file: SceneFile = toml::from_str(text).map_err(|e| {
+            if let Some(line) = both_light_forms(text) {
+                return SceneError::Syntax {
+                    path: path.to_path_buf(),
+                    line,
+                    message:
+                        "`[light]` and `[[light]]` in one file: write one light as `[light]`, \
+                              or every light as `[[light]]`"
+                            .to_string(),
+                };
+            }
             let mut message = e.message().trim().to_string();
             if message == "recursion limit" {
                 message =
@@ -252,53 +269,103 @@ impl Scene {
             invalid(span, format!("camera: {e}"))
         })?;
 
-        let l = &file.light.get_ref().0;
-        let center = finite3(&l.center, "light.center")?;
-        let normal = finite3(&l.normal, "light.normal")?;
-        let tangent = finite3(&l.tangent, "light.tangent")?;
-        if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.normal.span(),
-                format!(
-                    "light.normal {normal} is not unit length (|n| = {})",
-                    normal.length()
-                ),
-            ));
-        }
-        if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.tangent.span(),
-                format!(
-                    "light.tangent {tangent} is not unit length (|t| = {})",
-                    tangent.length()
-                ),
-            ));
-        }
-        if normal.dot(tangent).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.tangent.span(),
-                format!("light.tangent {tangent} is not orthogonal to light.normal {normal}"),
-            ));
-        }
-        let size = DVec2::from(l.size.get_ref().0);
-        if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
-            return Err(invalid(
-                l.size.span(),
-                format!("light.size {size} must be two positive finite lengths"),
-            ));
-        }
-        if size.max_element() > MAX_COORDINATE {
-            return Err(invalid(
-                l.size.span(),
-                format!(
-                    "light.size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})"
-                ),
-            ));
-        }
-        // Remove the tolerated rounding so that the light frame is exactly orthonormal.
-        let n = normal.normalize();
-        let t = (tangent - n * n.dot(tangent)).normalize();
-        let light = RectLight::new(center, n, t, size);
+        // A light's keys, named `key` (`light`, or `light[k]` of several) in messages.
+        let read_light = |l: &LightDesc, key: &str| -> Result<RectLight, SceneError> {
+            let center = finite3(&l.center, &format!("{key}.center"))?;
+            let normal = finite3(&l.normal, &format!("{key}.normal"))?;
+            let tangent = finite3(&l.tangent, &format!("{key}.tangent"))?;
+            if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(invalid(
+                    l.normal.span(),
+                    format!(
+                        "{key}.normal {normal} is not unit length (|n| = {})",
+                        normal.length()
+                    ),
+                ));
+            }
+            if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(invalid(
+                    l.tangent.span(),
+                    format!(
+                        "{key}.tangent {tangent} is not unit length (|t| = {})",
+                        tangent.length()
+                    ),
+                ));
+            }
+            if normal.dot(tangent).abs() > UNIT_TOLERANCE {
+                return Err(invalid(
+                    l.tangent.span(),
+                    format!("{key}.tangent {tangent} is not orthogonal to {key}.normal {normal}"),
+                ));
+            }
+            let size = DVec2::from(l.size.get_ref().0);
+            if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
+                return Err(invalid(
+                    l.size.span(),
+                    format!("{key}.size {size} must be two positive finite lengths"),
+                ));
+            }
+            if size.max_element() > MAX_COORDINATE {
+                return Err(invalid(
+                    l.size.span(),
+                    format!(
+                        "{key}.size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})"
+                    ),
+                ));
+            }
+            // Remove the tolerated rounding so that the light frame is exactly orthonormal.
+            let n = normal.normalize();
+            let t = (tangent - n * n.dot(tangent)).normalize();
+            Ok(RectLight::new(center, n, t, size))
+        };
+        let (light, lights) = match file.light.get_ref() {
+            OneOrMany::One(l) => {
+                if let Some(name) = &l.name {
+                    return Err(invalid(
+                        name.span(),
+                        "light.name: a name is for the lights of `[[light]]`; the one light of \
+                         `[light]` has none (its channel is `V`)"
+                            .to_string(),
+                    ));
+                }
+                (read_light(l, "light")?, Vec::new())
+            }
+            OneOrMany::Many(entries) => {
+                if entries.is_empty() {
+                    return Err(invalid(
+                        file.light.span(),
+                        "light: an empty array; a scene needs one light at least".to_string(),
+                    ));
+                }
+                let mut lights: Vec<NamedLight> = Vec::with_capacity(entries.len());
+                for (k, entry) in entries.iter().enumerate() {
+                    let l = entry.get_ref();
+                    let key = format!("light[{k}]");
+                    let name = match &l.name {
+                        None => default_light_name(k),
+                        Some(n) => {
+                            check_light_name(n.get_ref())
+                                .map_err(|e| invalid(n.span(), format!("{key}.name: {e}")))?;
+                            n.get_ref().clone()
+                        }
+                    };
+                    if let Some(first) = lights.iter().position(|o| o.name == name) {
+                        let span = l.name.as_ref().map_or(entry.span(), |n| n.span());
+                        return Err(invalid(
+                            span,
+                            format!(
+                                "{key}.name: {name:?} is already the name of light[{first}]; light names are unique"
+                            ),
+                        ));
+                    }
+                    lights.push(NamedLight {
+                        name,
+                        light: read_light(l, &key)?,
+                    });
+                }
+                (lights[0].light, lights)
+            }
+        };
 
         let base = path.parent().unwrap_or(Path::new("."));
         let mut meshes = Vec::with_capacity(file.mesh.len());
@@ -383,10 +450,32 @@ impl Scene {
             path: path.to_path_buf(),
             camera,
             light,
+            lights,
             meshes,
             params,
         })
     }
+}
+
+/// The line of the later of a `[light]` and a `[[light]]` header, where the text has both (the
+/// TOML parser says only "duplicate key" of them).
+fn both_light_forms(text: &str) -> Option<usize> {
+    let header = |line: &str, open: &str, close: &str| {
+        line.trim()
+            .strip_prefix(open)
+            .and_then(|r| r.split('#').next())
+            .and_then(|r| r.trim_end().strip_suffix(close))
+            .is_some_and(|k| matches!(k.trim(), "light" | "\"light\"" | "'light'"))
+    };
+    let (mut one, mut many) = (None, None);
+    for (i, line) in text.lines().enumerate() {
+        if header(line, "[[", "]]") {
+            many.get_or_insert(i + 1);
+        } else if header(line, "[", "]") {
+            one.get_or_insert(i + 1);
+        }
+    }
+    Some(one?.max(many?))
 }
 
 type SpanError = (std::ops::Range<usize>, String);
@@ -499,3 +588,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "scene_file_lights_tests.rs"]
+mod lights_tests;
