@@ -9,6 +9,7 @@
 mod boxtree;
 mod bvh_build;
 mod camera;
+mod channels;
 mod exact;
 mod halfedge;
 mod image;
@@ -31,10 +32,11 @@ mod technique;
 
 pub use boxtree::{BoxTree, Plane};
 pub use camera::{Camera, CameraError};
+pub use channels::{Channel, LIGHTS_ATTRIBUTE, VisibilityChannels, is_visibility_channel};
 pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
 pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
-pub use image_files::{PngColor, write_png_bytes};
+pub use image_files::{CHANNEL, PngColor, write_png_bytes};
 pub use light::RectLight;
 pub use lights::{
     LightNameError, MAX_LIGHT_NAME, NamedLight, check_light_name, check_light_names,
