@@ -182,13 +182,19 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 4096)]
         samples: usize,
     },
-    /// Compare image A against reference B: errors over all pixels and over B's penumbra.
+    /// Compare image A against reference B: errors over all pixels and over B's penumbra. Images
+    /// of several lights are compared channel by channel (`<light>.V`), each in turn.
     Compare {
         /// Image under test.
         a: PathBuf,
         /// Reference image.
         b: PathBuf,
-        /// Write a heat map of |A - B| (black 0, red, yellow, white >= 0.1).
+        /// Compare only this channel of both images (`V`, or `<light>.V` of an image of
+        /// several lights); all of them in turn when not given.
+        #[arg(long)]
+        channel: Option<String>,
+        /// Write a heat map of |A - B| (black 0, red, yellow, white >= 0.1); of several
+        /// channels, one per light, `HEATMAP.<light>.png`.
         #[arg(long)]
         heatmap: Option<PathBuf>,
         /// Print JSON instead of a table.

@@ -173,10 +173,7 @@ fn draw(
         frame.image.check_finite().with_context(|| {
             format!("{technique:?} produced a non-finite pixel ({light}{channel})")
         })?;
-        details.push(match names.get(k) {
-            Some(n) => format!("{n}: {}", frame.detail),
-            None => frame.detail,
-        });
+        details.push(frame.detail);
         channels.push(Channel {
             name: channel,
             image: frame.image,
@@ -198,6 +195,17 @@ fn draw(
         }
     }
     let (width, height) = images.size();
+    // The lights' details, once where they are all the same.
+    let detail = if details.windows(2).all(|w| w[0] == w[1]) {
+        details.swap_remove(0)
+    } else {
+        names
+            .iter()
+            .zip(&details)
+            .map(|(n, d)| format!("{n}: {d}"))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
     let lights = if names.is_empty() {
         String::new()
     } else {
@@ -210,7 +218,7 @@ fn draw(
         height,
         triangles,
         technique,
-        details.join("; "),
+        detail,
         start.elapsed().as_secs_f64(),
         out.display()
     ))
