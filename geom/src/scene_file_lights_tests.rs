@@ -127,3 +127,17 @@ fn bad_names_and_an_empty_array_name_their_line() {
     assert_eq!(line, line_with(&text, "size = [1.0, 0.0]", 0));
     assert!(message.starts_with("light[1].size"), "{message}");
 }
+
+#[test]
+fn the_documented_example_reads_as_documented() {
+    let doc = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/scene-format.md"),
+    )
+    .unwrap();
+    let section = &doc[doc.find("## Several lights").expect("the section")..];
+    let start = section.find("```toml\n").expect("its example") + "```toml\n".len();
+    let example = &section[start..start + section[start..].find("```").unwrap()];
+    let s = Scene::from_toml(&format!("{CAMERA}{example}"), Path::new("s.toml")).unwrap();
+    assert_eq!(s.channel_names(), ["key.V", "light1.V"]);
+    assert_eq!(s.lights[1].light.size.y, 3.0);
+}

@@ -144,7 +144,8 @@ pub(crate) fn backend_parser() -> impl clap::builder::TypedValueParser<Value = B
 
 #[derive(Subcommand)]
 pub(crate) enum Command {
-    /// Render the visibility image V of a scene to a one-channel (`V`) float EXR.
+    /// Render the visibility image V of a scene to a float EXR: one channel `V`, or for a scene
+    /// of several lights (`[[light]]`) one channel `<name>.V` per light, each light alone.
     Render {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -161,7 +162,8 @@ pub(crate) enum Command {
         /// its correlated multi-jittered ones.
         #[arg(long)]
         jitter: bool,
-        /// Also write an 8-bit greyscale PNG.
+        /// Also write an 8-bit greyscale PNG; for a scene of several lights one per light,
+        /// `PNG.<name>.png` (`--png v.png` writes `v.key.png`, `v.fill.png`, ...).
         #[arg(long)]
         png: Option<PathBuf>,
         /// Where the volume techniques (`hard`, `wedges`, `wedges-blend`) run; the references
@@ -171,7 +173,8 @@ pub(crate) enum Command {
         #[command(flatten)]
         params: ParamArgs,
     },
-    /// Print the surface point seen through one pixel, its exact V and its reference V.
+    /// Print the surface point seen through one pixel, its exact V and its reference V (of each
+    /// light in turn, for a scene of several).
     Probe {
         /// Scene file (TOML).
         scene: PathBuf,
