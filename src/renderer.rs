@@ -157,7 +157,8 @@ impl Renderer {
         Ok(placement == Placement::Gpu)
     }
 
-    /// The visibility image of `scene` by `technique`.
+    /// The visibility image of `scene` by `technique`: under [`Scene::light`], the first light
+    /// of a scene of several ([`Renderer::render_lights`] renders each).
     pub fn render(
         &mut self,
         scene: &Scene,
