@@ -232,6 +232,32 @@ fn probe_compare_and_bench_take_each_light() {
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("--channel"), "{err}");
+    // The lights in the other order: the same images, compared in A's order.
+    let swapped = scene_with(&format!(
+        "{}\n{}",
+        entry("name = \"fill\"\n", 0.9),
+        entry("name = \"key\"\n", -0.8)
+    ));
+    std::fs::write(d.join("swapped.toml"), swapped).unwrap();
+    ok(&penumbra()
+        .arg("render")
+        .arg(d.join("swapped.toml"))
+        .args(["--technique", "hard-reference", "--out"])
+        .arg(d.join("swapped.exr"))
+        .output()
+        .unwrap());
+    let json = ok(&penumbra()
+        .arg("compare")
+        .arg(d.join("swapped.exr"))
+        .arg(d.join("h.exr"))
+        .arg("--json")
+        .output()
+        .unwrap());
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v[0]["channel"], "fill.V");
+    for c in [&v[0], &v[1]] {
+        assert_eq!(c["all"]["max"], 0.0, "{json}");
+    }
     // probe: each light in turn.
     let text = ok(&penumbra()
         .arg("probe")

@@ -47,7 +47,9 @@ pub(crate) fn compare(
             }
             vec![c.to_string()]
         }
-        None if na == nb => na,
+        // The same channels, in A's order (an image written by another program may order
+        // them otherwise).
+        None if same_set(&na, &nb) => na,
         None => bail!(
             "the images' channels differ: {} has {}, {} has {}; name the channel to compare with --channel",
             a.display(),
@@ -123,6 +125,16 @@ pub(crate) fn compare(
         print_table(c);
     }
     Ok(())
+}
+
+/// Whether `a` and `b` hold the same names, whatever their order.
+fn same_set(a: &[String], b: &[String]) -> bool {
+    let sorted = |v: &[String]| {
+        let mut v = v.to_vec();
+        v.sort();
+        v
+    };
+    sorted(a) == sorted(b)
 }
 
 /// Prints one comparison as the table of `penumbra compare`.
