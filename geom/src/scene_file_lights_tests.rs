@@ -141,3 +141,31 @@ fn the_documented_example_reads_as_documented() {
     assert_eq!(s.channel_names(), ["key.V", "light1.V"]);
     assert_eq!(s.lights[1].light.size.y, 3.0);
 }
+
+#[test]
+fn a_transform_moves_every_light() {
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "name = \"a\"\n", 1.0),
+        light("[[light]]", "name = \"b\"\n", -2.0)
+    );
+    let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+    let m = glam::DMat4::from_scale_rotation_translation(
+        glam::DVec3::splat(2.5),
+        glam::DQuat::from_axis_angle(glam::DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7),
+        glam::DVec3::new(10.0, -3.0, 4.0),
+    );
+    let moved = s.transformed(&m);
+    assert_eq!(moved.light_names(), ["a", "b"]);
+    for k in 0..2 {
+        // Moving the scene, then taking a light alone, is taking it alone, then moving it.
+        assert_eq!(
+            moved.for_light(k).light,
+            s.for_light(k).transformed(&m).light
+        );
+        let c = m.transform_point3(s.lights[k].light.center);
+        assert!((moved.lights[k].light.center - c).length() < 1e-12);
+        assert!((moved.lights[k].light.size.x - 2.5).abs() < 1e-12);
+    }
+    assert_eq!(moved.light, moved.lights[0].light);
+}
