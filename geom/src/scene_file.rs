@@ -350,11 +350,14 @@ impl Scene {
                         }
                     };
                     if let Some(first) = lights.iter().position(|o| o.name == name) {
-                        let span = l.name.as_ref().map_or(entry.span(), |n| n.span());
+                        let (span, whose) = match &l.name {
+                            Some(n) => (n.span(), format!("{key}.name: {name:?}")),
+                            None => (entry.span(), format!("{key}'s default name {name:?}")),
+                        };
                         return Err(invalid(
                             span,
                             format!(
-                                "{key}.name: {name:?} is already the name of light[{first}]; light names are unique"
+                                "{whose} is already the name of light[{first}]; light names are unique"
                             ),
                         ));
                     }

@@ -111,6 +111,18 @@ fn bad_names_and_an_empty_array_name_their_line() {
         message.contains("\"key light\"") && message.contains("' '"),
         "{message}"
     );
+    // A default name taken by an earlier light: the entry's line.
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "name = \"light1\"\n", 0.0),
+        light("[[light]]", "", 1.0)
+    );
+    let (line, message) = error(&text);
+    assert_eq!(line, line_with(&text, "[[light]]", 1));
+    assert!(
+        message.contains("light[1]'s default name \"light1\""),
+        "{message}"
+    );
     let text = format!("light = []\n{CAMERA}");
     assert_eq!(error(&text).0, 1);
     assert!(error(&text).1.contains("empty array"));
