@@ -27,6 +27,7 @@ mod reference;
 mod rng;
 mod scene;
 mod scene_file;
+mod scene_file_lights;
 mod scene_values;
 mod technique;
 

@@ -32,15 +32,13 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{DMat4, DQuat, DVec2, DVec3};
+use glam::{DMat4, DQuat, DVec3};
 use serde::Deserialize;
 use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
-use crate::light::RectLight;
-use crate::lights::{NamedLight, check_light_name, default_light_name};
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, UNIT_TOLERANCE, within_coordinates};
+use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 use crate::scene::{Scene, SceneMesh};
 use crate::scene_values::{OneOrMany, Scale, Table, Vector};
 use penumbra_params::TechniqueParams;
@@ -118,14 +116,15 @@ struct CameraDesc {
     height: Spanned<u32>,
 }
 
+/// A `[light]` table, or one entry of `[[light]]` (the only one with a `name`).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct LightDesc {
-    name: Option<Spanned<String>>,
-    center: Spanned<Vector<3>>,
-    normal: Spanned<Vector<3>>,
-    tangent: Spanned<Vector<3>>,
-    size: Spanned<Vector<2>>,
+pub(crate) struct LightDesc {
+    pub(crate) name: Option<Spanned<String>>,
+    pub(crate) center: Spanned<Vector<3>>,
+    pub(crate) normal: Spanned<Vector<3>>,
+    pub(crate) tangent: Spanned<Vector<3>>,
+    pub(crate) size: Spanned<Vector<2>>,
 }
 
 #[derive(Deserialize)]
@@ -269,106 +268,8 @@ impl Scene {
             invalid(span, format!("camera: {e}"))
         })?;
 
-        // A light's keys, named `key` (`light`, or `light[k]` of several) in messages.
-        let read_light = |l: &LightDesc, key: &str| -> Result<RectLight, SceneError> {
-            let center = finite3(&l.center, &format!("{key}.center"))?;
-            let normal = finite3(&l.normal, &format!("{key}.normal"))?;
-            let tangent = finite3(&l.tangent, &format!("{key}.tangent"))?;
-            if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
-                return Err(invalid(
-                    l.normal.span(),
-                    format!(
-                        "{key}.normal {normal} is not unit length (|n| = {})",
-                        normal.length()
-                    ),
-                ));
-            }
-            if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
-                return Err(invalid(
-                    l.tangent.span(),
-                    format!(
-                        "{key}.tangent {tangent} is not unit length (|t| = {})",
-                        tangent.length()
-                    ),
-                ));
-            }
-            if normal.dot(tangent).abs() > UNIT_TOLERANCE {
-                return Err(invalid(
-                    l.tangent.span(),
-                    format!("{key}.tangent {tangent} is not orthogonal to {key}.normal {normal}"),
-                ));
-            }
-            let size = DVec2::from(l.size.get_ref().0);
-            if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
-                return Err(invalid(
-                    l.size.span(),
-                    format!("{key}.size {size} must be two positive finite lengths"),
-                ));
-            }
-            if size.max_element() > MAX_COORDINATE {
-                return Err(invalid(
-                    l.size.span(),
-                    format!(
-                        "{key}.size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})"
-                    ),
-                ));
-            }
-            // Remove the tolerated rounding so that the light frame is exactly orthonormal.
-            let n = normal.normalize();
-            let t = (tangent - n * n.dot(tangent)).normalize();
-            Ok(RectLight::new(center, n, t, size))
-        };
-        let (light, lights) = match file.light.get_ref() {
-            OneOrMany::One(l) => {
-                if let Some(name) = &l.name {
-                    return Err(invalid(
-                        name.span(),
-                        "light.name: a name is for the lights of `[[light]]`; the one light of \
-                         `[light]` has none (its channel is `V`)"
-                            .to_string(),
-                    ));
-                }
-                (read_light(l, "light")?, Vec::new())
-            }
-            OneOrMany::Many(entries) => {
-                if entries.is_empty() {
-                    return Err(invalid(
-                        file.light.span(),
-                        "light: an empty array; a scene needs one light at least".to_string(),
-                    ));
-                }
-                let mut lights: Vec<NamedLight> = Vec::with_capacity(entries.len());
-                for (k, entry) in entries.iter().enumerate() {
-                    let l = entry.get_ref();
-                    let key = format!("light[{k}]");
-                    let name = match &l.name {
-                        None => default_light_name(k),
-                        Some(n) => {
-                            check_light_name(n.get_ref())
-                                .map_err(|e| invalid(n.span(), format!("{key}.name: {e}")))?;
-                            n.get_ref().clone()
-                        }
-                    };
-                    if let Some(first) = lights.iter().position(|o| o.name == name) {
-                        let (span, whose) = match &l.name {
-                            Some(n) => (n.span(), format!("{key}.name: {name:?}")),
-                            None => (entry.span(), format!("{key}'s default name {name:?}")),
-                        };
-                        return Err(invalid(
-                            span,
-                            format!(
-                                "{whose} is already the name of light[{first}]; light names are unique"
-                            ),
-                        ));
-                    }
-                    lights.push(NamedLight {
-                        name,
-                        light: read_light(l, &key)?,
-                    });
-                }
-                (lights[0].light, lights)
-            }
-        };
+        let (light, lights) =
+            crate::scene_file_lights::read_lights(&file.light, &invalid, &finite3)?;
 
         let base = path.parent().unwrap_or(Path::new("."));
         let mut meshes = Vec::with_capacity(file.mesh.len());
