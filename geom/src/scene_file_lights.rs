@@ -12,13 +12,19 @@ use crate::range::{MAX_COORDINATE, UNIT_TOLERANCE};
 use crate::scene_file::{LightDesc, SceneError};
 use crate::scene_values::{OneOrMany, Vector};
 
+/// Makes the error of a value at a span of the scene file.
+pub(crate) type Invalid<'a> = dyn Fn(Range<usize>, String) -> SceneError + 'a;
+
+/// Reads a point of the scene file, named by its key, within the supported range.
+pub(crate) type Point<'a> = dyn Fn(&Spanned<Vector<3>>, &str) -> Result<DVec3, SceneError> + 'a;
+
 /// The scene's light ([`crate::Scene::light`]) and its named lights ([`crate::Scene::lights`],
 /// empty for a `[light]`) from the file's `light`: `invalid` makes the error of a value at a
 /// span, `finite3` reads a point within the supported range.
 pub(crate) fn read_lights(
     light: &Spanned<OneOrMany<LightDesc, LightDesc>>,
-    invalid: &dyn Fn(Range<usize>, String) -> SceneError,
-    finite3: &dyn Fn(&Spanned<Vector<3>>, &str) -> Result<DVec3, SceneError>,
+    invalid: &Invalid,
+    finite3: &Point,
 ) -> Result<(RectLight, Vec<NamedLight>), SceneError> {
     // A light's keys, named `key` (`light`, or `light[k]` of several) in messages.
     let read_light = |l: &LightDesc, key: &str| -> Result<RectLight, SceneError> {
