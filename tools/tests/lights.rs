@@ -286,5 +286,32 @@ fn probe_compare_and_bench_take_each_light() {
         .unwrap());
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["lights"], 2, "{json}");
+    // bench --counters: a frame, and a report, per light.
+    let out = penumbra()
+        .arg("bench")
+        .arg(d.join("s.toml"))
+        .args([
+            "--technique",
+            "hard",
+            "--backend",
+            "gpu",
+            "--counters",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() && err.contains("adapter") && std::env::var_os("CI").is_none() {
+        println!("SKIPPED (no adapter): {err}");
+    } else {
+        let v: serde_json::Value = serde_json::from_str(&ok(&out)).unwrap();
+        let lights: Vec<&str> = v
+            .as_array()
+            .expect("a report per light")
+            .iter()
+            .map(|r| r["light"].as_str().unwrap())
+            .collect();
+        assert_eq!(lights, ["key", "fill"]);
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
