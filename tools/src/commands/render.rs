@@ -170,9 +170,16 @@ fn draw(
         for w in &frame.warnings {
             bar.suspend(|| eprintln!("warning: {light}{w}"));
         }
-        frame.image.check_finite().with_context(|| {
-            format!("{technique:?} produced a non-finite pixel ({light}{channel})")
-        })?;
+        // Of a scene of several lights, the light's channel is named.
+        let of = if names.is_empty() {
+            String::new()
+        } else {
+            format!(" ({light}{channel})")
+        };
+        frame
+            .image
+            .check_finite()
+            .with_context(|| format!("{technique:?} produced a non-finite pixel{of}"))?;
         details.push(frame.detail);
         channels.push(Channel {
             name: channel,
