@@ -96,7 +96,7 @@ pub(crate) fn read_lights(
             }
             let mut lights: Vec<NamedLight> = Vec::with_capacity(entries.len());
             for (k, entry) in entries.iter().enumerate() {
-                let l = entry.get_ref();
+                let l = &entry.get_ref().0;
                 let key = format!("light[{k}]");
                 let name = match &l.name {
                     None => default_light_name(k),

@@ -126,6 +126,14 @@ fn bad_names_and_an_empty_array_name_their_line() {
     let text = format!("light = []\n{CAMERA}");
     assert_eq!(error(&text).0, 1);
     assert!(error(&text).1.contains("empty array"));
+    // An entry that is not a table says what it should be.
+    let text = format!("light = [3]\n{CAMERA}");
+    let (line, message) = error(&text);
+    assert_eq!(line, 1);
+    assert!(
+        message.contains("one entry of the array of tables"),
+        "{message}"
+    );
     // A name is for the lights of `[[light]]`.
     let text = format!("{CAMERA}{}", light("[light]", "name = \"key\"\n", 0.0));
     assert_eq!(error(&text).0, line_with(&text, "name = ", 0));
