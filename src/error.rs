@@ -49,6 +49,13 @@ pub enum RenderError {
         /// The first value outside the range ([`crate::Scene::out_of_range`]).
         problem: RangeError,
     },
+    /// A scene of several lights ([`crate::Scene::lights`]) whose names are not valid and
+    /// unique ([`penumbra_geom::check_light_names`]; a scene file's are checked as it loads).
+    #[error("the scene's lights: {error}")]
+    BadLights {
+        /// What is wrong with the names.
+        error: penumbra_geom::LightNameError,
+    },
     /// The GPU back end chosen, and no GPU.
     #[error("no GPU: {missing}")]
     NoGpu {

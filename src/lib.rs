@@ -7,7 +7,9 @@
 //!
 //! The front door is [`Renderer`]: give it a [`Scene`] (loaded from a scene file, see
 //! `docs/scene-format.md`, or made in code with [`Scene::new`]) and a [`Technique`], get a
-//! [`VisibilityImage`]: the share of the light's area each pixel's surface point sees.
+//! [`VisibilityImage`]: the share of the light's area each pixel's surface point sees. A scene
+//! of several lights (`[[light]]`) renders with [`Renderer::render_lights`] into
+//! [`VisibilityChannels`], one image per light.
 //!
 //! ```
 //! use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
@@ -78,7 +80,8 @@ pub use penumbra_geom::ImageError;
 pub use penumbra_geom::MeshError;
 pub use penumbra_geom::RangeError;
 pub use penumbra_geom::{
-    Camera, RectLight, Scene, SceneError, Technique, TriangleMesh, VisibilityImage,
+    Camera, Channel, NamedLight, RectLight, Scene, SceneError, Technique, TriangleMesh,
+    VisibilityChannels, VisibilityImage,
 };
 pub use penumbra_geom::{Comparison, compare};
 pub use penumbra_gpu as gpu;

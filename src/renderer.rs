@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use penumbra_geom::VisibilityImage;
+use penumbra_geom::{Channel, VisibilityChannels, VisibilityImage};
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::{SamplePattern, Volumes};
@@ -157,7 +157,8 @@ impl Renderer {
         Ok(placement == Placement::Gpu)
     }
 
-    /// The visibility image of `scene` by `technique`.
+    /// The visibility image of `scene` by `technique`: under [`Scene::light`], the first light
+    /// of a scene of several ([`Renderer::render_lights`] renders each).
     pub fn render(
         &mut self,
         scene: &Scene,
@@ -167,6 +168,45 @@ impl Renderer {
         Ok(self
             .render_frame(scene, technique, options, None, &|_| {})?
             .image)
+    }
+
+    /// The visibility image of each of `scene`'s lights by `technique`, in the scene's order:
+    /// the one channel `V` of a scene of one light, or a channel `<name>.V` for each of
+    /// [`Scene::lights`], the image [`Renderer::render`] makes of [`Scene::for_light`] (the
+    /// lights are rendered one after the other, the GPU renderers kept between them).
+    ///
+    /// ```
+    /// use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+    ///
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/scenes/two-lights.toml");
+    /// let scene = Scene::load(std::path::Path::new(path))?;
+    /// let mut renderer = Renderer::new(Backend::Cpu);
+    /// let v = renderer.render_lights(&scene, Technique::Hard, &RenderOptions::default())?;
+    /// assert_eq!(v.names(), ["key.V", "fill.V"]);
+    /// let fill = renderer.render(&scene.for_light(1), Technique::Hard, &RenderOptions::default())?;
+    /// assert_eq!(v.get("fill.V"), Some(&fill));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn render_lights(
+        &mut self,
+        scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+    ) -> Result<VisibilityChannels, RenderError> {
+        if scene.lights.is_empty() {
+            return Ok(VisibilityChannels::single(
+                self.render(scene, technique, options)?,
+            ));
+        }
+        penumbra_geom::check_light_names(&scene.lights)
+            .map_err(|error| RenderError::BadLights { error })?;
+        let mut channels = Vec::with_capacity(scene.lights.len());
+        for (k, name) in scene.channel_names().into_iter().enumerate() {
+            let image = self.render(&scene.for_light(k), technique, options)?;
+            channels.push(Channel { name, image });
+        }
+        Ok(VisibilityChannels::new(channels)
+            .expect("valid, unique light names and one camera make valid channels"))
     }
 
     /// [`Renderer::render`] with the GPU pass times and a description of the run. A volume

@@ -17,7 +17,9 @@ pub fn load(name: &str) -> Scene {
 }
 
 /// Every fixture scene's name, from the folder (so a new fixture is tested without a list to
-/// keep up to date). Fails if the folder is empty.
+/// keep up to date). Fails if the folder is empty. A scene of several lights (`two-lights`) is
+/// rendered under its first, [`Scene::light`], by the tests that take every fixture;
+/// `several_lights.rs` checks that each light's channel is the scene under that light alone.
 pub fn fixture_names() -> Vec<String> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/scenes");
     let mut names: Vec<String> = std::fs::read_dir(&dir)

@@ -162,6 +162,30 @@ fn render_small(scene: &Scene) {
     if s.triangle_count() > 20_000 {
         return;
     }
+    // Each light of a scene of several alone, every one a channel, or refused as out of range.
+    if !s.lights.is_empty() {
+        let all = Renderer::new(Backend::Cpu).render_lights(
+            &s,
+            Technique::Hard,
+            &RenderOptions::default(),
+        );
+        match all {
+            Ok(v) => {
+                assert_eq!(v.channels().len(), s.lights.len());
+                assert!(
+                    v.channels().iter().all(|c| c
+                        .image
+                        .data
+                        .iter()
+                        .all(|v| (0.0..=1.0).contains(v)))
+                );
+            }
+            Err(e) => assert!(
+                (0..s.light_count()).any(|k| s.for_light(k).out_of_range().is_some()),
+                "several lights, all in range, refused: {e}"
+            ),
+        }
+    }
     // The front door refuses what is out of range; the rest it renders.
     let front = Renderer::new(Backend::Cpu).render(&s, Technique::Hard, &RenderOptions::default());
     if scene.out_of_range().is_some() {

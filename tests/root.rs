@@ -15,4 +15,5 @@ mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;
 mod repeated_faces;
+mod several_lights;
 mod volumes;

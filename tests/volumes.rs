@@ -137,6 +137,7 @@ pub fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
             DVec3::X,
             DVec2::new(2.5, 1.5),
         ),
+        lights: Vec::new(),
         meshes: vec![SceneMesh {
             source: "occluder".into(),
             transform: DMat4::IDENTITY,

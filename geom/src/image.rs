@@ -22,6 +22,32 @@ pub enum ImageError {
         /// The channels it has.
         found: Vec<String>,
     },
+    /// The EXR has neither a channel `V` nor channels `<light>.V`.
+    #[error("{path}: no channel named `V` or `<light>.V` (found {found:?})")]
+    NoLightChannels {
+        /// The file.
+        path: PathBuf,
+        /// The channels it has.
+        found: Vec<String>,
+    },
+    /// The EXR has no channel of the name asked for.
+    #[error("{path}: no channel named `{channel}` (its channels: {found:?})")]
+    NoChannel {
+        /// The file.
+        path: PathBuf,
+        /// The channel asked for.
+        channel: String,
+        /// The visibility channels it has.
+        found: Vec<String>,
+    },
+    /// Images of several lights whose channels differ in size or repeat a name.
+    #[error("channel {channel}: {problem}")]
+    BadChannels {
+        /// The offending channel.
+        channel: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// Two images of different sizes were compared.
     #[error("image sizes differ: {a:?} vs {b:?}")]
     SizeMismatch {

@@ -32,19 +32,8 @@ impl VisibilityImage {
     /// Reads the `V` channel of an EXR file (its first layer holding one).
     pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
         use exr::prelude::*;
-        let (width, height, bytes) = exr_layout(path)?;
-        if let Some(a) = crate::memory::available_memory().filter(|&a| bytes > a / 2) {
-            return Err(ImageError::TooLarge {
-                path: path.to_path_buf(),
-                width,
-                height,
-                why: format!(
-                    "reading it takes about {:.1} GB and {:.1} GB of memory are available",
-                    2.0 * bytes as f64 / 1e9,
-                    a as f64 / 1e9
-                ),
-            });
-        }
+        let (width, height, bytes) = exr_layout(path, |name| name == CHANNEL)?;
+        fits_memory(path, width, height, bytes)?;
         let image = read()
             .no_deep_data()
             .largest_resolution_level()
@@ -76,7 +65,7 @@ impl VisibilityImage {
     /// The width and height of the EXR's layer that holds `V`, read from its header alone (no
     /// pixel is read or allocated).
     pub fn read_exr_size(path: &Path) -> Result<(u64, u64), ImageError> {
-        exr_layout(path).map(|(w, h, _)| (w, h))
+        exr_layout(path, |name| name == CHANNEL).map(|(w, h, _)| (w, h))
     }
 
     /// Writes V in `[0, 1]` as an 8-bit greyscale PNG (linear, atomically).
@@ -101,7 +90,7 @@ pub enum PngColor {
 
 /// Refuses what is not a regular file starting with OpenEXR's magic number, with words a user
 /// can act on (the EXR reader says "file identifier missing" of a PNG).
-fn exr_file(path: &Path) -> Result<(), ImageError> {
+pub(crate) fn exr_file(path: &Path) -> Result<(), ImageError> {
     use std::io::Read;
     crate::input::regular_file(path).map_err(|e| io_err(path, e))?;
     let mut magic = [0u8; 4];
@@ -117,9 +106,35 @@ fn exr_file(path: &Path) -> Result<(), ImageError> {
     Ok(())
 }
 
-/// The size of the EXR's layer that holds `V`, and the bytes that reading every layer and
-/// channel of it takes, from its header alone.
-fn exr_layout(path: &Path) -> Result<(u64, u64, u64), ImageError> {
+/// Refuses to read an EXR of `width x height` pixels whose every layer and channel take `bytes`
+/// where that is more than half the available memory.
+pub(crate) fn fits_memory(
+    path: &Path,
+    width: u64,
+    height: u64,
+    bytes: u64,
+) -> Result<(), ImageError> {
+    if let Some(a) = crate::memory::available_memory().filter(|&a| bytes > a / 2) {
+        return Err(ImageError::TooLarge {
+            path: path.to_path_buf(),
+            width,
+            height,
+            why: format!(
+                "reading it takes about {:.1} GB and {:.1} GB of memory are available",
+                2.0 * bytes as f64 / 1e9,
+                a as f64 / 1e9
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The size of the EXR's first layer with a channel whose name passes `wanted`, and the bytes
+/// that reading every layer and channel of it takes, from its header alone.
+pub(crate) fn exr_layout(
+    path: &Path,
+    wanted: impl Fn(&str) -> bool,
+) -> Result<(u64, u64, u64), ImageError> {
     exr_file(path)?;
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| io_err(path, e))?;
     let mut bytes = 0u64;
@@ -132,7 +147,7 @@ fn exr_layout(path: &Path) -> Result<(u64, u64, u64), ImageError> {
             let per = ch.sample_type.bytes_per_sample() as u64 + 4;
             bytes = bytes.saturating_add(w.saturating_mul(ht).saturating_mul(per));
             let name = ch.name.to_string();
-            if name == CHANNEL {
+            if wanted(&name) {
                 size.get_or_insert((w, ht));
             } else if size.is_none() {
                 found.push(name);

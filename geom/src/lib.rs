@@ -9,12 +9,14 @@
 mod boxtree;
 mod bvh_build;
 mod camera;
+mod channels;
 mod exact;
 mod halfedge;
 mod image;
 mod image_files;
 mod input;
 mod light;
+mod lights;
 mod memory;
 mod mesh;
 mod metrics;
@@ -25,16 +27,22 @@ mod reference;
 mod rng;
 mod scene;
 mod scene_file;
+mod scene_file_lights;
 mod scene_values;
 mod technique;
 
 pub use boxtree::{BoxTree, Plane};
 pub use camera::{Camera, CameraError};
+pub use channels::{Channel, LIGHTS_ATTRIBUTE, VisibilityChannels, is_visibility_channel};
 pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
 pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
-pub use image_files::{PngColor, write_png_bytes};
+pub use image_files::{CHANNEL, PngColor, write_png_bytes};
 pub use light::RectLight;
+pub use lights::{
+    LightNameError, MAX_LIGHT_NAME, NamedLight, check_light_name, check_light_names,
+    default_light_name, light_channel,
+};
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};

@@ -15,6 +15,11 @@
 //! tangent = [1, 0, 0]       # unit, orthogonal to normal
 //! size = [w, h]             # along tangent, along cross(normal, tangent)
 //!
+//! # or several lights, each rendered into its own channel `<name>.V`:
+//! # [[light]]
+//! # name = "key"            # optional: ASCII letters, digits, `-`, `_`; default light0, light1, ...
+//! # center = ...            # and the other keys of `[light]`
+//!
 //! [[mesh]]                  # any number
 //! obj = "meshes/foo.obj"    # relative to the scene file
 //! scale = 1.0               # optional: number or [sx, sy, sz]
@@ -27,16 +32,15 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{DMat4, DQuat, DVec2, DVec3};
+use glam::{DMat4, DQuat, DVec3};
 use serde::Deserialize;
 use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
-use crate::light::RectLight;
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, UNIT_TOLERANCE, within_coordinates};
+use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 use crate::scene::{Scene, SceneMesh};
-use crate::scene_values::{Scale, Table, Vector};
+use crate::scene_values::{OneOrMany, Scale, Table, Vector};
 use penumbra_params::TechniqueParams;
 
 /// What can be wrong with a scene file.
@@ -88,7 +92,7 @@ pub enum SceneError {
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     camera: Spanned<Table<CameraDesc>>,
-    light: Spanned<Table<LightDesc>>,
+    light: Spanned<OneOrMany<LightDesc, LightDesc>>,
     #[serde(default)]
     mesh: Vec<Spanned<MeshDesc>>,
     // The shadow-map techniques' tables (`penumbra_params::TABLES`; a test checks that these
@@ -112,13 +116,15 @@ struct CameraDesc {
     height: Spanned<u32>,
 }
 
+/// A `[light]` table, or one entry of `[[light]]` (the only one with a `name`).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct LightDesc {
-    center: Spanned<Vector<3>>,
-    normal: Spanned<Vector<3>>,
-    tangent: Spanned<Vector<3>>,
-    size: Spanned<Vector<2>>,
+pub(crate) struct LightDesc {
+    pub(crate) name: Option<Spanned<String>>,
+    pub(crate) center: Spanned<Vector<3>>,
+    pub(crate) normal: Spanned<Vector<3>>,
+    pub(crate) tangent: Spanned<Vector<3>>,
+    pub(crate) size: Spanned<Vector<2>>,
 }
 
 #[derive(Deserialize)]
@@ -181,6 +187,16 @@ impl Scene {
         // A UTF-8 byte-order mark is not part of the first line.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let file: SceneFile = toml::from_str(text).map_err(|e| {
+            if let Some(line) = both_light_forms(text) {
+                return SceneError::Syntax {
+                    path: path.to_path_buf(),
+                    line,
+                    message:
+                        "`[light]` and `[[light]]` in one file: write one light as `[light]`, \
+                              or every light as `[[light]]`"
+                            .to_string(),
+                };
+            }
             let mut message = e.message().trim().to_string();
             if message == "recursion limit" {
                 message =
@@ -252,53 +268,8 @@ impl Scene {
             invalid(span, format!("camera: {e}"))
         })?;
 
-        let l = &file.light.get_ref().0;
-        let center = finite3(&l.center, "light.center")?;
-        let normal = finite3(&l.normal, "light.normal")?;
-        let tangent = finite3(&l.tangent, "light.tangent")?;
-        if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.normal.span(),
-                format!(
-                    "light.normal {normal} is not unit length (|n| = {})",
-                    normal.length()
-                ),
-            ));
-        }
-        if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.tangent.span(),
-                format!(
-                    "light.tangent {tangent} is not unit length (|t| = {})",
-                    tangent.length()
-                ),
-            ));
-        }
-        if normal.dot(tangent).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.tangent.span(),
-                format!("light.tangent {tangent} is not orthogonal to light.normal {normal}"),
-            ));
-        }
-        let size = DVec2::from(l.size.get_ref().0);
-        if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
-            return Err(invalid(
-                l.size.span(),
-                format!("light.size {size} must be two positive finite lengths"),
-            ));
-        }
-        if size.max_element() > MAX_COORDINATE {
-            return Err(invalid(
-                l.size.span(),
-                format!(
-                    "light.size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})"
-                ),
-            ));
-        }
-        // Remove the tolerated rounding so that the light frame is exactly orthonormal.
-        let n = normal.normalize();
-        let t = (tangent - n * n.dot(tangent)).normalize();
-        let light = RectLight::new(center, n, t, size);
+        let (light, lights) =
+            crate::scene_file_lights::read_lights(&file.light, &invalid, &finite3)?;
 
         let base = path.parent().unwrap_or(Path::new("."));
         let mut meshes = Vec::with_capacity(file.mesh.len());
@@ -383,10 +354,32 @@ impl Scene {
             path: path.to_path_buf(),
             camera,
             light,
+            lights,
             meshes,
             params,
         })
     }
+}
+
+/// The line of the later of a `[light]` and a `[[light]]` header, where the text has both (the
+/// TOML parser says only "duplicate key" of them).
+fn both_light_forms(text: &str) -> Option<usize> {
+    let header = |line: &str, open: &str, close: &str| {
+        line.trim()
+            .strip_prefix(open)
+            .and_then(|r| r.split('#').next())
+            .and_then(|r| r.trim_end().strip_suffix(close))
+            .is_some_and(|k| matches!(k.trim(), "light" | "\"light\"" | "'light'"))
+    };
+    let (mut one, mut many) = (None, None);
+    for (i, line) in text.lines().enumerate() {
+        if header(line, "[[", "]]") {
+            many.get_or_insert(i + 1);
+        } else if header(line, "[", "]") {
+            one.get_or_insert(i + 1);
+        }
+    }
+    Some(one?.max(many?))
 }
 
 type SpanError = (std::ops::Range<usize>, String);
@@ -499,3 +492,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "scene_file_lights_tests.rs"]
+mod lights_tests;

@@ -127,6 +127,73 @@ impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for Table<T> {
     }
 }
 
+/// A table written once (`[light]`) or an array of tables (`[[light]]`), each read as its own
+/// type: the scene file's one light or its several named ones.
+#[derive(Debug)]
+pub(crate) enum OneOrMany<T, U> {
+    /// `[name]`.
+    One(T),
+    /// `[[name]]`, every entry with its span.
+    Many(Vec<toml::Spanned<Entry<U>>>),
+}
+
+/// One entry of an array of tables, refused with a message that says so where it is not a
+/// table (`light = [3]`), where serde would name the Rust type it wanted.
+#[derive(Debug)]
+pub(crate) struct Entry<T>(pub T);
+
+struct EntryVisitor<T>(std::marker::PhantomData<T>);
+
+impl<'de, T: serde::Deserialize<'de>> Visitor<'de> for EntryVisitor<T> {
+    type Value = Entry<T>;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a table, one entry of the array of tables `[[name]]`")
+    }
+
+    fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<Entry<T>, A::Error> {
+        T::deserialize(de::value::MapAccessDeserializer::new(map)).map(Entry)
+    }
+}
+
+impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for Entry<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_map(EntryVisitor(std::marker::PhantomData))
+    }
+}
+
+struct OneOrManyVisitor<T, U>(std::marker::PhantomData<(T, U)>);
+
+impl<'de, T: serde::Deserialize<'de>, U: serde::Deserialize<'de>> Visitor<'de>
+    for OneOrManyVisitor<T, U>
+{
+    type Value = OneOrMany<T, U>;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("one table, `[name]`, or an array of tables, `[[name]]`")
+    }
+
+    fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<OneOrMany<T, U>, A::Error> {
+        T::deserialize(de::value::MapAccessDeserializer::new(map)).map(OneOrMany::One)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<OneOrMany<T, U>, A::Error> {
+        let mut out = Vec::new();
+        while let Some(x) = seq.next_element()? {
+            out.push(x);
+        }
+        Ok(OneOrMany::Many(out))
+    }
+}
+
+impl<'de, T: serde::Deserialize<'de>, U: serde::Deserialize<'de>> serde::Deserialize<'de>
+    for OneOrMany<T, U>
+{
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(OneOrManyVisitor(std::marker::PhantomData))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -50,6 +50,23 @@ impl PassTimes {
             + self.count
     }
 
+    /// The times of two frames' passes added, pass by pass (a frame of several lights is one
+    /// frame per light).
+    pub fn plus(&self, other: &PassTimes) -> PassTimes {
+        PassTimes {
+            depth: self.depth + other.depth,
+            stencil: self.stencil + other.stencil,
+            wedge: self.wedge + other.wedge,
+            blend: self.blend + other.blend,
+            resolve: self.resolve + other.resolve,
+            light_map: self.light_map + other.light_map,
+            preprocess: self.preprocess + other.preprocess,
+            filter: self.filter + other.filter,
+            edge_lists: self.edge_lists + other.edge_lists,
+            count: self.count + other.count,
+        }
+    }
+
     fn slot(&mut self, kind: Pass) -> &mut f64 {
         match kind {
             Pass::Depth => &mut self.depth,

@@ -144,7 +144,8 @@ pub(crate) fn backend_parser() -> impl clap::builder::TypedValueParser<Value = B
 
 #[derive(Subcommand)]
 pub(crate) enum Command {
-    /// Render the visibility image V of a scene to a one-channel (`V`) float EXR.
+    /// Render the visibility image V of a scene to a float EXR: one channel `V`, or for a scene
+    /// of several lights (`[[light]]`) one channel `<name>.V` per light, each light alone.
     Render {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -161,7 +162,8 @@ pub(crate) enum Command {
         /// its correlated multi-jittered ones.
         #[arg(long)]
         jitter: bool,
-        /// Also write an 8-bit greyscale PNG.
+        /// Also write an 8-bit greyscale PNG; for a scene of several lights one per light,
+        /// `PNG.<name>.png` (`--png v.png` writes `v.key.png`, `v.fill.png`, ...).
         #[arg(long)]
         png: Option<PathBuf>,
         /// Where the volume techniques (`hard`, `wedges`, `wedges-blend`) run; the references
@@ -171,7 +173,8 @@ pub(crate) enum Command {
         #[command(flatten)]
         params: ParamArgs,
     },
-    /// Print the surface point seen through one pixel, its exact V and its reference V.
+    /// Print the surface point seen through one pixel, its exact V and its reference V (of each
+    /// light in turn, for a scene of several).
     Probe {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -182,13 +185,19 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 4096)]
         samples: usize,
     },
-    /// Compare image A against reference B: errors over all pixels and over B's penumbra.
+    /// Compare image A against reference B: errors over all pixels and over B's penumbra. Images
+    /// of several lights are compared channel by channel (`<light>.V`), each in turn.
     Compare {
         /// Image under test.
         a: PathBuf,
         /// Reference image.
         b: PathBuf,
-        /// Write a heat map of |A - B| (black 0, red, yellow, white >= 0.1).
+        /// Compare only this channel of both images (`V`, or `<light>.V` of an image of
+        /// several lights); all of them in turn when not given.
+        #[arg(long)]
+        channel: Option<String>,
+        /// Write a heat map of |A - B| (black 0, red, yellow, white >= 0.1); of several
+        /// channels, one per light, `HEATMAP.<light>.png`.
         #[arg(long)]
         heatmap: Option<PathBuf>,
         /// Print JSON instead of a table.

@@ -57,6 +57,28 @@ struct SceneText(String);
 
 impl SceneText {
     fn new(comment: &str, eye: [f64; 3], target: [f64; 3], light: &str) -> Self {
+        let mut s = SceneText::camera(comment, eye, target, [320, 240]);
+        let _ = writeln!(s.0, "[light]\n{light}");
+        s
+    }
+
+    /// A scene of several lights (`[[light]]`), each `(name, keys)`, at `size` pixels.
+    fn with_lights(
+        comment: &str,
+        eye: [f64; 3],
+        target: [f64; 3],
+        size: [u32; 2],
+        lights: &[(&str, String)],
+    ) -> Self {
+        let mut s = SceneText::camera(comment, eye, target, size);
+        for (name, keys) in lights {
+            let _ = writeln!(s.0, "[[light]]\nname = \"{name}\"\n{keys}");
+        }
+        s
+    }
+
+    /// The comment and the camera of a scene of `size` pixels.
+    fn camera(comment: &str, eye: [f64; 3], target: [f64; 3], size: [u32; 2]) -> Self {
         let mut s = String::new();
         for line in comment.lines() {
             let _ = writeln!(s, "# {line}");
@@ -67,9 +89,9 @@ impl SceneText {
         );
         let _ = writeln!(
             s,
-            "[camera]\neye = {eye:?}\ntarget = {target:?}\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\nwidth = 320\nheight = 240\n"
+            "[camera]\neye = {eye:?}\ntarget = {target:?}\nup = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\nwidth = {}\nheight = {}\n",
+            size[0], size[1]
         );
-        let _ = writeln!(s, "[light]\n{light}");
         SceneText(s)
     }
 
@@ -423,6 +445,33 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     s.mesh("quad.obj", "6.0", None, [0.0, 3.0, 0.0]);
     s.mesh("sphere.obj", "0.6", None, [1.0, 0.8, -6.0]);
     write(scenes.join("camera-in-shadow.toml"), s.0)?;
+
+    // two-lights: the scenes of several lights, one channel each.
+    let mut s = SceneText::with_lights(
+        "A sphere and a raised quad under two lights, a square key light on the left and a long\nfill light on the right, whose shadows overlap between the two casters; one channel per\nlight (key.V, fill.V). Small (160x120), so that every fixture test stays quick.",
+        [0.0, 6.0, 7.5],
+        [0.0, 0.5, 0.0],
+        [160, 120],
+        &[
+            (
+                "key",
+                aimed_light([-3.0, 5.0, 1.0], [0.0, 0.0, 0.0], 0.0, [2.0, 2.0]),
+            ),
+            (
+                "fill",
+                aimed_light([3.5, 4.0, -0.5], [0.0, 0.0, 0.0], 20.0, [0.8, 3.0]),
+            ),
+        ],
+    );
+    s.ground();
+    s.mesh("sphere.obj", "0.7", None, [-0.6, 1.2, 0.0]);
+    s.mesh(
+        "quad.obj",
+        "[1.6, 1.0, 1.2]",
+        Some([0.0, 0.0, 1.0, 15.0]),
+        [0.9, 1.8, 0.4],
+    );
+    write(scenes.join("two-lights.toml"), s.0)?;
 
     // The scale scene (benchmarks and the scale tests, not every fixture test).
     let scale = dir.join("scale");

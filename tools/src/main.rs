@@ -103,9 +103,10 @@ fn run(cli: Cli) -> Result<()> {
         Command::Compare {
             a,
             b,
+            channel,
             heatmap,
             json,
-        } => compare::compare(&a, &b, heatmap.as_deref(), json),
+        } => compare::compare(&a, &b, channel.as_deref(), heatmap.as_deref(), json),
         Command::Geometry { scene, json } => geometry::geometry(&scene, json),
         Command::Bench {
             scene,

@@ -44,6 +44,7 @@ fn scene(meshes: Vec<TriangleMesh>, eye: DVec3, target: DVec3) -> Scene {
             tangent,
             DVec2::new(2.5, 2.0),
         ),
+        lights: Vec::new(),
         meshes: all
             .into_iter()
             .map(|mesh| SceneMesh {

@@ -1,4 +1,5 @@
-//! `penumbra accuracy`: every technique against the reference, on every scene of a folder.
+//! `penumbra accuracy`: every technique against the reference, on every scene of a folder (on
+//! each light alone of a scene of several, a row `scene/light` each).
 
 use std::path::{Path, PathBuf};
 
@@ -69,41 +70,74 @@ pub(crate) fn accuracy(
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        let truth = cpu
-            .render(&scene, Technique::Reference, &truth_options)
-            .in_command_words()?;
-        // Built before the timed renders.
-        let volumes = Volumes::build(&scene);
-        for &t in techniques {
-            let options = RenderOptions {
-                samples: sampling.samples,
-                jitter: sampling.jitter && t.takes_samples(),
-            };
-            let start = std::time::Instant::now();
-            let r = if Runs::of(t) == Runs::CpuOnly {
-                &mut cpu
-            } else {
-                &mut renderer
-            };
-            let img = r
-                .render_frame(&scene, t, &options, Some(&volumes), &|_| {})
-                .map_err(|e| render_error(e, "--technique-samples"))?
-                .image;
-            let secs = start.elapsed().as_secs_f64();
-            let c = compare(&img, &truth)?;
-            println!(
-                "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {:+.5} | {:.2}% | {secs:.2} |",
-                t.name(),
-                c.all.mae,
-                c.all.p99,
-                100.0 * c.all.share_over,
-                c.penumbra.pixels,
-                c.penumbra.mae,
-                c.penumbra.p99,
-                c.penumbra_signed,
-                100.0 * c.umbra_lit
-            );
+        // A scene of several lights: a row per light and technique, the light alone.
+        let rows: Vec<(String, Scene)> = if scene.lights.is_empty() {
+            vec![(name, scene)]
+        } else {
+            scene
+                .lights
+                .iter()
+                .enumerate()
+                .map(|(k, l)| (format!("{name}/{}", l.name), scene.for_light(k)))
+                .collect()
+        };
+        for (name, scene) in &rows {
+            accuracy_rows(
+                name,
+                scene,
+                techniques,
+                (sampling, &truth_options),
+                (&mut renderer, &mut cpu),
+            )?;
         }
+    }
+    Ok(())
+}
+
+/// The rows of `penumbra accuracy`'s table of `scene` (of one light), named `name`: each of
+/// `techniques` (with the `sampling` options; the truth with `truth`) against the reference,
+/// the CPU-only ones rendered by `cpu`, the others by `renderer`.
+fn accuracy_rows(
+    name: &str,
+    scene: &Scene,
+    techniques: &[Technique],
+    (sampling, truth_options): (RenderOptions, &RenderOptions),
+    (renderer, cpu): (&mut Renderer, &mut Renderer),
+) -> Result<()> {
+    let truth = cpu
+        .render(scene, Technique::Reference, truth_options)
+        .in_command_words()?;
+    // Built before the timed renders.
+    let volumes = Volumes::build(scene);
+    for &t in techniques {
+        let options = RenderOptions {
+            samples: sampling.samples,
+            jitter: sampling.jitter && t.takes_samples(),
+        };
+        let start = std::time::Instant::now();
+        let r = if Runs::of(t) == Runs::CpuOnly {
+            &mut *cpu
+        } else {
+            &mut *renderer
+        };
+        let img = r
+            .render_frame(scene, t, &options, Some(&volumes), &|_| {})
+            .map_err(|e| render_error(e, "--technique-samples"))?
+            .image;
+        let secs = start.elapsed().as_secs_f64();
+        let c = compare(&img, &truth)?;
+        println!(
+            "| {name} | {} | {:.5} | {:.4} | {:.2}% | {} | {:.5} | {:.4} | {:+.5} | {:.2}% | {secs:.2} |",
+            t.name(),
+            c.all.mae,
+            c.all.p99,
+            100.0 * c.all.share_over,
+            c.penumbra.pixels,
+            c.penumbra.mae,
+            c.penumbra.p99,
+            c.penumbra_signed,
+            100.0 * c.umbra_lit
+        );
     }
     Ok(())
 }

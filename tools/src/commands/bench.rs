@@ -105,18 +105,40 @@ pub(crate) fn bench_one(
     params.apply(&mut scene)?;
     let mut renderer = Renderer::new(backend);
     let on_gpu = renderer.uses_gpu(technique).in_command_words()?;
+    // A frame of a scene of several lights renders each light alone, one after the other.
+    let lights = scene.light_count();
+    let scenes: Vec<Scene> = if scene.lights.is_empty() {
+        Vec::new()
+    } else {
+        (0..lights).map(|k| scene.for_light(k)).collect()
+    };
+    let scenes: Vec<&Scene> = if scenes.is_empty() {
+        vec![&scene]
+    } else {
+        scenes.iter().collect()
+    };
     // Built once, outside the timed frames: the frames time the GPU's work.
-    let volumes = (on_gpu && technique.is_volume()).then(|| Volumes::build(&scene));
+    let volumes: Vec<Option<Volumes>> = scenes
+        .iter()
+        .map(|s| (on_gpu && technique.is_volume()).then(|| Volumes::build(s)))
+        .collect();
     let mut wall = Vec::new();
     let mut passes: Vec<PassTimes> = Vec::new();
     for k in 0..=frames {
         let start = std::time::Instant::now();
-        let frame = renderer
-            .render_frame(&scene, technique, &options, volumes.as_ref(), &|_| {})
-            .in_command_words()?;
+        let mut times: Option<PassTimes> = None;
+        for (s, v) in scenes.iter().zip(&volumes) {
+            let frame = renderer
+                .render_frame(s, technique, &options, v.as_ref(), &|_| {})
+                .in_command_words()?;
+            times = match (times, frame.times) {
+                (Some(a), Some(b)) => Some(a.plus(&b)),
+                (a, b) => a.or(b),
+            };
+        }
         if k > 0 {
             wall.push(start.elapsed().as_secs_f64() * 1e3);
-            passes.extend(frame.times);
+            passes.extend(times);
         }
     }
     let device = match renderer.gpu_description() {
@@ -126,7 +148,7 @@ pub(crate) fn bench_one(
     let pass = |f: fn(&PassTimes) -> f64| {
         (!passes.is_empty()).then(|| median(passes.iter().map(f).collect()))
     };
-    Ok(serde_json::json!({
+    let mut report = serde_json::json!({
         "scene": scene_path.display().to_string(),
         "technique": format!("{technique:?}"),
         "device": device,
@@ -146,14 +168,24 @@ pub(crate) fn bench_one(
             "gpu_total": pass(|p| p.total()),
             "frame_wall": median(wall),
         }
-    }))
+    });
+    // The lights a frame renders, for a scene of several (whose frame renders each).
+    if !scene.lights.is_empty() {
+        report["lights"] = serde_json::json!(lights);
+    }
+    Ok(report)
 }
 
 /// Prints a report of [`bench_one`] (or of [`bench_compare`]'s medians) of `technique` as text.
 pub(crate) fn print_bench(report: &serde_json::Value, technique: Technique, what: &str) {
     let [w, h] = [0, 1].map(|i| report["resolution"][i].as_u64().unwrap_or(0));
+    // A frame of several lights renders each of them.
+    let lights = match report["lights"].as_u64() {
+        Some(n) if n > 1 => format!(" ({n} lights, each rendered in every frame)"),
+        _ => String::new(),
+    };
     println!(
-        "{} {} on {} at {w}x{h}, {what}:",
+        "{} {} on {} at {w}x{h}{lights}, {what}:",
         report["scene"].as_str().unwrap_or_default(),
         report["technique"].as_str().unwrap_or_default(),
         report["device"].as_str().unwrap_or_default(),

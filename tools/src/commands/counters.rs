@@ -3,6 +3,7 @@
 //! has them) and the bytes of the buffers and textures it binds. Counts, unlike times, do not
 //! depend on the device's speed: lavapipe's are those of any Vulkan device.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use anyhow::{Result, bail};
@@ -14,7 +15,8 @@ use crate::cli::ParamArgs;
 use crate::words::InCommandWords;
 
 /// Renders one frame of each of `techniques` on the GPU with its passes counted, and prints
-/// their counts (as JSON when `json`).
+/// their counts (as JSON when `json`); of a scene of several lights, one frame per light, each
+/// report naming its light.
 pub(crate) fn counters(
     scene_path: &Path,
     techniques: &[Technique],
@@ -28,38 +30,56 @@ pub(crate) fn counters(
     let mut renderer = Renderer::new(backend);
     renderer.set_counters(true);
     let mut reports = Vec::new();
+    // Each light alone, for a scene of several: one frame, and one report, per light.
+    let lights: Vec<(Option<&str>, Cow<Scene>)> = if scene.lights.is_empty() {
+        vec![(None, Cow::Borrowed(&scene))]
+    } else {
+        scene
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(k, l)| (Some(l.name.as_str()), Cow::Owned(scene.for_light(k))))
+            .collect()
+    };
     for &technique in techniques {
         options.pattern_for(technique).in_command_words()?;
         if !renderer.uses_gpu(technique).in_command_words()? {
             bail!("--counters: {technique} runs on the CPU here; counters count GPU passes");
         }
-        let volumes = technique.is_volume().then(|| Volumes::build(&scene));
-        let frame = renderer
-            .render_frame(&scene, technique, &options, volumes.as_ref(), &|_| {})
-            .in_command_words()?;
-        let Some(counts) = frame.counters else {
-            bail!(
-                "--counters: {technique} rendered on the CPU ({})",
-                frame.detail
-            );
-        };
-        let device = renderer.gpu_description().unwrap_or_default();
-        if json {
-            reports.push(serde_json::json!({
-                "scene": scene_path.display().to_string(),
-                "technique": format!("{technique:?}"),
-                "device": device,
-                "resolution": [scene.camera.width, scene.camera.height],
-                "counters": counts,
-            }));
-        } else {
-            println!(
-                "{} {technique} on {device} at {}x{}, one frame:",
-                scene_path.display(),
-                scene.camera.width,
-                scene.camera.height
-            );
-            print!("{}", table(&counts));
+        for (light, scene) in &lights {
+            let volumes = technique.is_volume().then(|| Volumes::build(scene));
+            let frame = renderer
+                .render_frame(scene, technique, &options, volumes.as_ref(), &|_| {})
+                .in_command_words()?;
+            let Some(counts) = frame.counters else {
+                bail!(
+                    "--counters: {technique} rendered on the CPU ({})",
+                    frame.detail
+                );
+            };
+            let device = renderer.gpu_description().unwrap_or_default();
+            if json {
+                let mut report = serde_json::json!({
+                    "scene": scene_path.display().to_string(),
+                    "technique": format!("{technique:?}"),
+                    "device": device,
+                    "resolution": [scene.camera.width, scene.camera.height],
+                    "counters": counts,
+                });
+                if let Some(name) = light {
+                    report["light"] = serde_json::json!(name);
+                }
+                reports.push(report);
+            } else {
+                println!(
+                    "{} {technique}{} on {device} at {}x{}, one frame:",
+                    scene_path.display(),
+                    light.map(|n| format!(", light {n},")).unwrap_or_default(),
+                    scene.camera.width,
+                    scene.camera.height
+                );
+                print!("{}", table(&counts));
+            }
         }
     }
     if json {

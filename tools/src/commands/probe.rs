@@ -1,4 +1,4 @@
-//! `penumbra probe`: the surface point seen through one pixel and its visibility by the exact evaluator, the reference and depth-complexity sampling.
+//! `penumbra probe`: the surface point seen through one pixel and its visibility by the exact evaluator, the reference and depth-complexity sampling; of each light in turn in a scene of several.
 
 use std::path::Path;
 
@@ -42,10 +42,40 @@ pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()
     .per_axis;
     let scene = Scene::load(scene_path)?;
     let (x, y) = parse_pixel(pixel, &scene)?;
-    let tracer = Tracer::new(&scene);
+    if scene.lights.is_empty() {
+        return probe_light(&scene, (x, y), samples, per_axis, None);
+    }
+    // Each light alone, in the scene's order.
+    for (k, l) in scene.lights.iter().enumerate() {
+        let header = format!("light {} (channel {})", l.name, l.channel());
+        probe_light(
+            &scene.for_light(k),
+            (x, y),
+            samples,
+            per_axis,
+            Some(&header),
+        )?;
+    }
+    Ok(())
+}
+
+/// Prints what `penumbra probe` says of pixel `(x, y)` of a scene of one light; `header`, where
+/// given, names the light of a scene of several (printed first, its lines indented).
+fn probe_light(
+    scene: &Scene,
+    (x, y): (u32, u32),
+    samples: usize,
+    per_axis: usize,
+    header: Option<&str>,
+) -> Result<()> {
+    let indent = if header.is_some() { "  " } else { "" };
+    if let Some(h) = header {
+        println!("{h}");
+    }
+    let tracer = Tracer::new(scene);
     let dir = scene.camera.ray_dir(x, y);
     match tracer.surface_point(scene.camera.eye, dir) {
-        None => println!("pixel {x},{y}: the ray hits nothing; V = 1"),
+        None => println!("{indent}pixel {x},{y}: the ray hits nothing; V = 1"),
         Some(p) => {
             let exact = tracer.exact_visibility(&p);
             let mut rng = Rng::stream(
@@ -54,18 +84,18 @@ pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()
             );
             let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);
             let q = p.position;
-            println!("pixel {x},{y}");
+            println!("{indent}pixel {x},{y}");
             println!(
-                "P          = [{:.9}, {:.9}, {:.9}] (triangle {})",
+                "{indent}P          = [{:.9}, {:.9}, {:.9}] (triangle {})",
                 q.x, q.y, q.z, p.triangle
             );
-            println!("V exact    = {exact:.9}");
+            println!("{indent}V exact    = {exact:.9}");
             println!(
-                "V ref      = {sampled:.9} ({samples} samples, 1-sigma bound {:.4})",
+                "{indent}V ref      = {sampled:.9} ({samples} samples, 1-sigma bound {:.4})",
                 (sampled * (1.0 - sampled) / samples as f64).sqrt()
             );
-            println!("V hard     = {}", tracer.hard_visibility(&p));
-            let dc = DepthComplexity::new(&scene);
+            println!("{indent}V hard     = {}", tracer.hard_visibility(&p));
+            let dc = DepthComplexity::new(scene);
             let pattern = SamplePattern {
                 per_axis,
                 jitter: true,
@@ -73,7 +103,7 @@ pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()
             let pixel = y as u64 * scene.camera.width as u64 + x as u64;
             let v = dc.visibility(&p, pattern, pixel, &mut Default::default());
             println!(
-                "V depth    = {:.9} (depth complexity, the reference's {samples} samples; {} edges touched it, {} triangles towards the centre)",
+                "{indent}V depth    = {:.9} (depth complexity, the reference's {samples} samples; {} edges touched it, {} triangles towards the centre)",
                 v.visibility, v.edges, v.centre_count
             );
         }

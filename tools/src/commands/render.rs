@@ -1,10 +1,12 @@
-//! `penumbra render`: one technique's visibility image of a scene, to EXR (and PNG).
+//! `penumbra render`: one technique's visibility image of a scene, to EXR (and PNG): one
+//! channel `V`, or for a scene of several lights a channel `<name>.V` and a PNG
+//! `OUT.<name>.png` per light.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+use penumbra::{Backend, Channel, RenderOptions, Renderer, Scene, Technique, VisibilityChannels};
 
 use crate::cli::ParamArgs;
 use crate::outputs::check_outputs;
@@ -39,13 +41,25 @@ pub(crate) fn render(
     check_outputs(&[scene_path.to_path_buf()], &outputs)?;
     let mut scene = Scene::load(scene_path)?;
     params.apply(&mut scene)?;
+    // A scene of several lights writes a PNG per light.
+    let pngs: Vec<PathBuf> = match png {
+        Some(p) if !scene.lights.is_empty() => scene
+            .light_names()
+            .iter()
+            .map(|name| light_png(p, name))
+            .collect(),
+        Some(p) => vec![p.to_path_buf()],
+        None => Vec::new(),
+    };
+    let mut outputs = vec![out];
+    outputs.extend(pngs.iter().map(PathBuf::as_path));
     check_outputs(&scene.input_files(), &outputs)?;
     // Missing folders are made before the render (so that one that cannot be made fails
     // early), said on success, and removed again on failure.
     let mut created: Vec<PathBuf> = Vec::new();
     let made = make_folders(&outputs, &mut created);
     let result =
-        made.and_then(|()| draw(scene_path, &scene, technique, out, options, png, backend));
+        made.and_then(|()| draw(scene_path, &scene, technique, out, options, &pngs, backend));
     match result {
         Ok(summary) => {
             for d in &created {
@@ -89,17 +103,37 @@ fn make_folders(outputs: &[&Path], created: &mut Vec<PathBuf>) -> Result<()> {
     Ok(())
 }
 
-/// Renders `scene` into `out` (and `png`); returns the summary line.
+/// The PNG of the light `name` of a scene of several lights, for `--png png`: `OUT.<name>.png`
+/// for `OUT.png` (the extension kept, whatever it is), `png.<name>.png` for a name without one.
+pub(crate) fn light_png(png: &Path, name: &str) -> PathBuf {
+    match (png.file_stem(), png.extension()) {
+        (Some(stem), Some(ext)) => {
+            let mut file = stem.to_os_string();
+            file.push(format!(".{name}."));
+            file.push(ext);
+            png.with_file_name(file)
+        }
+        _ => {
+            let mut file = png.as_os_str().to_os_string();
+            file.push(format!(".{name}.png"));
+            PathBuf::from(file)
+        }
+    }
+}
+
+/// Renders `scene` into `out` (and `pngs`, one per light); returns the summary line.
 fn draw(
     scene_path: &Path,
     scene: &Scene,
     technique: Technique,
     out: &Path,
     options: RenderOptions,
-    png: Option<&Path>,
+    pngs: &[PathBuf],
     backend: Backend,
 ) -> Result<String> {
-    let bar = ProgressBar::new(scene.camera.height as u64);
+    let lights = scene.light_count();
+    let rows = scene.camera.height as u64;
+    let bar = ProgressBar::new(rows * lights as u64);
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} rows, {elapsed} (eta {eta})")
             .expect("static template")
@@ -107,34 +141,88 @@ fn draw(
     );
     bar.set_message(format!("{technique:?}"));
     let start = std::time::Instant::now();
-    let progress = |rows| bar.set_position(rows);
-    let frame = Renderer::new(backend)
-        .render_frame(scene, technique, &options, None, &progress)
-        .in_command_words()?;
-    let (img, triangles, detail) = (
-        frame.image,
-        scene.triangle_count(),
-        format!(" ({})", frame.detail),
-    );
-    bar.finish_and_clear();
-    for w in &frame.warnings {
-        eprintln!("warning: {w}");
+    let mut renderer = Renderer::new(backend);
+    let mut channels = Vec::with_capacity(lights);
+    let mut details = Vec::with_capacity(lights);
+    let names = scene.light_names();
+    for (k, channel) in scene.channel_names().into_iter().enumerate() {
+        // A scene of one light renders itself; one of several, each light alone.
+        let one = if scene.lights.is_empty() {
+            None
+        } else {
+            Some(scene.for_light(k))
+        };
+        let done = k as u64 * rows;
+        let progress = |r| bar.set_position(done + r);
+        let frame = renderer
+            .render_frame(
+                one.as_ref().unwrap_or(scene),
+                technique,
+                &options,
+                None,
+                &progress,
+            )
+            .in_command_words()?;
+        let light = names
+            .get(k)
+            .map(|n| format!("light {n}: "))
+            .unwrap_or_default();
+        for w in &frame.warnings {
+            bar.suspend(|| eprintln!("warning: {light}{w}"));
+        }
+        // Of a scene of several lights, the light's channel is named.
+        let of = if names.is_empty() {
+            String::new()
+        } else {
+            format!(" ({light}{channel})")
+        };
+        frame
+            .image
+            .check_finite()
+            .with_context(|| format!("{technique:?} produced a non-finite pixel{of}"))?;
+        details.push(frame.detail);
+        channels.push(Channel {
+            name: channel,
+            image: frame.image,
+        });
     }
-    img.check_finite()
-        .with_context(|| format!("{technique:?} produced a non-finite pixel"))?;
-    img.write_exr(out)
+    bar.finish_and_clear();
+    let triangles = scene.triangle_count();
+    let images = VisibilityChannels::new(channels)?;
+    images
+        .write_exr(out)
         .with_context(|| format!("writing {}", out.display()))?;
-    if let Some(png) = png {
-        if let Err(e) = img.write_png(png) {
+    for (k, (png, c)) in pngs.iter().zip(images.channels()).enumerate() {
+        if let Err(e) = c.image.write_png(png) {
             let _ = std::fs::remove_file(out);
+            for written in &pngs[..k] {
+                let _ = std::fs::remove_file(written);
+            }
             return Err(e).with_context(|| format!("writing {}", png.display()));
         }
     }
+    let (width, height) = images.size();
+    // The lights' details, once where they are all the same.
+    let detail = if details.windows(2).all(|w| w[0] == w[1]) {
+        details.swap_remove(0)
+    } else {
+        names
+            .iter()
+            .zip(&details)
+            .map(|(n, d)| format!("{n}: {d}"))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let lights = if names.is_empty() {
+        String::new()
+    } else {
+        format!(", {} lights", names.len())
+    };
     Ok(format!(
-        "{}: {}x{} px, {} triangles, {:?}{}, {:.2} s -> {}",
+        "{}: {}x{} px, {} triangles{lights}, {:?} ({}), {:.2} s -> {}",
         scene_path.display(),
-        img.width,
-        img.height,
+        width,
+        height,
         triangles,
         technique,
         detail,

@@ -1,0 +1,191 @@
+//! Scene files of several lights (`[[light]]`): what they read as, and the errors of bad ones.
+
+use std::path::Path;
+
+use crate::{Scene, SceneError};
+
+const CAMERA: &str = "[camera]\neye = [0.0, 3.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\n\
+    up = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\nwidth = 8\nheight = 6\n\n";
+
+/// A light entry: `header` (`[light]` or `[[light]]`), extra lines, its centre's x.
+fn light(header: &str, extra: &str, x: f64) -> String {
+    format!(
+        "{header}\n{extra}center = [{x:?}, 4.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\n\
+         tangent = [1.0, 0.0, 0.0]\nsize = [1.0, 1.0]\n\n"
+    )
+}
+
+/// The error of `text`: its line and message.
+fn error(text: &str) -> (usize, String) {
+    match Scene::from_toml(text, Path::new("s.toml")) {
+        Err(
+            SceneError::Invalid { line, message, .. } | SceneError::Syntax { line, message, .. },
+        ) => (line, message),
+        other => panic!("expected an error, got {other:?}"),
+    }
+}
+
+/// The 1-based line of the `n`th (0-based) line of `text` that contains `needle`.
+fn line_with(text: &str, needle: &str, n: usize) -> usize {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| l.contains(needle))
+        .nth(n)
+        .unwrap_or_else(|| panic!("no {needle:?} #{n}"))
+        .0
+        + 1
+}
+
+#[test]
+fn one_light_table_has_no_names_and_one_channel_v() {
+    let s = Scene::from_toml(
+        &format!("{CAMERA}{}", light("[light]", "", 0.5)),
+        Path::new("s.toml"),
+    )
+    .unwrap();
+    assert!(s.lights.is_empty());
+    assert_eq!(s.light_count(), 1);
+    assert_eq!(s.channel_names(), ["V"]);
+    assert_eq!(s.light.center.x, 0.5);
+}
+
+#[test]
+fn an_array_of_lights_reads_in_file_order_with_default_names() {
+    let text = format!(
+        "{CAMERA}{}{}{}",
+        light("[[light]]", "name = \"key\"\n", 1.0),
+        light("[[light]]", "", 2.0),
+        light("[[light]]", "name = \"rim_2\"\n", 3.0)
+    );
+    let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+    assert_eq!(s.light_names(), ["key", "light1", "rim_2"]);
+    assert_eq!(s.channel_names(), ["key.V", "light1.V", "rim_2.V"]);
+    assert_eq!(s.light, s.lights[0].light);
+    for (k, x) in [1.0, 2.0, 3.0].into_iter().enumerate() {
+        let one = s.for_light(k);
+        assert_eq!(one.light.center.x, x);
+        assert!(one.lights.is_empty());
+        assert_eq!(one.channel_names(), ["V"]);
+        assert_eq!(one.triangle_count(), s.triangle_count());
+    }
+    // One entry is still an array: its channel is named.
+    let text = format!("{CAMERA}{}", light("[[light]]", "", 2.0));
+    let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+    assert_eq!(s.channel_names(), ["light0.V"]);
+}
+
+#[test]
+fn both_forms_in_one_file_are_refused_at_the_later() {
+    for (a, b) in [("[light]", "[[light]]"), ("[[light]]", "[light]")] {
+        let text = format!("{CAMERA}{}{}", light(a, "", 0.0), light(b, "", 1.0));
+        let (line, message) = error(&text);
+        assert_eq!(line, line_with(&text, "light]", 1), "{message}");
+        assert!(
+            message.contains("`[light]` and `[[light]]` in one file"),
+            "{message}"
+        );
+    }
+}
+
+#[test]
+fn bad_names_and_an_empty_array_name_their_line() {
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "", 0.0),
+        light("[[light]]", "name = \"light0\"\n", 1.0)
+    );
+    let (line, message) = error(&text);
+    assert_eq!(line, line_with(&text, "name = ", 0));
+    assert!(
+        message.contains("light[1].name") && message.contains("light[0]"),
+        "{message}"
+    );
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "name = \"key\"\n", 0.0),
+        light("[[light]]", "name = \"key light\"\n", 1.0)
+    );
+    let (line, message) = error(&text);
+    assert_eq!(line, line_with(&text, "name = ", 1));
+    assert!(
+        message.contains("\"key light\"") && message.contains("' '"),
+        "{message}"
+    );
+    // A default name taken by an earlier light: the entry's line.
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "name = \"light1\"\n", 0.0),
+        light("[[light]]", "", 1.0)
+    );
+    let (line, message) = error(&text);
+    assert_eq!(line, line_with(&text, "[[light]]", 1));
+    assert!(
+        message.contains("light[1]'s default name \"light1\""),
+        "{message}"
+    );
+    let text = format!("light = []\n{CAMERA}");
+    assert_eq!(error(&text).0, 1);
+    assert!(error(&text).1.contains("empty array"));
+    // An entry that is not a table says what it should be.
+    let text = format!("light = [3]\n{CAMERA}");
+    let (line, message) = error(&text);
+    assert_eq!(line, 1);
+    assert!(
+        message.contains("one entry of the array of tables"),
+        "{message}"
+    );
+    // A name is for the lights of `[[light]]`.
+    let text = format!("{CAMERA}{}", light("[light]", "name = \"key\"\n", 0.0));
+    assert_eq!(error(&text).0, line_with(&text, "name = ", 0));
+    // A bad value of a later light names that light.
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "", 0.0),
+        light("[[light]]", "", 1.0).replace("size = [1.0, 1.0]", "size = [1.0, 0.0]")
+    );
+    let (line, message) = error(&text);
+    assert_eq!(line, line_with(&text, "size = [1.0, 0.0]", 0));
+    assert!(message.starts_with("light[1].size"), "{message}");
+}
+
+#[test]
+fn the_documented_example_reads_as_documented() {
+    let doc = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/scene-format.md"),
+    )
+    .unwrap();
+    let section = &doc[doc.find("## Several lights").expect("the section")..];
+    let start = section.find("```toml\n").expect("its example") + "```toml\n".len();
+    let example = &section[start..start + section[start..].find("```").unwrap()];
+    let s = Scene::from_toml(&format!("{CAMERA}{example}"), Path::new("s.toml")).unwrap();
+    assert_eq!(s.channel_names(), ["key.V", "light1.V"]);
+    assert_eq!(s.lights[1].light.size.y, 3.0);
+}
+
+#[test]
+fn a_transform_moves_every_light() {
+    let text = format!(
+        "{CAMERA}{}{}",
+        light("[[light]]", "name = \"a\"\n", 1.0),
+        light("[[light]]", "name = \"b\"\n", -2.0)
+    );
+    let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+    let m = glam::DMat4::from_scale_rotation_translation(
+        glam::DVec3::splat(2.5),
+        glam::DQuat::from_axis_angle(glam::DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7),
+        glam::DVec3::new(10.0, -3.0, 4.0),
+    );
+    let moved = s.transformed(&m);
+    assert_eq!(moved.light_names(), ["a", "b"]);
+    for k in 0..2 {
+        // Moving the scene, then taking a light alone, is taking it alone, then moving it.
+        assert_eq!(
+            moved.for_light(k).light,
+            s.for_light(k).transformed(&m).light
+        );
+        let c = m.transform_point3(s.lights[k].light.center);
+        assert!((moved.lights[k].light.center - c).length() < 1e-12);
+        assert!((moved.lights[k].light.size.x - 2.5).abs() < 1e-12);
+    }
+    assert_eq!(moved.light, moved.lights[0].light);
+}
