@@ -197,14 +197,7 @@ impl VisibilityChannels {
                 other => other,
             })?;
         fits_memory(path, width, height, bytes)?;
-        let image = read()
-            .no_deep_data()
-            .largest_resolution_level()
-            .all_channels()
-            .all_layers()
-            .all_attributes()
-            .from_file(path)
-            .map_err(|e| io_err(path, e))?;
+        let image = crate::image_files::read_flat(path)?;
         let Some(layer) = image.layer_data.iter().find(|l| {
             l.channel_data
                 .list

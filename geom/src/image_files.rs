@@ -31,17 +31,9 @@ impl VisibilityImage {
 
     /// Reads the `V` channel of an EXR file (its first layer holding one).
     pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
-        use exr::prelude::*;
         let (width, height, bytes) = exr_layout(path, |name| name == CHANNEL)?;
         fits_memory(path, width, height, bytes)?;
-        let image = read()
-            .no_deep_data()
-            .largest_resolution_level()
-            .all_channels()
-            .all_layers()
-            .all_attributes()
-            .from_file(path)
-            .map_err(|e| io_err(path, e))?;
+        let image = read_flat(path)?;
         let mut found = Vec::new();
         for layer in &image.layer_data {
             for ch in &layer.channel_data.list {
@@ -108,6 +100,19 @@ pub(crate) fn exr_file(path: &Path) -> Result<(), ImageError> {
 
 /// Refuses to read an EXR of `width x height` pixels whose every layer and channel take `bytes`
 /// where that is more than half the available memory.
+/// Every layer and channel of the EXR at `path`, at its largest resolution level.
+pub(crate) fn read_flat(path: &Path) -> Result<exr::image::FlatImage, ImageError> {
+    use exr::prelude::*;
+    read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| io_err(path, e))
+}
+
 pub(crate) fn fits_memory(
     path: &Path,
     width: u64,

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::Output;
 
 mod common;
-use common::{GOOD_OBJ, GOOD_SCENE, case_dir, penumbra};
+use common::{GOOD_OBJ, GOOD_SCENE, case_dir, penumbra, stdout_of};
 
 /// `penumbra bench` on GOOD_SCENE in a scratch folder, with `args`.
 fn bench_case(name: &str, args: &[&str]) -> (PathBuf, Output) {
@@ -19,12 +19,7 @@ fn bench_case(name: &str, args: &[&str]) -> (PathBuf, Output) {
 }
 
 fn json_of(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    serde_json::from_str(&stdout_of(out)).unwrap()
 }
 
 #[test]

@@ -3,7 +3,9 @@
 //! and bad light arrays refused with their file and line, leaving no output.
 
 mod common;
-use common::{GOOD_OBJ, GOOD_SCENE, assert_refused, files_in, penumbra, render_case_with, scratch};
+use common::{
+    GOOD_OBJ, GOOD_SCENE, assert_refused, files_in, penumbra, render_case_with, scratch, stdout_of,
+};
 use penumbra_geom::{VisibilityChannels, VisibilityImage};
 
 /// The light table of [`GOOD_SCENE`].
@@ -29,15 +31,6 @@ fn single_at(x: f64) -> String {
     scene_with(&entry("", x).replace("[[light]]", "[light]"))
 }
 
-fn ok(out: &std::process::Output) -> String {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
 #[test]
 fn each_light_gets_a_channel_and_a_png_equal_to_that_light_alone() {
     let two = scene_with(&format!(
@@ -48,7 +41,7 @@ fn each_light_gets_a_channel_and_a_png_equal_to_that_light_alone() {
     for technique in ["reference", "depth-complexity", "wedges-blend"] {
         let args = ["--technique", technique];
         let (d, out) = render_case_with(&format!("two-{technique}"), &two, GOOD_OBJ, &args);
-        ok(&out);
+        stdout_of(&out);
         assert_eq!(
             files_in(&d),
             ["m.obj", "s.toml", "v.exr", "v.key.png", "v.light1.png"]
@@ -67,7 +60,7 @@ fn each_light_gets_a_channel_and_a_png_equal_to_that_light_alone() {
                 GOOD_OBJ,
                 &args,
             );
-            ok(&out);
+            stdout_of(&out);
             let v = VisibilityImage::read_exr(&alone.join("v.exr")).unwrap();
             let c = &channels.channels()[k].image;
             assert!(
@@ -150,25 +143,29 @@ fn probe_compare_and_bench_take_each_light() {
     std::fs::write(d.join("s.toml"), &two).unwrap();
     std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
     let render = |technique: &str, out: &str| {
-        ok(&penumbra()
-            .arg("render")
-            .arg(d.join("s.toml"))
-            .args(["--technique", technique, "--samples", "16", "--out"])
-            .arg(d.join(out))
-            .output()
-            .unwrap());
+        stdout_of(
+            &penumbra()
+                .arg("render")
+                .arg(d.join("s.toml"))
+                .args(["--technique", technique, "--samples", "16", "--out"])
+                .arg(d.join(out))
+                .output()
+                .unwrap(),
+        );
     };
     render("hard-reference", "h.exr");
     render("reference", "r.exr");
     // Every channel in turn, each under its name.
-    let text = ok(&penumbra()
-        .arg("compare")
-        .arg(d.join("h.exr"))
-        .arg(d.join("r.exr"))
-        .arg("--heatmap")
-        .arg(d.join("heat.png"))
-        .output()
-        .unwrap());
+    let text = stdout_of(
+        &penumbra()
+            .arg("compare")
+            .arg(d.join("h.exr"))
+            .arg(d.join("r.exr"))
+            .arg("--heatmap")
+            .arg(d.join("heat.png"))
+            .output()
+            .unwrap(),
+    );
     let key = text.find("channel key.V").expect(&text);
     let fill = text.find("channel fill.V").expect(&text);
     assert!(key < fill, "{text}");
@@ -180,23 +177,27 @@ fn probe_compare_and_bench_take_each_light() {
     assert!(d.join("heat.key.png").exists() && d.join("heat.fill.png").exists());
     assert!(!d.join("heat.png").exists());
     // One channel, as JSON: the single-image form.
-    let json = ok(&penumbra()
-        .arg("compare")
-        .arg(d.join("h.exr"))
-        .arg(d.join("r.exr"))
-        .args(["--channel", "fill.V", "--json"])
-        .output()
-        .unwrap());
+    let json = stdout_of(
+        &penumbra()
+            .arg("compare")
+            .arg(d.join("h.exr"))
+            .arg(d.join("r.exr"))
+            .args(["--channel", "fill.V", "--json"])
+            .output()
+            .unwrap(),
+    );
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert!(v["penumbra"]["mae"].as_f64().unwrap() > 0.05, "{json}");
     // Every channel as JSON: a list, each entry naming its channel.
-    let json = ok(&penumbra()
-        .arg("compare")
-        .arg(d.join("h.exr"))
-        .arg(d.join("r.exr"))
-        .arg("--json")
-        .output()
-        .unwrap());
+    let json = stdout_of(
+        &penumbra()
+            .arg("compare")
+            .arg(d.join("h.exr"))
+            .arg(d.join("r.exr"))
+            .arg("--json")
+            .output()
+            .unwrap(),
+    );
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v[0]["channel"], "key.V");
     assert_eq!(v[1]["channel"], "fill.V");
@@ -217,13 +218,15 @@ fn probe_compare_and_bench_take_each_light() {
     );
     // Images of different lights are compared channel by channel only when named.
     std::fs::write(d.join("one.toml"), single_at(0.0)).unwrap();
-    ok(&penumbra()
-        .arg("render")
-        .arg(d.join("one.toml"))
-        .args(["--technique", "hard-reference", "--out"])
-        .arg(d.join("one.exr"))
-        .output()
-        .unwrap());
+    stdout_of(
+        &penumbra()
+            .arg("render")
+            .arg(d.join("one.toml"))
+            .args(["--technique", "hard-reference", "--out"])
+            .arg(d.join("one.exr"))
+            .output()
+            .unwrap(),
+    );
     let out = penumbra()
         .arg("compare")
         .arg(d.join("one.exr"))
@@ -239,51 +242,59 @@ fn probe_compare_and_bench_take_each_light() {
         entry("name = \"key\"\n", -0.8)
     ));
     std::fs::write(d.join("swapped.toml"), swapped).unwrap();
-    ok(&penumbra()
-        .arg("render")
-        .arg(d.join("swapped.toml"))
-        .args(["--technique", "hard-reference", "--out"])
-        .arg(d.join("swapped.exr"))
-        .output()
-        .unwrap());
-    let json = ok(&penumbra()
-        .arg("compare")
-        .arg(d.join("swapped.exr"))
-        .arg(d.join("h.exr"))
-        .arg("--json")
-        .output()
-        .unwrap());
+    stdout_of(
+        &penumbra()
+            .arg("render")
+            .arg(d.join("swapped.toml"))
+            .args(["--technique", "hard-reference", "--out"])
+            .arg(d.join("swapped.exr"))
+            .output()
+            .unwrap(),
+    );
+    let json = stdout_of(
+        &penumbra()
+            .arg("compare")
+            .arg(d.join("swapped.exr"))
+            .arg(d.join("h.exr"))
+            .arg("--json")
+            .output()
+            .unwrap(),
+    );
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v[0]["channel"], "fill.V");
     for c in [&v[0], &v[1]] {
         assert_eq!(c["all"]["max"], 0.0, "{json}");
     }
     // probe: each light in turn.
-    let text = ok(&penumbra()
-        .arg("probe")
-        .arg(d.join("s.toml"))
-        .args(["--pixel", "12,8", "--samples", "16"])
-        .output()
-        .unwrap());
+    let text = stdout_of(
+        &penumbra()
+            .arg("probe")
+            .arg(d.join("s.toml"))
+            .args(["--pixel", "12,8", "--samples", "16"])
+            .output()
+            .unwrap(),
+    );
     let key = text.find("light key (channel key.V)").expect(&text);
     let fill = text.find("light fill (channel fill.V)").expect(&text);
     assert!(key < fill, "{text}");
     assert_eq!(text.matches("V exact").count(), 2, "{text}");
     // bench: a frame renders both lights.
-    let json = ok(&penumbra()
-        .arg("bench")
-        .arg(d.join("s.toml"))
-        .args([
-            "--technique",
-            "wedges-blend",
-            "--backend",
-            "cpu",
-            "--frames",
-            "1",
-            "--json",
-        ])
-        .output()
-        .unwrap());
+    let json = stdout_of(
+        &penumbra()
+            .arg("bench")
+            .arg(d.join("s.toml"))
+            .args([
+                "--technique",
+                "wedges-blend",
+                "--backend",
+                "cpu",
+                "--frames",
+                "1",
+                "--json",
+            ])
+            .output()
+            .unwrap(),
+    );
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["lights"], 2, "{json}");
     // bench --counters: a frame, and a report, per light.
@@ -304,7 +315,7 @@ fn probe_compare_and_bench_take_each_light() {
     if !out.status.success() && err.contains("adapter") && std::env::var_os("CI").is_none() {
         println!("SKIPPED (no adapter): {err}");
     } else {
-        let v: serde_json::Value = serde_json::from_str(&ok(&out)).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&stdout_of(&out)).unwrap();
         let lights: Vec<&str> = v
             .as_array()
             .expect("a report per light")

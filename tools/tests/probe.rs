@@ -1,7 +1,7 @@
 //! `penumbra probe` and `depth-complexity` from the command line, and what a GPU render prints.
 
 mod common;
-use common::{fixtures, penumbra, scratch};
+use common::{fixtures, penumbra, scratch, stdout_of};
 
 /// `penumbra probe` of a fixture scene at `pixel` with 64 samples: what it prints, asserting
 /// success.
@@ -12,12 +12,7 @@ fn probe(scene: &str, pixel: &str) -> String {
         .args(["--pixel", pixel, "--samples", "64"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    stdout_of(&out)
 }
 
 #[test]

@@ -8,6 +8,16 @@ pub fn penumbra() -> Command {
     Command::new(env!("CARGO_BIN_EXE_penumbra"))
 }
 
+/// The standard output of a run that succeeded (its standard error in the failure otherwise).
+pub fn stdout_of(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 pub fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
 }
