@@ -228,7 +228,10 @@ fn unwritable_shaded_paths_leave_no_output() {
         (d.join("m.obj").join("x.png"), "x.png"),
     ];
     if Path::new("/proc/self").exists() {
-        cases.push((Path::new("/proc/x.png").to_path_buf(), "writing /proc/x.png"));
+        cases.push((
+            Path::new("/proc/x.png").to_path_buf(),
+            "writing /proc/x.png",
+        ));
     }
     for (path, want) in cases {
         let out = penumbra()
