@@ -1,6 +1,7 @@
 //! Geometry of penumbra: meshes and their half-edge structure, scenes (made in code or read from
 //! scene files), the camera and the rectangular light, ray casting, the ray-cast visibility
-//! reference, the exact point evaluator and visibility images with their files and metrics.
+//! reference, the exact point evaluator, visibility images with their files and metrics, and the shaded
+//! preview.
 //!
 //! Every public name is here at the crate root; the modules are private.
 #![warn(missing_docs)]
@@ -29,6 +30,7 @@ mod scene;
 mod scene_file;
 mod scene_file_lights;
 mod scene_values;
+mod shaded;
 mod technique;
 
 pub use boxtree::{BoxTree, Plane};
@@ -57,4 +59,5 @@ pub use reference::{
 pub use rng::Rng;
 pub use scene::{Scene, SceneMesh};
 pub use scene_file::SceneError;
+pub use shaded::{SHADED_AMBIENT, SHADED_BACKGROUND, ShadedImage, shaded_value, srgb_byte};
 pub use technique::{Technique, UnknownTechnique};

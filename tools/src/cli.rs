@@ -166,6 +166,12 @@ pub(crate) enum Command {
         /// `PNG.<name>.png` (`--png v.png` writes `v.key.png`, `v.fill.png`, ...).
         #[arg(long)]
         png: Option<PathBuf>,
+        /// Also write a shaded preview, an 8-bit RGB PNG: each surface point grey by
+        /// `A + (1 - A) · mean over the lights of max(0, n · ω) · V` (n the surface's normal
+        /// towards the camera, ω the direction to the light's centre, A = 0.1 ambient), sRGB
+        /// encoded; where the camera sees nothing, a flat blue-grey. See docs/scene-format.md.
+        #[arg(long)]
+        shaded: Option<PathBuf>,
         /// Where the volume techniques (`hard`, `wedges`, `wedges-blend`) run; the references
         /// always run on the CPU, the shadow-map techniques on the GPU.
         #[arg(long, value_parser = backend_parser(), default_value = "auto")]

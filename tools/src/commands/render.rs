@@ -1,26 +1,38 @@
 //! `penumbra render`: one technique's visibility image of a scene, to EXR (and PNG): one
 //! channel `V`, or for a scene of several lights a channel `<name>.V` and a PNG
-//! `OUT.<name>.png` per light.
+//! `OUT.<name>.png` per light; with `--shaded`, a diffuse picture of the scene lit by them
+//! ([`ShadedImage`]).
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
+use penumbra::geom::ShadedImage;
 use penumbra::{Backend, Channel, RenderOptions, Renderer, Scene, Technique, VisibilityChannels};
 
 use crate::cli::ParamArgs;
 use crate::outputs::check_outputs;
 use crate::words::InCommandWords;
 
+/// Where `penumbra render` writes its images: the EXR, and the PNGs asked for.
+pub(crate) struct RenderOutputs<'a> {
+    /// `--out`: the visibility EXR.
+    pub(crate) out: &'a Path,
+    /// `--png`: the greyscale PNG of V (one per light of a scene of several).
+    pub(crate) png: Option<&'a Path>,
+    /// `--shaded`: the shaded preview.
+    pub(crate) shaded: Option<&'a Path>,
+}
+
 pub(crate) fn render(
     scene_path: &Path,
     technique: Technique,
-    out: &Path,
+    outputs: RenderOutputs<'_>,
     options: RenderOptions,
-    png: Option<&Path>,
     backend: Backend,
     params: &ParamArgs,
 ) -> Result<()> {
+    let RenderOutputs { out, png, shaded } = outputs;
     // The renderer's own check of the options, asked before the scene is loaded.
     options.pattern_for(technique).in_command_words()?;
     // `--out` is always an OpenEXR file: one named as another format would mislead its readers.
@@ -35,8 +47,25 @@ pub(crate) fn render(
             out.display()
         );
     }
+    // `--shaded` is always a PNG.
+    if let Some(p) = shaded {
+        let ext = p
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        if ext.as_deref() != Some("png") {
+            let named = match &ext {
+                Some(e) => format!("names a .{e} file"),
+                None => "has no extension".to_string(),
+            };
+            bail!(
+                "--shaded {} {named}, but --shaded writes an 8-bit RGB PNG: name it .png",
+                p.display()
+            );
+        }
+    }
     let mut outputs = vec![out];
     outputs.extend(png);
+    outputs.extend(shaded);
     // Checked before and after loading: the scene names the meshes.
     check_outputs(&[scene_path.to_path_buf()], &outputs)?;
     let mut scene = Scene::load(scene_path)?;
@@ -53,13 +82,20 @@ pub(crate) fn render(
     };
     let mut outputs = vec![out];
     outputs.extend(pngs.iter().map(PathBuf::as_path));
+    outputs.extend(shaded);
     check_outputs(&scene.input_files(), &outputs)?;
     // Missing folders are made before the render (so that one that cannot be made fails
     // early), said on success, and removed again on failure.
     let mut created: Vec<PathBuf> = Vec::new();
     let made = make_folders(&outputs, &mut created);
-    let result =
-        made.and_then(|()| draw(scene_path, &scene, technique, out, options, &pngs, backend));
+    let result = made.and_then(|()| {
+        let outputs = DrawOutputs {
+            out,
+            pngs: &pngs,
+            shaded,
+        };
+        draw(scene_path, &scene, technique, outputs, options, backend)
+    });
     match result {
         Ok(summary) => {
             for d in &created {
@@ -121,16 +157,25 @@ pub(crate) fn light_png(png: &Path, name: &str) -> PathBuf {
     }
 }
 
-/// Renders `scene` into `out` (and `pngs`, one per light); returns the summary line.
+/// The files [`draw`] writes.
+struct DrawOutputs<'a> {
+    out: &'a Path,
+    /// One per light, or none.
+    pngs: &'a [PathBuf],
+    shaded: Option<&'a Path>,
+}
+
+/// Renders `scene` into `out` (and `pngs`, one per light, and the `shaded` preview); returns the
+/// summary line. On failure, none of them is left.
 fn draw(
     scene_path: &Path,
     scene: &Scene,
     technique: Technique,
-    out: &Path,
+    outputs: DrawOutputs<'_>,
     options: RenderOptions,
-    pngs: &[PathBuf],
     backend: Backend,
 ) -> Result<String> {
+    let DrawOutputs { out, pngs, shaded } = outputs;
     let lights = scene.light_count();
     let rows = scene.camera.height as u64;
     let bar = ProgressBar::new(rows * lights as u64);
@@ -199,6 +244,16 @@ fn draw(
                 let _ = std::fs::remove_file(written);
             }
             return Err(e).with_context(|| format!("writing {}", png.display()));
+        }
+    }
+    if let Some(path) = shaded {
+        let written = ShadedImage::render(scene, &images).and_then(|img| img.write_png(path));
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(out);
+            for written in pngs {
+                let _ = std::fs::remove_file(written);
+            }
+            return Err(e).with_context(|| format!("writing {}", path.display()));
         }
     }
     let (width, height) = images.size();
