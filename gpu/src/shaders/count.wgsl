@@ -298,16 +298,12 @@ fn apply(r: Region, n: u32, own: u32) {
     let i1 = u32(clamp(floor((r.hi.x + 1.0) / cell), 0.0, f32(n - 1u)));
     let j0 = u32(clamp(floor((r.lo.y + 1.0) / cell), 0.0, f32(n - 1u)));
     let j1 = u32(clamp(floor((r.hi.y + 1.0) / cell), 0.0, f32(n - 1u)));
-    let nn = n * n;
     for (var j = j0; j <= j1; j++) {
         spent++;
         for (var i = i0; i <= i1; i++) {
             spent++;
             let s = j * n + i;
-            let h = hash(s, jitter_seed);
-            let x = pattern_coordinate(i * n + columns[j], h & 0xffffu, nn);
-            let y = pattern_coordinate(j * n + rows[i], h >> 16u, nn);
-            let at = vec2<f32>(x, y);
+            let at = pattern_point(i, j, columns[j], rows[i], jitter_seed);
             if (line_at(r.l0, at) > 0.0 && line_at(r.l1, at) > 0.0 && line_at(r.l2, at) > 0.0
                 && line_at(r.l3, at) > 0.0) {
                 let w = own + s / 4u;
@@ -446,10 +442,9 @@ fn count_args(@builtin(global_invocation_id) gid: vec3<u32>) {
 // light's plane.
 fn sample_in_cell(i: u32, j: u32, seed: u32) -> vec3<f32> {
     let n = params.per_axis;
-    let h = hash(j * n + i, seed * 0xa399d265u);
-    let x = pattern_coordinate(i * n + permute(j, n, seed * 0x63d83595u), h & 0xffffu, n * n);
-    let y = pattern_coordinate(j * n + permute(i, n, seed * 0xa511e9b3u), h >> 16u, n * n);
-    return vec3<f32>(x, y, 0.0);
+    let column = permute(j, n, column_seed(seed));
+    let row = permute(i, n, row_seed(seed));
+    return vec3<f32>(pattern_point(i, j, column, row, jitter_seed_of(seed)), 0.0);
 }
 
 // The cells of the two samples towards which D(P, c) is counted again besides the centre:
@@ -532,10 +527,10 @@ fn count_chunk(@builtin(global_invocation_id) id: vec3<u32>) {
     let seed = pixel;
     for (var k = 0u; k < n; k++) {
         spent++;
-        columns[k] = permute(k, n, seed * 0x63d83595u);
-        rows[k] = permute(k, n, seed * 0xa511e9b3u);
+        columns[k] = permute(k, n, column_seed(seed));
+        rows[k] = permute(k, n, row_seed(seed));
     }
-    jitter_seed = seed * 0xa399d265u;
+    jitter_seed = jitter_seed_of(seed);
     let pyramid = pyramid_planes(pl);
     let own = counts_at(local);
     var changed = 0u;
@@ -605,7 +600,7 @@ fn count_finish(@builtin(global_invocation_id) id: vec3<u32>) {
     if ((flags & CHANGED) != 0u) {
         for (var s = 0u; s < n * n; s++) {
             spent++;
-            let c = (visibility[own + s / 4u] >> ((s % 4u) * 8u)) + base;
+            let c = count_of(own, s) + base;
             seen += select(0u, 1u, (c & 0xffu) == 0u || (c & 0x80u) != 0u);
         }
     } else {

@@ -60,3 +60,28 @@ fn pattern_coordinate(fine: u32, jitter: u32, nn: u32) -> f32 {
     let total = nn * 65536u;
     return f32(i32(2u * units) - i32(total)) / f32(total);
 }
+
+// The permutation seeds of pixel `seed`'s pattern: its fine column per cell row, its fine row
+// per cell column, and its jitters (`SamplePattern::points`).
+fn column_seed(seed: u32) -> u32 {
+    return seed * 0x63d83595u;
+}
+
+fn row_seed(seed: u32) -> u32 {
+    return seed * 0xa511e9b3u;
+}
+
+fn jitter_seed_of(seed: u32) -> u32 {
+    return seed * 0xa399d265u;
+}
+
+// The sample of cell (i, j) of N x N on the light's plane, given the cell row's fine column
+// `column`, the cell column's fine row `row` and the pixel's jitter seed.
+fn pattern_point(i: u32, j: u32, column: u32, row: u32, jitter: u32) -> vec2<f32> {
+    let n = params.per_axis;
+    let h = hash(j * n + i, jitter);
+    return vec2<f32>(
+        pattern_coordinate(i * n + column, h & 0xffffu, n * n),
+        pattern_coordinate(j * n + row, h >> 16u, n * n),
+    );
+}

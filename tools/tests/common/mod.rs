@@ -18,6 +18,17 @@ pub fn stdout_of(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// Whether a GPU run failed for want of an adapter outside CI (which must have one), where a
+/// test says so and skips the rest.
+pub fn no_adapter_here(out: &Output) -> bool {
+    let err = String::from_utf8_lossy(&out.stderr);
+    let skip = !out.status.success() && err.contains("adapter") && std::env::var_os("CI").is_none();
+    if skip {
+        println!("SKIPPED (no adapter): {err}");
+    }
+    skip
+}
+
 pub fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
 }
