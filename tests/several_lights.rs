@@ -45,7 +45,10 @@ fn scene_and_singles() -> (Scene, Vec<Scene>) {
         .map(|k| {
             let alone = Scene::from_toml(&with_light_alone(&text, k), &path).unwrap();
             assert!(alone.lights.is_empty());
-            assert_eq!(alone.light, scene.lights[k].light);
+            assert_eq!(
+                scene.lights[k].light,
+                penumbra::geom::Light::Rect(alone.light)
+            );
             alone
         })
         .collect();

@@ -138,6 +138,7 @@ pub fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
             DVec2::new(2.5, 1.5),
         ),
         lights: Vec::new(),
+        distant: None,
         meshes: vec![SceneMesh {
             source: "occluder".into(),
             transform: DMat4::IDENTITY,

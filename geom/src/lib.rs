@@ -11,6 +11,7 @@ mod boxtree;
 mod bvh_build;
 mod camera;
 mod channels;
+mod distant;
 mod exact;
 mod halfedge;
 mod image;
@@ -36,6 +37,7 @@ mod technique;
 pub use boxtree::{BoxTree, Plane};
 pub use camera::{Camera, CameraError};
 pub use channels::{Channel, LIGHTS_ATTRIBUTE, VisibilityChannels, is_visibility_channel};
+pub use distant::{DistantLight, Light, Warp};
 pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
 pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
@@ -57,7 +59,7 @@ pub use reference::{
     LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,
 };
 pub use rng::Rng;
-pub use scene::{Scene, SceneMesh};
+pub use scene::{DistantView, Scene, SceneMesh};
 pub use scene_file::SceneError;
 pub use shaded::{SHADED_AMBIENT, SHADED_BACKGROUND, ShadedImage, shaded_value, srgb_byte};
 pub use technique::{Technique, UnknownTechnique};

@@ -1,6 +1,8 @@
 //! A scene's several lights (`[[light]]` in a scene file): each light's name, the name of its
 //! image channel (`<name>.V`), and the rules a name keeps.
 
+use crate::distant::Light;
+#[cfg(test)]
 use crate::light::RectLight;
 
 /// The longest light name, in bytes: a name becomes part of file names (`OUT.<name>.png`).
@@ -12,17 +14,17 @@ pub struct NamedLight {
     /// The name: ASCII letters, digits, `-` and `_`, unique in its scene; `light0`, `light1`,
     /// ... by position where the scene file gives none.
     pub name: String,
-    /// The light.
-    pub light: RectLight,
+    /// The light: a rectangle or a distant light.
+    pub light: Light,
 }
 
 impl NamedLight {
     /// The light with `name`, checked by [`check_light_name`].
-    pub fn new(name: &str, light: RectLight) -> Result<NamedLight, LightNameError> {
+    pub fn new(name: &str, light: impl Into<Light>) -> Result<NamedLight, LightNameError> {
         check_light_name(name)?;
         Ok(NamedLight {
             name: name.to_string(),
-            light,
+            light: light.into(),
         })
     }
 

@@ -109,6 +109,19 @@ pub enum RangeError {
         /// Its sides.
         size: glam::DVec2,
     },
+    /// A distant light whose direction and tangent are not unit and orthogonal, or whose angles
+    /// are not in `(0, 90]` degrees.
+    #[error(
+        "the distant light of direction {direction}, tangent {tangent} and angular size {angular_size} needs a unit direction and a unit tangent orthogonal to it, and two angles in (0, 90] degrees"
+    )]
+    DistantLight {
+        /// Its direction.
+        direction: DVec3,
+        /// Its tangent.
+        tangent: DVec3,
+        /// Its full angles in degrees.
+        angular_size: glam::DVec2,
+    },
     /// A field of view outside [[`MIN_FOV_DEG`], [`MAX_FOV_DEG`]].
     #[error(
         "a field of view of {degrees} degrees lies outside the supported range [{MIN_FOV_DEG}, {MAX_FOV_DEG}]"
@@ -148,9 +161,10 @@ impl Scene {
             return Some(RangeError::Param { error });
         }
         let coordinate = |v: DVec3| !within_coordinates(v);
-        if coordinate(self.camera.eye) {
+        let world = self.world();
+        if coordinate(world.camera.eye) {
             return Some(RangeError::Eye {
-                eye: self.camera.eye,
+                eye: world.camera.eye,
             });
         }
         if coordinate(self.light.center) || !(self.light.size.max_element() <= MAX_COORDINATE) {
@@ -164,7 +178,7 @@ impl Scene {
                 degrees: self.camera.fov_y_deg,
             });
         }
-        for (mesh, m) in self.meshes.iter().enumerate() {
+        for (mesh, m) in world.meshes.iter().enumerate() {
             if let Some(&at) = m.mesh.positions.iter().find(|v| coordinate(**v)) {
                 return Some(RangeError::Vertex {
                     mesh,
@@ -202,7 +216,26 @@ impl Scene {
         if !(l.size.x > 0.0 && l.size.y > 0.0 && l.size.is_finite()) {
             return Some(RangeError::LightSize { size: l.size });
         }
-        let c = &self.camera;
+        if let Some(d) = &self.distant {
+            let l = &d.light;
+            let a = l.angular_size_deg;
+            if !(unit(l.direction)
+                && unit(l.tangent)
+                && orthogonal(l.direction, l.tangent)
+                && a.x > 0.0
+                && a.x <= 90.0
+                && a.y > 0.0
+                && a.y <= 90.0)
+            {
+                return Some(RangeError::DistantLight {
+                    direction: l.direction,
+                    tangent: l.tangent,
+                    angular_size: a,
+                });
+            }
+        }
+        // The world's camera: a scene under a distant light renders a warped one.
+        let c = &self.world().camera;
         if c.width == 0 || c.height == 0 {
             return Some(RangeError::EmptyImage {
                 width: c.width,

@@ -3,11 +3,13 @@
 //! supported range in `range.rs`).
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use glam::{DMat4, DVec3};
 use penumbra_params::TechniqueParams;
 
 use crate::camera::Camera;
+use crate::distant::{DistantLight, Light, Warp};
 use crate::light::RectLight;
 use crate::lights::{LightNameError, NamedLight, check_light_names};
 use crate::mesh::TriangleMesh;
@@ -46,6 +48,22 @@ pub struct Scene {
     pub meshes: Vec<SceneMesh>,
     /// Parameters of the shadow-map techniques (defaults where the file has no table).
     pub params: TechniqueParams,
+    /// Where [`Scene::light`] stands for a distant light: that light, and the world scene whose
+    /// [`Warp`] this scene is ([`Scene::with_distant_light`]). `None` for a rectangle light.
+    pub distant: Option<Arc<DistantView>>,
+}
+
+/// A scene under a distant light, as the renderers see it: the light, the warp that took the
+/// world to the scene they render, and the world scene.
+#[derive(Clone, Debug)]
+pub struct DistantView {
+    /// The distant light, in the world.
+    pub light: DistantLight,
+    /// The map from the world to the rendered scene.
+    pub warp: Warp,
+    /// The scene in world coordinates, with its lights; its [`Scene::light`] is the rendered
+    /// one's (the world has no rectangle for a distant light).
+    pub world: Scene,
 }
 
 impl Scene {
@@ -79,6 +97,7 @@ impl Scene {
             lights: Vec::new(),
             meshes: Vec::new(),
             params: TechniqueParams::default(),
+            distant: None,
         }
     }
 
@@ -110,11 +129,102 @@ impl Scene {
     /// assert_eq!(scene.for_light(1).light, light(2.0));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn with_lights(mut self, lights: Vec<NamedLight>) -> Result<Scene, LightNameError> {
+    pub fn with_lights(self, lights: Vec<NamedLight>) -> Result<Scene, LightNameError> {
         check_light_names(&lights)?;
-        self.light = lights[0].light;
-        self.lights = lights;
-        Ok(self)
+        let mut world = self.world().clone();
+        world.distant = None;
+        world.lights = lights;
+        Ok(match world.lights[0].light {
+            Light::Rect(first) => {
+                world.light = first;
+                world
+            }
+            Light::Distant(first) => world.warped(first),
+        })
+    }
+
+    /// The same scene under the distant light `light` alone, in the form every renderer renders:
+    /// the scene's [`Warp`] for that light applied to its meshes and camera, and [`Scene::light`]
+    /// the rectangle that is the image of the light's directions. Its images are those of the
+    /// world scene under `light` (see `docs/scene-format.md`, "Distant lights");
+    /// [`Scene::world`] gives the world scene back.
+    ///
+    /// ```
+    /// use penumbra::glam::{DMat4, DVec2, DVec3};
+    /// use penumbra::geom::{Camera, DistantLight, RectLight, Scene, TriangleMesh};
+    ///
+    /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
+    /// let lamp = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
+    /// let sun = DistantLight::new(DVec3::Y, DVec3::X, DVec2::splat(0.53));
+    /// let scene = Scene::new(camera, lamp)
+    ///     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), DMat4::IDENTITY)
+    ///     .with_distant_light(sun);
+    /// assert_eq!(scene.distant.as_ref().map(|d| d.light), Some(sun));
+    /// assert_eq!(scene.world().meshes[0].mesh.positions, scene.distant.as_ref().unwrap().world.meshes[0].mesh.positions);
+    /// assert_eq!(scene.light.normal, DVec3::NEG_Y);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_distant_light(self, light: DistantLight) -> Scene {
+        let mut world = self.world().clone();
+        world.distant = None;
+        world.lights = Vec::new();
+        world.warped(light)
+    }
+
+    /// The scene in world coordinates: this one, or the world scene of a scene under a distant
+    /// light ([`Scene::distant`]).
+    pub fn world(&self) -> &Scene {
+        self.distant.as_ref().map_or(self, |d| &d.world)
+    }
+
+    /// The world scene `self` (not warped) in the form the renderers render under `light`,
+    /// keeping its list of lights.
+    fn warped(self, light: DistantLight) -> Scene {
+        let points = self
+            .meshes
+            .iter()
+            .flat_map(|m| m.mesh.positions.iter().copied())
+            .chain(std::iter::once(self.camera.eye));
+        let warp = Warp::around(points, light.direction);
+        let rendered_light = warp.light(&light);
+        let mut world = self;
+        world.light = rendered_light;
+        Scene {
+            path: world.path.clone(),
+            camera: warp.camera(&world.camera),
+            light: rendered_light,
+            lights: world.lights.clone(),
+            meshes: world
+                .meshes
+                .iter()
+                .map(|m| {
+                    let mut mesh = m.mesh.clone();
+                    for p in &mut mesh.positions {
+                        *p = warp.point(*p);
+                    }
+                    SceneMesh {
+                        source: m.source.clone(),
+                        transform: m.transform,
+                        mesh,
+                    }
+                })
+                .collect(),
+            params: world.params,
+            distant: Some(Arc::new(DistantView { light, warp, world })),
+        }
+    }
+
+    /// The scene's lights in the world, in order: [`Scene::lights`]' for a scene of several,
+    /// else its one light.
+    pub fn world_lights(&self) -> Vec<Light> {
+        let world = self.world();
+        if !world.lights.is_empty() {
+            return world.lights.iter().map(|l| l.light).collect();
+        }
+        vec![match &self.distant {
+            Some(d) => Light::Distant(d.light),
+            None => Light::Rect(self.light),
+        }]
     }
 
     /// How many lights the scene has, so many channels its images: 1 for a scene of one
@@ -153,12 +263,19 @@ impl Scene {
             "light {k} of a scene of {} lights",
             self.light_count()
         );
-        let mut one = self.clone();
-        if let Some(l) = self.lights.get(k) {
-            one.light = l.light;
-        }
+        let world = self.world();
+        let Some(named) = world.lights.get(k) else {
+            return self.clone();
+        };
+        let mut one = world.clone();
         one.lights = Vec::new();
-        one
+        match named.light {
+            Light::Rect(l) => {
+                one.light = l;
+                one
+            }
+            Light::Distant(l) => one.warped(l),
+        }
     }
 
     /// Every world-space triangle of every mesh, meshes in order.
@@ -182,10 +299,12 @@ impl Scene {
     }
 
     /// The scene with every position moved by the rigid or similarity transform `m`, camera
-    /// and light included (for invariance tests).
+    /// and lights included (for invariance tests); a scene under a distant light is moved in
+    /// the world and warped again.
     pub fn transformed(&self, m: &DMat4) -> Scene {
         let dir = |v: DVec3| m.transform_vector3(v).normalize();
-        let c = &self.camera;
+        let world = self.world();
+        let c = &world.camera;
         let camera = Camera::look_at(
             m.transform_point3(c.eye),
             m.transform_point3(c.eye + c.forward),
@@ -195,7 +314,7 @@ impl Scene {
             c.height,
         )
         .expect("a similarity transform keeps the camera frame valid");
-        let moved = |l: &RectLight| {
+        let moved_rect = |l: &RectLight| {
             let scale = m.transform_vector3(l.tangent).length();
             RectLight::new(
                 m.transform_point3(l.center),
@@ -204,19 +323,27 @@ impl Scene {
                 l.size * scale,
             )
         };
-        Scene {
-            path: self.path.clone(),
+        // A similarity keeps angles; a mirror turns `(-D) x T` around, which the light's frame
+        // recomputes.
+        let moved_distant = |l: &DistantLight| {
+            DistantLight::new(dir(l.direction), dir(l.tangent), l.angular_size_deg)
+        };
+        let moved = Scene {
+            path: world.path.clone(),
             camera,
-            light: moved(&self.light),
-            lights: self
+            light: moved_rect(&world.light),
+            lights: world
                 .lights
                 .iter()
                 .map(|l| NamedLight {
                     name: l.name.clone(),
-                    light: moved(&l.light),
+                    light: match &l.light {
+                        Light::Rect(r) => Light::Rect(moved_rect(r)),
+                        Light::Distant(d) => Light::Distant(moved_distant(d)),
+                    },
                 })
                 .collect(),
-            meshes: self
+            meshes: world
                 .meshes
                 .iter()
                 .map(|s| SceneMesh {
@@ -225,7 +352,12 @@ impl Scene {
                     mesh: s.mesh.transformed(m),
                 })
                 .collect(),
-            params: self.params,
+            params: world.params,
+            distant: None,
+        };
+        match &self.distant {
+            Some(d) => moved.warped(moved_distant(&d.light)),
+            None => moved,
         }
     }
 }

@@ -37,6 +37,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
+use crate::distant::Light;
 use crate::mesh::{MeshError, TriangleMesh};
 use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 use crate::scene::{Scene, SceneMesh};
@@ -121,10 +122,13 @@ struct CameraDesc {
 #[serde(deny_unknown_fields)]
 pub(crate) struct LightDesc {
     pub(crate) name: Option<Spanned<String>>,
-    pub(crate) center: Spanned<Vector<3>>,
-    pub(crate) normal: Spanned<Vector<3>>,
+    pub(crate) distant: Option<Spanned<bool>>,
+    pub(crate) center: Option<Spanned<Vector<3>>>,
+    pub(crate) normal: Option<Spanned<Vector<3>>>,
     pub(crate) tangent: Spanned<Vector<3>>,
-    pub(crate) size: Spanned<Vector<2>>,
+    pub(crate) size: Option<Spanned<Vector<2>>>,
+    pub(crate) direction: Option<Spanned<Vector<3>>>,
+    pub(crate) angular_size: Option<Spanned<Vector<2>>>,
 }
 
 #[derive(Deserialize)]
@@ -350,13 +354,30 @@ impl Scene {
         params
             .validate()
             .map_err(|e| invalid(line_span(&e.table, &e.key), e.to_string()))?;
-        Ok(Scene {
+        let scene = Scene {
             path: path.to_path_buf(),
             camera,
-            light,
-            lights,
+            light: match light {
+                Light::Rect(l) => l,
+                // Replaced by the rectangle of the warp below.
+                Light::Distant(_) => crate::light::RectLight::new(
+                    DVec3::ZERO,
+                    DVec3::NEG_Y,
+                    DVec3::X,
+                    glam::DVec2::ONE,
+                ),
+            },
+            lights: Vec::new(),
             meshes,
             params,
+            distant: None,
+        };
+        Ok(match (light, lights.is_empty()) {
+            (_, false) => scene
+                .with_lights(lights)
+                .expect("the loader checked the light names"),
+            (Light::Distant(d), true) => scene.with_distant_light(d),
+            (Light::Rect(_), true) => scene,
         })
     }
 }

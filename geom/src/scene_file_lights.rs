@@ -6,6 +6,7 @@ use std::ops::Range;
 use glam::{DVec2, DVec3};
 use toml::Spanned;
 
+use crate::distant::{DistantLight, Light};
 use crate::light::RectLight;
 use crate::lights::{NamedLight, check_light_name, default_light_name};
 use crate::range::{MAX_COORDINATE, UNIT_TOLERANCE};
@@ -25,55 +26,116 @@ pub(crate) fn read_lights(
     light: &Spanned<OneOrMany<LightDesc, LightDesc>>,
     invalid: &Invalid,
     finite3: &Point,
-) -> Result<(RectLight, Vec<NamedLight>), SceneError> {
-    // A light's keys, named `key` (`light`, or `light[k]` of several) in messages.
-    let read_light = |l: &LightDesc, key: &str| -> Result<RectLight, SceneError> {
-        let center = finite3(&l.center, &format!("{key}.center"))?;
-        let normal = finite3(&l.normal, &format!("{key}.normal"))?;
-        let tangent = finite3(&l.tangent, &format!("{key}.tangent"))?;
-        if (normal.length() - 1.0).abs() > UNIT_TOLERANCE {
+) -> Result<(Light, Vec<NamedLight>), SceneError> {
+    // A light's keys, named `key` (`light`, or `light[k]` of several) in messages; `span` is
+    // its table's.
+    let read_light = |l: &LightDesc, key: &str, span: Range<usize>| -> Result<Light, SceneError> {
+        let distant = l.distant.as_ref().is_some_and(|d| *d.get_ref());
+        // The keys of the other form, which this one must not have.
+        let (required, foreign): (&[(&str, bool)], &[(&str, Option<Range<usize>>)]) = if distant {
+            (
+                &[
+                    ("direction", l.direction.is_some()),
+                    ("angular_size", l.angular_size.is_some()),
+                ],
+                &[
+                    ("center", l.center.as_ref().map(Spanned::span)),
+                    ("normal", l.normal.as_ref().map(Spanned::span)),
+                    ("size", l.size.as_ref().map(Spanned::span)),
+                ],
+            )
+        } else {
+            (
+                &[
+                    ("center", l.center.is_some()),
+                    ("normal", l.normal.is_some()),
+                    ("size", l.size.is_some()),
+                ],
+                &[
+                    ("direction", l.direction.as_ref().map(Spanned::span)),
+                    ("angular_size", l.angular_size.as_ref().map(Spanned::span)),
+                ],
+            )
+        };
+        let form = if distant {
+            "a distant light (`distant = true`)"
+        } else {
+            "a rectangle light"
+        };
+        if let Some((name, _)) = required.iter().find(|(_, present)| !present) {
+            return Err(invalid(span, format!("{key}: {form} needs `{name}`")));
+        }
+        if let Some((name, Some(at))) = foreign.iter().find(|(_, s)| s.is_some()) {
             return Err(invalid(
-                l.normal.span(),
-                format!(
-                    "{key}.normal {normal} is not unit length (|n| = {})",
-                    normal.length()
-                ),
+                at.clone(),
+                format!("{key}.{name} is not a key of {form}"),
             ));
         }
-        if (tangent.length() - 1.0).abs() > UNIT_TOLERANCE {
+        let unit = |v: &Spanned<Vector<3>>, name: &str| -> Result<DVec3, SceneError> {
+            let x = finite3(v, &format!("{key}.{name}"))?;
+            if (x.length() - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(invalid(
+                    v.span(),
+                    format!(
+                        "{key}.{name} {x} is not unit length (|{name}| = {})",
+                        x.length()
+                    ),
+                ));
+            }
+            Ok(x)
+        };
+        let (axis, axis_name, axis_span) = if distant {
+            let d = l.direction.as_ref().expect("checked above");
+            (unit(d, "direction")?, "direction", d.span())
+        } else {
+            let n = l.normal.as_ref().expect("checked above");
+            (unit(n, "normal")?, "normal", n.span())
+        };
+        let _ = axis_span;
+        let tangent = unit(&l.tangent, "tangent")?;
+        if axis.dot(tangent).abs() > UNIT_TOLERANCE {
             return Err(invalid(
                 l.tangent.span(),
-                format!(
-                    "{key}.tangent {tangent} is not unit length (|t| = {})",
-                    tangent.length()
-                ),
+                format!("{key}.tangent {tangent} is not orthogonal to {key}.{axis_name} {axis}"),
             ));
         }
-        if normal.dot(tangent).abs() > UNIT_TOLERANCE {
-            return Err(invalid(
-                l.tangent.span(),
-                format!("{key}.tangent {tangent} is not orthogonal to {key}.normal {normal}"),
-            ));
+        // Remove the tolerated rounding so that the light frame is exactly orthonormal.
+        let n = axis.normalize();
+        let t = (tangent - n * n.dot(tangent)).normalize();
+        if distant {
+            let angles = l.angular_size.as_ref().expect("checked above");
+            let a = DVec2::from(angles.get_ref().0);
+            if !(a.x > 0.0 && a.x <= 90.0 && a.y > 0.0 && a.y <= 90.0) {
+                return Err(invalid(
+                    angles.span(),
+                    format!(
+                        "{key}.angular_size {a} must be two full angles in degrees, each in (0, 90]"
+                    ),
+                ));
+            }
+            return Ok(Light::Distant(DistantLight::new(n, t, a)));
         }
-        let size = DVec2::from(l.size.get_ref().0);
+        let center = finite3(
+            l.center.as_ref().expect("checked above"),
+            &format!("{key}.center"),
+        )?;
+        let size_at = l.size.as_ref().expect("checked above");
+        let size = DVec2::from(size_at.get_ref().0);
         if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
             return Err(invalid(
-                l.size.span(),
+                size_at.span(),
                 format!("{key}.size {size} must be two positive finite lengths"),
             ));
         }
         if size.max_element() > MAX_COORDINATE {
             return Err(invalid(
-                l.size.span(),
+                size_at.span(),
                 format!(
                     "{key}.size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})"
                 ),
             ));
         }
-        // Remove the tolerated rounding so that the light frame is exactly orthonormal.
-        let n = normal.normalize();
-        let t = (tangent - n * n.dot(tangent)).normalize();
-        Ok(RectLight::new(center, n, t, size))
+        Ok(Light::Rect(RectLight::new(center, n, t, size)))
     };
     match light.get_ref() {
         OneOrMany::One(l) => {
@@ -85,7 +147,7 @@ pub(crate) fn read_lights(
                         .to_string(),
                 ));
             }
-            Ok((read_light(l, "light")?, Vec::new()))
+            Ok((read_light(l, "light", light.span())?, Vec::new()))
         }
         OneOrMany::Many(entries) => {
             if entries.is_empty() {
@@ -120,7 +182,7 @@ pub(crate) fn read_lights(
                 }
                 lights.push(NamedLight {
                     name,
-                    light: read_light(l, &key)?,
+                    light: read_light(l, &key, entry.span())?,
                 });
             }
             Ok((lights[0].light, lights))

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use crate::{Scene, SceneError};
+use crate::{Light, Scene, SceneError};
 
 const CAMERA: &str = "[camera]\neye = [0.0, 3.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\n\
     up = [0.0, 1.0, 0.0]\nfov_y_deg = 45.0\nwidth = 8\nheight = 6\n\n";
@@ -60,7 +60,7 @@ fn an_array_of_lights_reads_in_file_order_with_default_names() {
     let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
     assert_eq!(s.light_names(), ["key", "light1", "rim_2"]);
     assert_eq!(s.channel_names(), ["key.V", "light1.V", "rim_2.V"]);
-    assert_eq!(s.light, s.lights[0].light);
+    assert_eq!(Light::Rect(s.light), s.lights[0].light);
     for (k, x) in [1.0, 2.0, 3.0].into_iter().enumerate() {
         let one = s.for_light(k);
         assert_eq!(one.light.center.x, x);
@@ -159,7 +159,7 @@ fn the_documented_example_reads_as_documented() {
     let example = &section[start..start + section[start..].find("```").unwrap()];
     let s = Scene::from_toml(&format!("{CAMERA}{example}"), Path::new("s.toml")).unwrap();
     assert_eq!(s.channel_names(), ["key.V", "light1.V"]);
-    assert_eq!(s.lights[1].light.size.y, 3.0);
+    assert_eq!(s.lights[1].light.as_rect().unwrap().size.y, 3.0);
 }
 
 #[test]
@@ -183,9 +183,9 @@ fn a_transform_moves_every_light() {
             moved.for_light(k).light,
             s.for_light(k).transformed(&m).light
         );
-        let c = m.transform_point3(s.lights[k].light.center);
-        assert!((moved.lights[k].light.center - c).length() < 1e-12);
-        assert!((moved.lights[k].light.size.x - 2.5).abs() < 1e-12);
+        let c = m.transform_point3(s.lights[k].light.as_rect().unwrap().center);
+        assert!((moved.lights[k].light.as_rect().unwrap().center - c).length() < 1e-12);
+        assert!((moved.lights[k].light.as_rect().unwrap().size.x - 2.5).abs() < 1e-12);
     }
-    assert_eq!(moved.light, moved.lights[0].light);
+    assert_eq!(Light::Rect(moved.light), moved.lights[0].light);
 }

@@ -4,7 +4,8 @@
 //! For the pixel `(x, y)`, P is the first hit of the camera ray (the surface point of the
 //! reference, [`Tracer::surface_point`]) and `n` its triangle's geometric normal, turned to face
 //! the camera. Of the scene's `K` lights, with `ω_k` the unit direction from P to the centre of
-//! light `k` and `V_k` that light's visibility image at the pixel,
+//! light `k` (a distant light's direction `D`, every point on its emitting side) and `V_k` that
+//! light's visibility image at the pixel,
 //!
 //! ```text
 //! L = A + (1 - A) · (1/K) · Σ_k max(0, n · ω_k) · [P on light k's emitting side] · V_k
@@ -18,9 +19,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::channels::VisibilityChannels;
+use crate::distant::Light;
 use crate::image::{ImageError, io_err};
 use crate::image_files::{PngColor, write_png_bytes};
-use crate::light::RectLight;
 use crate::reference::Tracer;
 use crate::scene::Scene;
 
@@ -79,13 +80,11 @@ impl ShadedImage {
     /// light, in the order of [`Scene::channel_names`], of the camera's size), by the formula
     /// of this module. Refused when `images` does not fit the scene.
     pub fn render(scene: &Scene, images: &VisibilityChannels) -> Result<ShadedImage, ImageError> {
+        // The world's geometry: a scene under a distant light renders a warped one.
+        let lights = scene.world_lights();
+        let scene = scene.world();
         let cam = &scene.camera;
         let (w, h) = (cam.width, cam.height);
-        let lights: Vec<RectLight> = if scene.lights.is_empty() {
-            vec![scene.light]
-        } else {
-            scene.lights.iter().map(|l| l.light).collect()
-        };
         let channels = images.channels();
         if channels.len() != lights.len() {
             return Err(bad_channels(
@@ -123,12 +122,18 @@ impl ShadedImage {
                     let n = facing_normal(tracer.triangles[p.triangle as usize], dir);
                     terms.clear();
                     for (light, c) in lights.iter().zip(channels) {
-                        let v = if light.is_lit_side(p.position) {
+                        let (lit, omega) = match light {
+                            Light::Rect(l) => (
+                                l.is_lit_side(p.position),
+                                (l.center - p.position).normalize_or_zero(),
+                            ),
+                            Light::Distant(l) => (true, l.direction),
+                        };
+                        let v = if lit {
                             c.image.get(i as u32, j as u32) as f64
                         } else {
                             0.0
                         };
-                        let omega = (light.center - p.position).normalize_or_zero();
                         terms.push((n.dot(omega), v));
                     }
                     *out = [srgb_byte(shaded_value(&terms)); 3];
@@ -181,6 +186,7 @@ mod tests {
     use crate::camera::Camera;
     use crate::channels::Channel;
     use crate::image::VisibilityImage;
+    use crate::light::RectLight;
     use crate::lights::NamedLight;
     use crate::mesh::TriangleMesh;
     use glam::{DMat4, DVec2};

@@ -136,14 +136,19 @@ impl FrameCamera {
     /// `true_up` and `-forward`, a point `v` (eye-relative, homogeneous) goes to
     /// `(f/a · right·v, f · true_up·v, near · v.w, forward·v)`: depth `near / (forward·v)` is 1
     /// on the near plane and falls to 0 at infinity, where `v.w = 0` gives exactly 0.
+    ///
+    /// The camera of a scene under a distant light (its warp, [`penumbra_geom::Warp`]) has a
+    /// frame that is not orthonormal: the rows are then those of the frame's inverse, so that
+    /// `v = x right + y true_up + z forward` still goes to `(f/a · x, f · y, near · v.w, z)`.
     pub fn from_camera(c: &Camera, near: f64) -> Self {
         let aspect = c.width as f64 / c.height as f64;
         let f = 1.0 / (c.fov_y_deg.to_radians() * 0.5).tan();
+        let [right, up, forward] = view_rows(c);
         let rows = [
-            (c.right * (f / aspect)).extend(0.0),
-            (c.true_up * f).extend(0.0),
+            (right * (f / aspect)).extend(0.0),
+            (up * f).extend(0.0),
             DVec4::new(0.0, 0.0, 0.0, near),
-            c.forward.extend(0.0),
+            forward.extend(0.0),
         ];
         FrameCamera {
             eye: c.eye,
@@ -173,7 +178,7 @@ impl FrameCamera {
         let near = (radius * NEAR_FRACTION)
             .min(0.5 * nearest_distance(vertices))
             .max(radius * 1e-9);
-        Self::from_camera(c, near)
+        Self::from_camera(c, near * skew_factor(c))
     }
 }
 
@@ -206,6 +211,32 @@ pub fn eye_relative(eye: DVec3, triangles: &[[DVec3; 3]]) -> Vec<[f32; 3]> {
         .flatten()
         .map(|&v| (v - eye).as_vec3().to_array())
         .collect()
+}
+
+/// The rows that take an eye-relative point to its coordinates along the camera's frame
+/// `(right, true_up, forward)`: the frame itself where it is orthonormal (a look-at camera),
+/// else the rows of its inverse (the warped camera of a distant light).
+fn view_rows(c: &Camera) -> [DVec3; 3] {
+    let frame = [c.right, c.true_up, c.forward];
+    let orthonormal = frame.iter().all(|v| (v.length() - 1.0).abs() < 1e-12)
+        && c.right.dot(c.true_up).abs() < 1e-12
+        && c.right.dot(c.forward).abs() < 1e-12
+        && c.true_up.dot(c.forward).abs() < 1e-12;
+    if orthonormal {
+        return frame;
+    }
+    let inverse = glam::DMat3::from_cols(c.right, c.true_up, c.forward).inverse();
+    [inverse.row(0), inverse.row(1), inverse.row(2)]
+}
+
+/// How much nearer than for an orthonormal frame a point at a given distance can lie along
+/// the camera's `forward` coordinate: 1 for a look-at camera; for a warped one, the ratio of
+/// the longest ray direction `forward + x right + y true_up` in view to an orthonormal frame's.
+fn skew_factor(c: &Camera) -> f64 {
+    let ty = (c.fov_y_deg.to_radians() * 0.5).tan();
+    let tx = ty * c.width as f64 / c.height as f64;
+    let longest = c.forward.length() + tx * c.right.length() + ty * c.true_up.length();
+    ((1.0 + tx + ty) / longest).min(1.0)
 }
 
 /// The radius around the eye that holds every eye-relative vertex of `vertices` (at least 1e-3),

@@ -45,6 +45,7 @@ fn scene(meshes: Vec<TriangleMesh>, eye: DVec3, target: DVec3) -> Scene {
             DVec2::new(2.5, 2.0),
         ),
         lights: Vec::new(),
+        distant: None,
         meshes: all
             .into_iter()
             .map(|mesh| SceneMesh {
