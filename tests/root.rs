@@ -3,6 +3,7 @@
 mod blending;
 mod common;
 mod depth_complexity;
+mod distant_light;
 mod extreme_extents;
 mod far_light;
 mod fixtures;

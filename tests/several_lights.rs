@@ -35,23 +35,35 @@ fn with_light_alone(text: &str, k: usize) -> String {
     out
 }
 
-/// The fixture two-lights and each of its lights alone, read from scene-file text.
-fn scene_and_singles() -> (Scene, Vec<Scene>) {
+/// The fixture two-lights, or with `sun` its fill light turned into a distant light from the
+/// same side (its direction the fill light's `-normal`, full angles 9 x 30 degrees, about what
+/// the fill light spans from the casters), and each of its lights alone, read from scene-file
+/// text.
+fn scene_and_singles(sun: bool) -> (Scene, Vec<Scene>) {
     let path = scene_path("two-lights");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let scene = Scene::load(&path).unwrap();
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    if sun {
+        let fill = text.find("name = \"fill\"").unwrap();
+        let end = fill + text[fill..].find("\n\n").unwrap();
+        text.replace_range(
+            fill..end,
+            "name = \"fill\"\ndistant = true\n\
+             direction = [0.6556100681071858, 0.7492686492653552, -0.0936585811581694]\n\
+             tangent = [-0.12079677321987342, 0.226508373301436, 0.9664895738723741]\n\
+             angular_size = [9.0, 30.0]",
+        );
+    }
+    let scene = Scene::from_toml(&text, &path).unwrap();
     assert_eq!(scene.channel_names(), ["key.V", "fill.V"]);
     let singles = (0..scene.light_count())
         .map(|k| {
             let alone = Scene::from_toml(&with_light_alone(&text, k), &path).unwrap();
             assert!(alone.lights.is_empty());
-            assert_eq!(
-                scene.lights[k].light,
-                penumbra::geom::Light::Rect(alone.light)
-            );
+            assert_eq!(scene.lights[k].light, alone.world_lights()[0]);
             alone
         })
         .collect();
+    assert_eq!(scene.lights[1].light.as_distant().is_some(), sun);
     (scene, singles)
 }
 
@@ -59,9 +71,9 @@ fn scene_and_singles() -> (Scene, Vec<Scene>) {
 /// equal to its light alone's image, made by a renderer of its own (so that nothing one light
 /// leaves in a renderer reaches the other's image unseen), and the two lights' images
 /// different.
-fn assert_channels_are_lights_alone(backend: Backend, techniques: &[Technique]) {
+fn assert_channels_are_lights_alone(backend: Backend, techniques: &[Technique], sun: bool) {
     let renderer = &mut Renderer::new(backend);
-    let (scene, singles) = scene_and_singles();
+    let (scene, singles) = scene_and_singles(sun);
     let options = RenderOptions {
         samples: 16,
         jitter: false,
@@ -103,6 +115,23 @@ fn each_light_s_channel_is_that_light_alone_on_the_cpu() {
             Technique::Wedges,
             Technique::WedgesBlend,
         ],
+        false,
+    );
+}
+
+#[test]
+fn a_distant_light_s_channel_is_that_light_alone_on_the_cpu() {
+    assert_channels_are_lights_alone(
+        Backend::Cpu,
+        &[
+            Technique::Reference,
+            Technique::HardReference,
+            Technique::DepthComplexity,
+            Technique::Hard,
+            Technique::Wedges,
+            Technique::WedgesBlend,
+        ],
+        true,
     );
 }
 
@@ -123,7 +152,7 @@ fn each_light_s_channel_is_that_light_alone_on_the_gpu() {
     for &t in &techniques {
         let frame = gpu
             .render_frame(
-                &scene_and_singles().1[0],
+                &scene_and_singles(false).1[0],
                 t,
                 &RenderOptions {
                     samples: 16,
@@ -135,7 +164,8 @@ fn each_light_s_channel_is_that_light_alone_on_the_gpu() {
             .unwrap();
         assert!(frame.detail.starts_with("gpu: "), "{t}: {}", frame.detail);
     }
-    assert_channels_are_lights_alone(Backend::Gpu, &techniques);
+    assert_channels_are_lights_alone(Backend::Gpu, &techniques, false);
+    assert_channels_are_lights_alone(Backend::Gpu, &techniques, true);
 }
 
 #[test]

@@ -15,6 +15,13 @@
 //! tangent = [1, 0, 0]       # unit, orthogonal to normal
 //! size = [w, h]             # along tangent, along cross(normal, tangent)
 //!
+//! # or a distant light (the sun), the rectangle of directions around `direction`:
+//! # [light]
+//! # distant = true
+//! # direction = [x, y, z]   # unit, from the scene towards the light's centre
+//! # tangent = [1, 0, 0]     # unit, orthogonal to direction
+//! # angular_size = [a, b]   # full angles in degrees, each in (0, 90]
+//!
 //! # or several lights, each rendered into its own channel `<name>.V`:
 //! # [[light]]
 //! # name = "key"            # optional: ASCII letters, digits, `-`, `_`; default light0, light1, ...

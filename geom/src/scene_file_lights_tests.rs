@@ -189,3 +189,114 @@ fn a_transform_moves_every_light() {
     }
     assert_eq!(Light::Rect(moved.light), moved.lights[0].light);
 }
+
+/// A distant light entry: `header`, extra lines, then its keys.
+fn distant(header: &str, extra: &str) -> String {
+    format!(
+        "{header}\n{extra}distant = true\ndirection = [0.0, 0.6, 0.8]\n\
+         tangent = [1.0, 0.0, 0.0]\nangular_size = [0.53, 2.0]\n\n"
+    )
+}
+
+#[test]
+fn a_distant_light_reads_as_the_rectangle_of_its_warp() {
+    let s = Scene::from_toml(
+        &format!("{CAMERA}{}", distant("[light]", "")),
+        Path::new("s.toml"),
+    )
+    .unwrap();
+    assert_eq!(s.channel_names(), ["V"]);
+    let d = s.distant.as_ref().expect("a distant light");
+    assert_eq!(d.light.direction, glam::DVec3::new(0.0, 0.6, 0.8));
+    assert_eq!(d.light.angular_size_deg, glam::DVec2::new(0.53, 2.0));
+    // B = (-D) x T.
+    assert!((d.light.bitangent - glam::DVec3::new(0.0, -0.8, 0.6)).length() < 1e-15);
+    assert_eq!(s.light, d.warp.light(&d.light));
+    assert_eq!(s.world_lights(), [Light::Distant(d.light)]);
+    // `distant = false` is a rectangle light.
+    let text = format!("{CAMERA}{}", light("[light]", "distant = false\n", 0.5));
+    let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+    assert!(s.distant.is_none());
+    // Mixed with a rectangle light: each light alone is its own form.
+    let text = format!(
+        "{CAMERA}{}{}",
+        distant("[[light]]", "name = \"sun\"\n"),
+        light("[[light]]", "name = \"lamp\"\n", 1.0)
+    );
+    let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
+    assert_eq!(s.channel_names(), ["sun.V", "lamp.V"]);
+    assert!(s.distant.is_some() && s.for_light(0).distant.is_some());
+    let lamp = s.for_light(1);
+    assert!(lamp.distant.is_none());
+    assert_eq!(lamp.light.center.x, 1.0);
+    assert_eq!(lamp.camera, s.world().camera);
+    assert_eq!(s.for_light(0).camera, s.camera);
+}
+
+#[test]
+fn bad_distant_lights_name_their_line() {
+    let cases = [
+        // (replace, with, the line's text, the message's words)
+        (
+            "angular_size = [0.53, 2.0]\n",
+            "",
+            "[light]",
+            "needs `angular_size`",
+        ),
+        (
+            "direction = [0.0, 0.6, 0.8]\n",
+            "",
+            "[light]",
+            "needs `direction`",
+        ),
+        (
+            "angular_size = [0.53, 2.0]",
+            "angular_size = [0.53, 2.0]\ncenter = [0.0, 4.0, 0.0]",
+            "center = ",
+            "light.center is not a key of a distant light",
+        ),
+        (
+            "[0.53, 2.0]",
+            "[0.0, 2.0]",
+            "angular_size = ",
+            "each in (0, 90]",
+        ),
+        (
+            "[0.53, 2.0]",
+            "[0.53, 90.5]",
+            "angular_size = ",
+            "each in (0, 90]",
+        ),
+        (
+            "[0.0, 0.6, 0.8]",
+            "[0.0, 0.6, 0.9]",
+            "direction = ",
+            "light.direction [0, 0.6, 0.9] is not unit length",
+        ),
+        (
+            "tangent = [1.0, 0.0, 0.0]",
+            "tangent = [0.0, 0.6, 0.8]",
+            "tangent = ",
+            "not orthogonal to light.direction",
+        ),
+    ];
+    for (from, to, at, says) in cases {
+        let text = format!("{CAMERA}{}", distant("[light]", "")).replace(from, to);
+        let (line, message) = error(&text);
+        assert_eq!(line, line_with(&text, at, 0), "{message}");
+        assert!(message.contains(says), "{says:?} in {message}");
+    }
+    // A rectangle light with a distant light's key.
+    let text = format!(
+        "{CAMERA}{}",
+        light("[light]", "angular_size = [1.0, 1.0]\n", 0.0)
+    );
+    let (line, message) = error(&text);
+    assert_eq!(line, line_with(&text, "angular_size", 0));
+    assert!(
+        message.contains("light.angular_size is not a key of a rectangle light"),
+        "{message}"
+    );
+    let text = format!("{CAMERA}{}", light("[light]", "", 0.0)).replace("size = [1.0, 1.0]\n", "");
+    assert!(error(&text).1.contains("a rectangle light needs `size`"));
+}

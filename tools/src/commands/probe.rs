@@ -83,7 +83,11 @@ fn probe_light(
                 y as u64 * scene.camera.width as u64 + x as u64,
             );
             let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);
-            let q = p.position;
+            // In the world's coordinates: a distant light's scene is rendered warped.
+            let q = scene
+                .distant
+                .as_ref()
+                .map_or(p.position, |d| d.warp.unwarp(p.position));
             println!("{indent}pixel {x},{y}");
             println!(
                 "{indent}P          = [{:.9}, {:.9}, {:.9}] (triangle {})",
