@@ -80,8 +80,8 @@ pub use penumbra_geom::ImageError;
 pub use penumbra_geom::MeshError;
 pub use penumbra_geom::RangeError;
 pub use penumbra_geom::{
-    Camera, Channel, NamedLight, RectLight, Scene, SceneError, Technique, TriangleMesh,
-    VisibilityChannels, VisibilityImage,
+    Camera, Channel, DistantLight, Light, NamedLight, RectLight, Scene, SceneError, Technique,
+    TriangleMesh, VisibilityChannels, VisibilityImage,
 };
 pub use penumbra_geom::{Comparison, compare};
 pub use penumbra_gpu as gpu;

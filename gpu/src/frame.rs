@@ -213,16 +213,22 @@ pub fn eye_relative(eye: DVec3, triangles: &[[DVec3; 3]]) -> Vec<[f32; 3]> {
         .collect()
 }
 
+/// Whether the camera's frame is orthonormal (within rounding), as a look-at camera's is.
+fn is_orthonormal(c: &Camera) -> bool {
+    [c.right, c.true_up, c.forward]
+        .iter()
+        .all(|v| (v.length() - 1.0).abs() < 1e-12)
+        && c.right.dot(c.true_up).abs() < 1e-12
+        && c.right.dot(c.forward).abs() < 1e-12
+        && c.true_up.dot(c.forward).abs() < 1e-12
+}
+
 /// The rows that take an eye-relative point to its coordinates along the camera's frame
 /// `(right, true_up, forward)`: the frame itself where it is orthonormal (a look-at camera),
 /// else the rows of its inverse (the warped camera of a distant light).
 fn view_rows(c: &Camera) -> [DVec3; 3] {
     let frame = [c.right, c.true_up, c.forward];
-    let orthonormal = frame.iter().all(|v| (v.length() - 1.0).abs() < 1e-12)
-        && c.right.dot(c.true_up).abs() < 1e-12
-        && c.right.dot(c.forward).abs() < 1e-12
-        && c.true_up.dot(c.forward).abs() < 1e-12;
-    if orthonormal {
+    if is_orthonormal(c) {
         return frame;
     }
     let inverse = glam::DMat3::from_cols(c.right, c.true_up, c.forward).inverse();
@@ -233,6 +239,9 @@ fn view_rows(c: &Camera) -> [DVec3; 3] {
 /// the camera's `forward` coordinate: 1 for a look-at camera; for a warped one, the ratio of
 /// the longest ray direction `forward + x right + y true_up` in view to an orthonormal frame's.
 fn skew_factor(c: &Camera) -> f64 {
+    if is_orthonormal(c) {
+        return 1.0;
+    }
     let ty = (c.fov_y_deg.to_radians() * 0.5).tan();
     let tx = ty * c.width as f64 / c.height as f64;
     let longest = c.forward.length() + tx * c.right.length() + ty * c.true_up.length();
