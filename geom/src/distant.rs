@@ -20,7 +20,7 @@
 //! exact evaluator and for every technique alike; only the camera changes form (its rays'
 //! frame is no longer orthonormal).
 
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
 use crate::camera::Camera;
 use crate::light::RectLight;
@@ -176,6 +176,34 @@ impl Warp {
         self.origin + e * (self.k / (self.k - e.dot(self.direction)))
     }
 
+    /// [`Warp::point`] as a matrix of homogeneous coordinates: `(x, 1)` goes to `w (H(x), 1)`,
+    /// `w = (x - o)·D + k`.
+    pub fn matrix(&self) -> DMat4 {
+        let (o, d, k) = (self.origin, self.direction, self.k);
+        let od = o.dot(d);
+        let linear = DMat3::from_cols(o * d.x, o * d.y, o * d.z) + DMat3::IDENTITY * k;
+        DMat4::from_cols(
+            linear.x_axis.extend(d.x),
+            linear.y_axis.extend(d.y),
+            linear.z_axis.extend(d.z),
+            (-o * od).extend(k - od),
+        )
+    }
+
+    /// [`Warp::unwarp`] as a matrix of homogeneous coordinates: `(y, 1)` goes to `w (x, 1)`,
+    /// `x` the world point whose image is `y`, `w = k - (y - o)·D`.
+    pub fn inverse_matrix(&self) -> DMat4 {
+        let (o, d, k) = (self.origin, self.direction, self.k);
+        let od = o.dot(d);
+        let linear = DMat3::IDENTITY * k - DMat3::from_cols(o * d.x, o * d.y, o * d.z);
+        DMat4::from_cols(
+            linear.x_axis.extend(-d.x),
+            linear.y_axis.extend(-d.y),
+            linear.z_axis.extend(-d.z),
+            DVec4::from((o * od, k + od)),
+        )
+    }
+
     /// The derivative of [`Warp::point`] at `x`, which carries directions at `x` to directions
     /// at its image: `s (I - (x - o) D^T / ((x - o)·D + k))`, `s = k / ((x - o)·D + k)`.
     pub fn jacobian(&self, x: DVec3) -> DMat3 {
@@ -266,6 +294,19 @@ mod tests {
             assert!(rect.is_lit_side(w.point(p)));
         }
         assert!((rect.bitangent - l.bitangent).length() < 1e-15);
+    }
+
+    #[test]
+    fn the_matrices_are_the_warp_and_its_inverse() {
+        let w = warp();
+        for x in [DVec3::new(0.3, -1.0, 2.0), DVec3::new(-2.5, 1.2, -0.4)] {
+            let h = w.matrix() * x.extend(1.0);
+            assert!((h.truncate() / h.w - w.point(x)).length() < 1e-12);
+            let y = w.point(x);
+            let g = w.inverse_matrix() * y.extend(1.0);
+            assert!((g.truncate() / g.w - x).length() < 1e-12);
+            assert!(h.w > 0.0 && g.w > 0.0);
+        }
     }
 
     #[test]

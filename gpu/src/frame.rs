@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3, DVec4, Vec3};
-use penumbra_geom::{Camera, RectLight};
+use penumbra_geom::{Camera, RectLight, Warp};
 
 /// Near plane of the camera's projection, relative to the scene's size.
 pub const NEAR_FRACTION: f64 = 1e-3;
@@ -26,9 +26,16 @@ pub struct FrameUniforms {
     pub light_tangent: [f32; 4],
     /// Light bitangent and half the second side.
     pub light_bitangent: [f32; 4],
+    /// Under a distant light's warp ([`penumbra_geom::Warp`]): its direction `D` and `k`; all
+    /// zero otherwise, and the passes place vertices in the world.
+    pub warp_direction: [f32; 4],
+    /// The warp's origin `o` minus the world's eye (`w` unused).
+    pub warp_origin: [f32; 4],
+    /// The warp's origin `o` minus the warped eye `H(eye)` (`w` unused).
+    pub warp_image: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
 
 /// A mesh's model matrix as the shaders read it (`models` in `frame.wgsl`): its stored vertices
 /// to eye-relative world, column-major. The shaders use its rows x, y and z; column 0's w (row
@@ -157,6 +164,23 @@ impl FrameCamera {
         }
     }
 
+    /// The camera that sees a scene warped by `warp` (a distant light's,
+    /// [`penumbra_geom::Warp`]) as this one sees the world: its eye the warped eye, and its
+    /// matrix this one's composed with the warp's inverse, `VP · T(-eye) · H⁻¹ · T(H(eye))`, so
+    /// that a warped point lands on the pixel and at the depth of the world point it is the image
+    /// of (the homogeneous factor the warp's inverse brings is positive and divides out).
+    pub fn warped(&self, warp: &Warp) -> FrameCamera {
+        let eye = warp.point(self.eye);
+        FrameCamera {
+            eye,
+            view_proj: self.view_proj
+                * DMat4::from_translation(-self.eye)
+                * warp.inverse_matrix()
+                * DMat4::from_translation(eye),
+            size: self.size,
+        }
+    }
+
     /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera,
     /// with the near plane a thousandth of the scene's extent around the eye, or half the
     /// distance to the nearest triangle where that is closer.
@@ -200,7 +224,23 @@ impl FrameUniforms {
             light_center: [lc.x, lc.y, lc.z, 0.0],
             light_normal: [n.x, n.y, n.z, 0.0],
             size: [camera.size.0 as f32, camera.size.1 as f32, 0.0, 0.0],
+            warp_direction: [0.0; 4],
+            warp_origin: [0.0; 4],
+            warp_image: [0.0; 4],
         }
+    }
+
+    /// The uniforms with the vertices of the meshes, placed relative to `world_eye` by their
+    /// model matrices, carried by `warp` to positions relative to the warped eye, the eye of
+    /// `camera` ([`FrameCamera::warped`]).
+    pub fn with_warp(mut self, warp: &Warp, world_eye: DVec3, camera: &FrameCamera) -> Self {
+        let d = warp.direction.as_vec3();
+        let o = (warp.origin - world_eye).as_vec3();
+        let i = (warp.origin - camera.eye).as_vec3();
+        self.warp_direction = [d.x, d.y, d.z, warp.k as f32];
+        self.warp_origin = [o.x, o.y, o.z, 0.0];
+        self.warp_image = [i.x, i.y, i.z, 0.0];
+        self
     }
 }
 

@@ -9,13 +9,15 @@ use common::context;
 use common::{texture, view as texture_view};
 use glam::dcamera::rh::{proj::directx, view};
 use glam::{DMat4, DQuat, DVec2, DVec3};
-use penumbra_geom::{Camera, RectLight, Scene, Technique, TriangleMesh, VisibilityImage, compare};
+use penumbra_geom::{
+    Camera, DistantLight, RectLight, Scene, Technique, TriangleMesh, VisibilityImage, compare,
+};
 use penumbra_gpu::{
     FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene, read_r32f,
     visibility_target,
 };
 use penumbra_testkit::{square, unit_cube};
-use penumbra_volumes::CpuRenderer;
+use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
 const SIZE: (u32, u32) = (96, 72);
 const EYE: DVec3 = DVec3::new(0.5, 5.0, 6.5);
@@ -140,6 +142,64 @@ fn recorded_frames_match_the_cpu_oracle_as_meshes_and_light_move() {
     }
 }
 
+/// A distant light from above towards `x`, 12 by 6 degrees.
+fn sun(x: f64) -> DistantLight {
+    let d = DVec3::new(x, 1.0, 0.3).normalize();
+    DistantLight::new(d, d.cross(DVec3::Z).normalize(), DVec2::new(12.0, 6.0))
+}
+
+#[test]
+fn a_distant_light_matches_the_cpu_oracle_as_the_sun_and_the_meshes_move() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::new(&ctx.device, &ctx.queue).unwrap();
+    let meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let mut scene = GpuScene::new(&renderer, &refs, sun(-0.6));
+    assert_eq!(scene.light(), sun(-0.6).into());
+    let camera = camera();
+    let mut transforms: Vec<DMat4> = meshes.iter().map(|m| m.1).collect();
+    // The oracle warps the scene its own way (around every vertex and the eye); the images are
+    // the world's under the sun either way.
+    let oracle = |transforms: &[DMat4], x: f64| {
+        cpu_scene(&meshes, transforms, light(0.0)).with_distant_light(sun(x))
+    };
+    for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
+        let image = frame(&ctx, &mut scene, &camera, t);
+        assert_matches_cpu(&image, &oracle(&transforms, -0.6), t, "sun");
+    }
+    // Depth complexity against its oracle's samples.
+    let image = frame(&ctx, &mut scene, &camera, Technique::DepthComplexity);
+    let exact = DepthComplexity::new(&oracle(&transforms, -0.6)).render(
+        SamplePattern {
+            per_axis: 16,
+            jitter: false,
+        },
+        &|_| {},
+    );
+    let c = compare(&image, &exact).unwrap();
+    println!(
+        "sun, depth-complexity: MAE {:.2e}, max {:.2e}",
+        c.all.mae, c.all.max
+    );
+    assert!(c.all.mae <= 1e-4 && c.all.p99 <= 1.0 / 256.0, "{c:?}");
+    // The box turns and the sun moves; then a rectangle light again.
+    transforms[2] = box_transform(1.1);
+    scene.set_transform(2, transforms[2]);
+    scene.set_light(sun(0.7));
+    for t in [Technique::Hard, Technique::WedgesBlend] {
+        let image = frame(&ctx, &mut scene, &camera, t);
+        assert_matches_cpu(&image, &oracle(&transforms, 0.7), t, "sun moved");
+    }
+    scene.set_light(light(0.8));
+    let image = frame(&ctx, &mut scene, &camera, Technique::Hard);
+    assert_matches_cpu(
+        &image,
+        &cpu_scene(&meshes, &transforms, light(0.8)),
+        Technique::Hard,
+        "a rectangle again",
+    );
+}
+
 #[test]
 fn only_what_changed_is_uploaded() {
     let Some(ctx) = context() else { return };
@@ -159,7 +219,7 @@ fn only_what_changed_is_uploaded() {
     frame(&ctx, &mut scene, &camera, t);
     let again = scene.take_uploads();
     assert_eq!((again.geometry, again.shadows), (0, 0), "{again:?}");
-    // The camera moves: uniforms and model matrices (144 + 3 x 64 bytes), and the tiles.
+    // The camera moves: uniforms and model matrices (192 + 3 x 64 bytes), and the tiles.
     let view = view::look_at_mat4(EYE + DVec3::X, TARGET, DVec3::Y);
     let projection = directx::perspective_infinite_reverse(0.8, 96.0 / 72.0, 0.01);
     camera = FrameCamera::from_matrices(&view, &projection, SIZE).unwrap();
@@ -167,7 +227,7 @@ fn only_what_changed_is_uploaded() {
     let moved = scene.take_uploads();
     assert_eq!(moved.geometry, 0);
     assert_eq!(moved.shadows, 0);
-    assert_eq!(moved.frame, 144 + 3 * 64, "{moved:?}");
+    assert_eq!(moved.frame, 192 + 3 * 64, "{moved:?}");
     // A mesh turns: its shadows again, never its vertices.
     scene.set_transform(1, box_transform(0.5));
     frame(&ctx, &mut scene, &camera, Technique::Hard);

@@ -154,6 +154,7 @@ impl GpuScene {
             pipelines: &self.pipelines,
             frame: &self.frame,
             light: &self.light,
+            warp: self.distant.as_ref().map(|d| &d.warp),
             meshes: &self.meshes,
             uploads: &mut self.uploads,
         };

@@ -25,7 +25,7 @@
 use crate::counters::Traffic;
 use std::ops::Range;
 
-use penumbra_geom::{HalfEdgeMesh, RectLight};
+use penumbra_geom::{HalfEdgeMesh, RectLight, Warp};
 use penumbra_volumes::PotentialEdges;
 use penumbra_volumes::Silhouette;
 use penumbra_volumes::{ShadowVolume, VolumeVertex};
@@ -105,9 +105,14 @@ fn tiles((w, h): (u32, u32)) -> (u32, u32) {
 impl ComplexityScene {
     /// Builds and uploads what the passes read of `meshes` lit by `light`; and the bytes
     /// uploaded.
-    fn build(device: &wgpu::Device, meshes: &[StoredMesh], light: &RectLight) -> (Self, u64) {
+    fn build(
+        device: &wgpu::Device,
+        meshes: &[StoredMesh],
+        light: &RectLight,
+        warp: Option<&Warp>,
+    ) -> (Self, u64) {
         let stored = meshes;
-        let (meshes, world) = world(stored);
+        let (meshes, world) = world(stored, warp);
         let c = light.center;
         let mut vol: Vec<[f32; 4]> = Vec::new();
         let mut volume_ranges = Vec::with_capacity(meshes.len());
@@ -280,6 +285,8 @@ pub(super) struct SceneParts<'a> {
     /// The frame's group 0, written for this frame.
     pub(super) frame: &'a wgpu::BindGroup,
     pub(super) light: &'a RectLight,
+    /// A distant light's warp, which the meshes are rendered through.
+    pub(super) warp: Option<&'a Warp>,
     pub(super) meshes: &'a [StoredMesh],
     pub(super) uploads: &'a mut Uploads,
 }
@@ -405,7 +412,8 @@ impl ComplexityState {
     fn prepare(&mut self, parts: &mut SceneParts<'_>, size: (u32, u32)) -> Result<(), GpuError> {
         let device = &parts.ctx.device;
         if self.scene.is_none() {
-            let (data, bytes) = ComplexityScene::build(device, parts.meshes, parts.light);
+            let (data, bytes) =
+                ComplexityScene::build(device, parts.meshes, parts.light, parts.warp);
             parts.uploads.shadows += bytes;
             self.scene = Some(data);
         }

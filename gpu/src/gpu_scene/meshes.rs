@@ -2,7 +2,7 @@
 //! origin in `f32`, and where it is in the world.
 
 use glam::{DMat4, DVec3};
-use penumbra_geom::TriangleMesh;
+use penumbra_geom::{TriangleMesh, Warp};
 
 /// One mesh as stored: its own-space mesh, its vertices relative to `origin` in `f32`, and where
 /// it is.
@@ -32,11 +32,23 @@ impl StoredMesh {
     }
 }
 
-/// The world-space meshes of `meshes` and their triangles.
-pub(super) fn world(meshes: &[StoredMesh]) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
+/// The world-space meshes of `meshes` and their triangles; under a distant light, carried by
+/// its `warp` to the scene the passes render.
+pub(super) fn world(
+    meshes: &[StoredMesh],
+    warp: Option<&Warp>,
+) -> (Vec<TriangleMesh>, Vec<[DVec3; 3]>) {
     let meshes: Vec<TriangleMesh> = meshes
         .iter()
-        .map(|m| m.mesh.transformed(&m.transform))
+        .map(|m| {
+            let mut world = m.mesh.transformed(&m.transform);
+            if let Some(w) = warp {
+                for p in &mut world.positions {
+                    *p = w.point(*p);
+                }
+            }
+            world
+        })
         .collect();
     let triangles = meshes
         .iter()
@@ -61,4 +73,39 @@ pub(super) fn centre(positions: &[DVec3]) -> DVec3 {
     } else {
         DVec3::ZERO
     }
+}
+
+/// The corners of every mesh's bounding box, in the world: what a distant light's warp must
+/// hold.
+pub(super) fn world_corners(meshes: &[StoredMesh]) -> Vec<DVec3> {
+    meshes
+        .iter()
+        .flat_map(|m| {
+            let (lo, hi) = m
+                .mesh
+                .positions
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                    (lo.min(p), hi.max(p))
+                });
+            let corners: Vec<DVec3> = if lo.x <= hi.x {
+                (0..8)
+                    .map(|c| {
+                        let pick = |bit: u32, a: f64, b: f64| if c & bit == 0 { a } else { b };
+                        DVec3::new(
+                            pick(1, lo.x, hi.x),
+                            pick(2, lo.y, hi.y),
+                            pick(4, lo.z, hi.z),
+                        )
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            corners
+                .into_iter()
+                .map(|c| m.transform.transform_point3(c))
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }

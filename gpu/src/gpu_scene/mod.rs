@@ -7,6 +7,7 @@
 mod complexity;
 mod complexity_receivers;
 mod complexity_state;
+mod distant;
 mod meshes;
 mod record;
 mod record_blend;
@@ -18,7 +19,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use glam::{DMat4, DVec3};
-use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, Technique, TriangleMesh};
+use penumbra_geom::{HalfEdgeMesh, Light, RectLight, Scene, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::outward_sign;
 
@@ -29,6 +30,7 @@ use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
 pub use complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use complexity_state::ComplexityState;
+use distant::Distant;
 use meshes::{StoredMesh, centre, world};
 use scratch::Scratch;
 use shadows::Shadows;
@@ -60,7 +62,11 @@ pub struct GpuScene {
     /// Every mesh's triangles' corners, as stored, and each mesh's range of them.
     vertices: wgpu::Buffer,
     vertex_ranges: Vec<Range<u32>>,
+    /// The rectangle light the passes render: the scene's light, or a distant light's image
+    /// under its warp.
     light: RectLight,
+    /// The distant light and its warp, where the scene is lit by one.
+    distant: Option<Distant>,
     /// Built for the current light and transforms; `None` until a frame needs them.
     shadows: Option<Shadows>,
     uniforms: wgpu::Buffer,
@@ -116,7 +122,7 @@ impl GpuScene {
     pub fn new(
         renderer: &GpuRenderer,
         meshes: &[(&TriangleMesh, DMat4)],
-        light: RectLight,
+        light: impl Into<Light>,
     ) -> Self {
         let meshes: Vec<(&TriangleMesh, DMat4, DVec3, f64)> = meshes
             .iter()
@@ -125,7 +131,15 @@ impl GpuScene {
                 (m, t, centre(&m.positions), outward)
             })
             .collect();
-        Self::with_origins(renderer, &meshes, light)
+        let light = light.into();
+        let rect = match light {
+            Light::Rect(l) => l,
+            // Replaced by the warp's rectangle below.
+            Light::Distant(_) => RectLight::new(DVec3::ZERO, -DVec3::Y, DVec3::X, glam::DVec2::ONE),
+        };
+        let mut scene = Self::with_origins(renderer, &meshes, rect);
+        scene.set_light(light);
+        scene
     }
 
     /// [`GpuScene::new`] with each mesh's vertices stored relative to the given origin, and its
@@ -191,6 +205,7 @@ impl GpuScene {
             vertices,
             vertex_ranges,
             light,
+            distant: None,
             shadows: None,
             uniforms,
             models,
@@ -259,18 +274,54 @@ impl GpuScene {
         }
     }
 
-    /// The light.
-    pub fn light(&self) -> &RectLight {
-        &self.light
+    /// The light: a rectangle light, or a distant light.
+    pub fn light(&self) -> Light {
+        match &self.distant {
+            Some(d) => Light::Distant(d.light),
+            None => Light::Rect(self.light),
+        }
     }
 
-    /// Lights the scene by `light` from the next frame on.
-    pub fn set_light(&mut self, light: RectLight) {
-        if self.light != light {
-            self.light = light;
-            self.shadows = None;
-            self.complexity.light_changed();
+    /// Lights the scene by `light`, a [`RectLight`] or a [`penumbra_geom::DistantLight`], from
+    /// the next frame on. A distant light is rendered through its warp
+    /// ([`penumbra_geom::Warp`], `docs/scene-format.md`, "Distant lights"): the G-buffer then
+    /// holds the warped scene's points, as [`GpuScene::record_depth`] writes them.
+    pub fn set_light(&mut self, light: impl Into<Light>) {
+        let changed = match light.into() {
+            Light::Rect(l) => {
+                let changed = self.distant.is_some() || self.light != l;
+                self.distant = None;
+                self.light = l;
+                changed
+            }
+            Light::Distant(l) => {
+                if self.distant.as_ref().is_some_and(|d| d.light == l) {
+                    false
+                } else {
+                    let d = Distant::new(l, &self.meshes);
+                    self.light = d.rectangle();
+                    self.distant = Some(d);
+                    true
+                }
+            }
+        };
+        if changed {
+            self.light_changed();
         }
+    }
+
+    /// The warp a distant light's frames are rendered through, `None` under a rectangle light:
+    /// an application that writes its own G-buffer under a distant light writes the points
+    /// [`penumbra_geom::Warp::point`] makes of its surface points, relative to the warp's image
+    /// of the eye.
+    pub fn warp(&self) -> Option<penumbra_geom::Warp> {
+        self.distant.as_ref().map(|d| d.warp)
+    }
+
+    /// Drops what was built for the light.
+    fn light_changed(&mut self) {
+        self.shadows = None;
+        self.complexity.light_changed();
     }
 
     /// The bytes written to the GPU since the last call (or since the scene was made).
@@ -287,7 +338,7 @@ impl GpuScene {
     /// The silhouettes' products, rebuilt if the light or a transform changed.
     fn shadows(&mut self) -> &Shadows {
         if self.shadows.is_none() {
-            let (meshes, world) = world(&self.meshes);
+            let (meshes, world) = world(&self.meshes, self.distant.as_ref().map(|d| &d.warp));
             let volumes = Volumes::build_meshes(&meshes, &self.light);
             let (shadows, bytes) = Shadows::build(
                 &self.ctx.device,
@@ -302,16 +353,20 @@ impl GpuScene {
         self.shadows.as_ref().expect("built above")
     }
 
-    /// Writes the frame's uniforms and model matrices for `camera` where they changed.
-    fn write_frame(&mut self, camera: &FrameCamera) {
-        let uniforms = FrameUniforms::new(camera, &self.light);
+    /// Writes the frame's uniforms and model matrices where they changed, for the application's
+    /// camera `world` and the camera the passes see ([`GpuScene::frame_camera`]).
+    fn write_frame(&mut self, world: &FrameCamera, camera: &FrameCamera) {
+        let mut uniforms = FrameUniforms::new(camera, &self.light);
+        if let Some(d) = &self.distant {
+            uniforms = uniforms.with_warp(&d.warp, world.eye, camera);
+        }
         let models: Vec<ModelMatrix> = self
             .meshes
             .iter()
             .map(|m| {
                 // A mirroring transform turns an outward winding inwards.
                 let sign = m.outward * m.transform.determinant().signum();
-                model_matrix(camera.eye, &m.transform, m.origin, sign)
+                model_matrix(world.eye, &m.transform, m.origin, sign)
             })
             .collect();
         let bytes = |u: &FrameUniforms| bytemuck::bytes_of(u).to_vec();

@@ -47,7 +47,8 @@ impl GpuScene {
         timer: &Timer,
     ) -> Result<(), GpuError> {
         same_size(camera.size, "G-buffer", gbuffer.size())?;
-        self.write_frame(camera);
+        let seen = self.frame_camera(camera);
+        self.write_frame(camera, &seen);
         self.pipelines.depth.record(
             encoder,
             &self.frame,
@@ -98,7 +99,9 @@ impl GpuScene {
                 usage: t.usage(),
             });
         }
-        self.write_frame(camera);
+        let seen = self.frame_camera(camera);
+        self.write_frame(camera, &seen);
+        let camera = &seen;
         if technique == Technique::DepthComplexity {
             return self.record_complexity(encoder, camera, gbuffer, Some(target), timer);
         }

@@ -17,6 +17,11 @@ struct Frame {
     light_tangent: vec4<f32>,
     // Light bitangent (xyz) and half the second side (w).
     light_bitangent: vec4<f32>,
+    // A distant light's warp (`frame::FrameUniforms::with_warp`): its direction (xyz) and k
+    // (w), zero without one; its origin minus the world's eye; its origin minus the warped eye.
+    warp_direction: vec4<f32>,
+    warp_origin: vec4<f32>,
+    warp_image: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -26,8 +31,17 @@ struct Frame {
 // `eye_relative`, so that both land on exactly the same positions.
 @group(0) @binding(1) var<storage, read> models: array<mat4x4<f32>>;
 
+// Under a distant light's warp, the eye-relative world point is carried to the warped scene,
+// relative to the warped eye: H(x) - H(eye) = (o - H(eye)) + k (x - o) / ((x - o).D + k).
 fn eye_relative(mesh: u32, p: vec3<f32>) -> vec4<f32> {
-    return vec4<f32>((models[mesh] * vec4<f32>(p, 1.0)).xyz, 1.0);
+    let world = (models[mesh] * vec4<f32>(p, 1.0)).xyz;
+    let k = frame.warp_direction.w;
+    if (k == 0.0) {
+        return vec4<f32>(world, 1.0);
+    }
+    let d = world - frame.warp_origin.xyz;
+    let s = k / (dot(d, frame.warp_direction.xyz) + k);
+    return vec4<f32>(frame.warp_image.xyz + d * s, 1.0);
 }
 
 // World (eye-relative) to light space, where the light is [-1, 1]^2 at z = 0.
