@@ -42,6 +42,14 @@ pub enum GpuError {
         /// The technique asked for.
         technique: penumbra_geom::Technique,
     },
+    /// [`crate::GpuScene::render_lights`] given another number of targets than of lights.
+    #[error("{lights} lights and {targets} targets: one target per light")]
+    LightTargets {
+        /// The lights.
+        lights: usize,
+        /// The targets.
+        targets: usize,
+    },
     /// A G-buffer or target whose size is not the camera's.
     #[error(
         "the camera's image is {} x {} pixels, the {what} {} x {}",

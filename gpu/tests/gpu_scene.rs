@@ -201,6 +201,56 @@ fn a_distant_light_matches_the_cpu_oracle_as_the_sun_and_the_meshes_move() {
 }
 
 #[test]
+fn several_lights_render_one_target_each_and_are_built_once() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::new(&ctx.device, &ctx.queue).unwrap();
+    let meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let lights = [light(-1.0).into(), sun(0.6).into(), light(0.8).into()];
+    let camera = camera();
+    let gbuffer = GBuffer::new(&ctx.device, camera.size);
+    for technique in [Technique::WedgesBlend, Technique::DepthComplexity] {
+        let mut scene = GpuScene::new(&renderer, &refs, light(0.0));
+        let inputs = FrameInputs { camera, technique };
+        let targets: Vec<wgpu::Texture> = lights
+            .iter()
+            .map(|_| visibility_target(&ctx.device, camera.size))
+            .collect();
+        let views: Vec<wgpu::TextureView> = targets.iter().map(texture_view).collect();
+        let view_refs: Vec<&wgpu::TextureView> = views.iter().collect();
+        scene
+            .render_lights(&lights, &inputs, &gbuffer, &view_refs)
+            .unwrap();
+        scene.take_uploads();
+        // Again: every light's shadows were kept (depth complexity keeps its own per frame).
+        scene
+            .render_lights(&lights, &inputs, &gbuffer, &view_refs)
+            .unwrap();
+        if technique != Technique::DepthComplexity {
+            assert_eq!(scene.take_uploads().shadows, 0, "{technique}");
+        }
+        for (k, (l, target)) in lights.iter().zip(&targets).enumerate() {
+            let (w, h) = camera.size;
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            let got = read_r32f(&ctx, &mut enc, target, w, h).unwrap();
+            let mut alone = GpuScene::new(&renderer, &refs, *l);
+            let want = frame(&ctx, &mut alone, &camera, technique);
+            assert_eq!(got, want.data, "{technique}: light {k}");
+        }
+    }
+    let mut scene = GpuScene::new(&renderer, &refs, light(0.0));
+    let inputs = FrameInputs {
+        camera,
+        technique: Technique::Hard,
+    };
+    assert!(
+        scene
+            .render_lights(&lights, &inputs, &gbuffer, &[])
+            .is_err()
+    );
+}
+
+#[test]
 fn only_what_changed_is_uploaded() {
     let Some(ctx) = context() else { return };
     let renderer = GpuRenderer::with_context(&ctx);

@@ -36,6 +36,9 @@ use scratch::Scratch;
 use shadows::Shadows;
 pub use uploads::Uploads;
 
+/// How many lights' shadows a [`GpuScene`] keeps besides the current light's.
+const KEPT_LIGHTS: usize = 8;
+
 /// What a frame renders: the camera and the technique.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameInputs {
@@ -69,6 +72,9 @@ pub struct GpuScene {
     distant: Option<Distant>,
     /// Built for the current light and transforms; `None` until a frame needs them.
     shadows: Option<Shadows>,
+    /// Built for other lights under the current transforms, most recent last: a light that
+    /// comes back finds its shadows here ([`GpuScene::render_lights`]).
+    kept: Vec<(RectLight, Shadows)>,
     uniforms: wgpu::Buffer,
     models: wgpu::Buffer,
     /// The frame's group 0: `uniforms` and `models`.
@@ -207,6 +213,7 @@ impl GpuScene {
             light,
             distant: None,
             shadows: None,
+            kept: Vec::new(),
             uniforms,
             models,
             frame,
@@ -270,6 +277,7 @@ impl GpuScene {
         if m.transform != transform {
             m.transform = transform;
             self.shadows = None;
+            self.kept.clear();
             self.complexity.light_changed();
         }
     }
@@ -287,6 +295,7 @@ impl GpuScene {
     /// ([`penumbra_geom::Warp`], `docs/scene-format.md`, "Distant lights"): the G-buffer then
     /// holds the warped scene's points, as [`GpuScene::record_depth`] writes them.
     pub fn set_light(&mut self, light: impl Into<Light>) {
+        let before = self.light;
         let changed = match light.into() {
             Light::Rect(l) => {
                 let changed = self.distant.is_some() || self.light != l;
@@ -306,7 +315,18 @@ impl GpuScene {
             }
         };
         if changed {
+            // Keep what was built for the light left, and take what was kept for this one.
+            if let Some(shadows) = self.shadows.take() {
+                self.kept.retain(|(l, _)| *l != before);
+                self.kept.push((before, shadows));
+                if self.kept.len() > KEPT_LIGHTS {
+                    self.kept.remove(0);
+                }
+            }
             self.light_changed();
+            if let Some(at) = self.kept.iter().position(|(l, _)| *l == self.light) {
+                self.shadows = Some(self.kept.remove(at).1);
+            }
         }
     }
 

@@ -2,7 +2,7 @@
 //! into the application's visibility target.
 
 use crate::counters::Traffic;
-use penumbra_geom::Technique;
+use penumbra_geom::{Light, Technique, Warp};
 
 use super::{FrameInputs, GpuScene};
 use crate::context::GpuError;
@@ -112,6 +112,44 @@ impl GpuScene {
             self.record_blend(encoder, camera, gbuffer, target, timer);
         } else {
             self.record_additive(encoder, technique, gbuffer, target, timer);
+        }
+        Ok(())
+    }
+
+    /// Renders the frame of `inputs` under each of `lights` into the target of the same index,
+    /// one V target per light, each what [`GpuScene::record`] writes for that light alone: for
+    /// each light in turn, [`GpuScene::set_light`], the depth pre-pass into `gbuffer` (where the
+    /// light before it left the G-buffer in another light's warp, or none was recorded) and the
+    /// technique's passes, in an encoder of its own submitted to the scene's queue (the frame's
+    /// uniforms go through the queue, so each light takes a submission of its own). What was
+    /// built for each light is kept while the meshes stay where they are: lights that come back
+    /// frame after frame are not built again. The scene is left lit by the last light.
+    pub fn render_lights(
+        &mut self,
+        lights: &[Light],
+        inputs: &FrameInputs,
+        gbuffer: &GBuffer,
+        targets: &[&wgpu::TextureView],
+    ) -> Result<(), GpuError> {
+        if lights.len() != targets.len() {
+            return Err(GpuError::LightTargets {
+                lights: lights.len(),
+                targets: targets.len(),
+            });
+        }
+        // The warp the G-buffer's points are in, once a depth pre-pass was recorded here.
+        let mut drawn: Option<Option<Warp>> = None;
+        for (&light, target) in lights.iter().zip(targets) {
+            self.set_light(light);
+            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+            // The camera may renew the warp: settle it before comparing.
+            self.frame_camera(&inputs.camera);
+            if drawn != Some(self.warp()) {
+                self.record_depth(&mut encoder, &inputs.camera, gbuffer)?;
+                drawn = Some(self.warp());
+            }
+            self.record(&mut encoder, inputs, gbuffer, target)?;
+            self.ctx.queue.submit([encoder.finish()]);
         }
         Ok(())
     }
