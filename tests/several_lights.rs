@@ -103,36 +103,24 @@ fn assert_channels_are_lights_alone(backend: Backend, techniques: &[Technique], 
     }
 }
 
+/// Every technique the CPU renders.
+const CPU_TECHNIQUES: [Technique; 6] = [
+    Technique::Reference,
+    Technique::HardReference,
+    Technique::DepthComplexity,
+    Technique::Hard,
+    Technique::Wedges,
+    Technique::WedgesBlend,
+];
+
 #[test]
 fn each_light_s_channel_is_that_light_alone_on_the_cpu() {
-    assert_channels_are_lights_alone(
-        Backend::Cpu,
-        &[
-            Technique::Reference,
-            Technique::HardReference,
-            Technique::DepthComplexity,
-            Technique::Hard,
-            Technique::Wedges,
-            Technique::WedgesBlend,
-        ],
-        false,
-    );
+    assert_channels_are_lights_alone(Backend::Cpu, &CPU_TECHNIQUES, false);
 }
 
 #[test]
 fn a_distant_light_s_channel_is_that_light_alone_on_the_cpu() {
-    assert_channels_are_lights_alone(
-        Backend::Cpu,
-        &[
-            Technique::Reference,
-            Technique::HardReference,
-            Technique::DepthComplexity,
-            Technique::Hard,
-            Technique::Wedges,
-            Technique::WedgesBlend,
-        ],
-        true,
-    );
+    assert_channels_are_lights_alone(Backend::Cpu, &CPU_TECHNIQUES, true);
 }
 
 #[test]

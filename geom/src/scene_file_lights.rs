@@ -31,41 +31,26 @@ pub(crate) fn read_lights(
     // its table's.
     let read_light = |l: &LightDesc, key: &str, span: Range<usize>| -> Result<Light, SceneError> {
         let distant = l.distant.as_ref().is_some_and(|d| *d.get_ref());
-        // The keys of the other form, which this one must not have.
-        let (required, foreign): (&[(&str, bool)], &[(&str, Option<Range<usize>>)]) = if distant {
+        // The keys that differ between the forms, where the table has them.
+        let keys = [
+            ("center", l.center.as_ref().map(Spanned::span)),
+            ("normal", l.normal.as_ref().map(Spanned::span)),
+            ("size", l.size.as_ref().map(Spanned::span)),
+            ("direction", l.direction.as_ref().map(Spanned::span)),
+            ("angular_size", l.angular_size.as_ref().map(Spanned::span)),
+        ];
+        let (form, own): (&str, &[&str]) = if distant {
             (
-                &[
-                    ("direction", l.direction.is_some()),
-                    ("angular_size", l.angular_size.is_some()),
-                ],
-                &[
-                    ("center", l.center.as_ref().map(Spanned::span)),
-                    ("normal", l.normal.as_ref().map(Spanned::span)),
-                    ("size", l.size.as_ref().map(Spanned::span)),
-                ],
+                "a distant light (`distant = true`)",
+                &["direction", "angular_size"],
             )
         } else {
-            (
-                &[
-                    ("center", l.center.is_some()),
-                    ("normal", l.normal.is_some()),
-                    ("size", l.size.is_some()),
-                ],
-                &[
-                    ("direction", l.direction.as_ref().map(Spanned::span)),
-                    ("angular_size", l.angular_size.as_ref().map(Spanned::span)),
-                ],
-            )
+            ("a rectangle light", &["center", "normal", "size"])
         };
-        let form = if distant {
-            "a distant light (`distant = true`)"
-        } else {
-            "a rectangle light"
-        };
-        if let Some((name, _)) = required.iter().find(|(_, present)| !present) {
+        if let Some((name, _)) = keys.iter().find(|(n, s)| own.contains(n) && s.is_none()) {
             return Err(invalid(span, format!("{key}: {form} needs `{name}`")));
         }
-        if let Some((name, Some(at))) = foreign.iter().find(|(_, s)| s.is_some()) {
+        if let Some((name, Some(at))) = keys.iter().find(|(n, s)| !own.contains(n) && s.is_some()) {
             return Err(invalid(
                 at.clone(),
                 format!("{key}.{name} is not a key of {form}"),
@@ -84,14 +69,13 @@ pub(crate) fn read_lights(
             }
             Ok(x)
         };
-        let (axis, axis_name, axis_span) = if distant {
+        let (axis, axis_name) = if distant {
             let d = l.direction.as_ref().expect("checked above");
-            (unit(d, "direction")?, "direction", d.span())
+            (unit(d, "direction")?, "direction")
         } else {
             let n = l.normal.as_ref().expect("checked above");
-            (unit(n, "normal")?, "normal", n.span())
+            (unit(n, "normal")?, "normal")
         };
-        let _ = axis_span;
         let tangent = unit(&l.tangent, "tangent")?;
         if axis.dot(tangent).abs() > UNIT_TOLERANCE {
             return Err(invalid(
