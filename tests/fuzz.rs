@@ -263,7 +263,8 @@ fn seeds(ext: &str) -> Vec<String> {
     }
     // And the hostile inputs of `tests/fuzz/seeds/`: a byte-order mark, repeated faces, a
     // sheet with two sides, a mesh wound inwards, a mirrored mesh under a far light, a ring of
-    // vertices on the light's plane, a huge triangle, an eye just above the ground.
+    // vertices on the light's plane, a huge triangle, an eye just above the ground, a low sun
+    // and a sun with a lamp.
     for e in std::fs::read_dir(root.join("tests/fuzz/seeds")).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == ext) {
