@@ -5,7 +5,10 @@
 //! volumes and wedges (rebuilt because the light and the mesh moved) and the frame's uniforms.
 //! The first and last frames are read back and written as EXR and PNG.
 //!
-//! `cargo run --release --example animated [OUT_DIR]` (default `out/`).
+//! With `--sun`, the light is the sun instead (a distant light of the sun's angle, 0.53
+//! degrees), crossing the sky from low in the east to low in the west over the frames.
+//!
+//! `cargo run --release --example animated [--sun] [OUT_DIR]` (default `out/`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -17,8 +20,8 @@ use penumbra::gpu::{
     required_limits, visibility_target, wgpu,
 };
 use penumbra::{
-    FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, RectLight, Technique, TriangleMesh,
-    VisibilityImage,
+    DistantLight, FrameCamera, FrameInputs, GBuffer, GpuRenderer, GpuScene, Light, RectLight,
+    Technique, TriangleMesh, VisibilityImage,
 };
 
 const FRAMES: usize = 120;
@@ -42,9 +45,13 @@ fn device() -> Result<(wgpu::Device, wgpu::Queue), Box<dyn std::error::Error>> {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::args()
-        .nth(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let sun = args.iter().any(|a| a == "--sun");
+    let out = args
+        .iter()
+        .find(|a| *a != "--sun")
         .map_or_else(|| root.join("out"), PathBuf::from);
+    let name = if sun { "animated-sun" } else { "animated" };
     let (device, queue) = device()?;
     let renderer = GpuRenderer::new(&device, &queue)?;
 
@@ -69,10 +76,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             p(0.0, 1.1, 0.0),
         )
     };
-    let light = |frame: usize| {
+    let light = |frame: usize| -> Light {
         let a = 0.5 * std::f64::consts::TAU * frame as f64 / FRAMES as f64;
-        let centre = p(2.5 * a.cos(), 6.0, 2.5 * a.sin());
-        RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5))
+        if sun {
+            // From 20 degrees above the eastern horizon (+x) over the south (+z) to the west.
+            let elevation = (20.0 + 40.0 * a.sin()).to_radians();
+            let towards = p(a.cos(), 0.0, a.sin());
+            let direction = towards * elevation.cos() + DVec3::Y * elevation.sin();
+            let tangent = p(-a.sin(), 0.0, a.cos());
+            DistantLight::new(direction, tangent, DVec2::splat(0.53)).into()
+        } else {
+            let centre = p(2.5 * a.cos(), 6.0, 2.5 * a.sin());
+            RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).into()
+        }
     };
     let mut scene = GpuScene::new(
         &renderer,
@@ -131,9 +147,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seconds = start.elapsed().as_secs_f64();
 
     std::fs::create_dir_all(&out)?;
-    for (image, name) in kept.iter().zip(["first", "last"]) {
-        image.write_exr(&out.join(format!("animated-{name}.exr")))?;
-        image.write_png(&out.join(format!("animated-{name}.png")))?;
+    for (image, which) in kept.iter().zip(["first", "last"]) {
+        image.write_exr(&out.join(format!("{name}-{which}.exr")))?;
+        image.write_png(&out.join(format!("{name}-{which}.png")))?;
     }
     let (first, last) = (&kept[0], &kept[1]);
     let moved = first
@@ -150,7 +166,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ctx.describe(),
         1e3 * seconds / FRAMES as f64,
         100.0 * share,
-        out.join("animated-{first,last}.{exr,png}").display()
+        out.join(format!("{name}-{{first,last}}.{{exr,png}}"))
+            .display()
     );
     if later_geometry != 0 || share < 0.01 {
         return Err("geometry uploaded after the first frame, or no shadow moved".into());
