@@ -19,7 +19,8 @@ use crate::mesh::TriangleMesh;
 pub struct SceneMesh {
     /// The OBJ file it came from.
     pub source: PathBuf,
-    /// `translate * rotate * scale`.
+    /// `translate * rotate * scale`: from the OBJ into the world (also in a scene under a
+    /// distant light, whose positions are the warped world's).
     pub transform: DMat4,
     /// The welded mesh with world-space positions.
     pub mesh: TriangleMesh,
@@ -156,11 +157,15 @@ impl Scene {
     /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
     /// let lamp = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
     /// let sun = DistantLight::new(DVec3::Y, DVec3::X, DVec2::splat(0.53));
+    /// let ball = TriangleMesh::uv_sphere(12, 16);
     /// let scene = Scene::new(camera, lamp)
-    ///     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), DMat4::IDENTITY)
+    ///     .with_mesh("ball", &ball, DMat4::IDENTITY)
     ///     .with_distant_light(sun);
     /// assert_eq!(scene.distant.as_ref().map(|d| d.light), Some(sun));
-    /// assert_eq!(scene.world().meshes[0].mesh.positions, scene.distant.as_ref().unwrap().world.meshes[0].mesh.positions);
+    /// // The renderers see the ball warped; the world keeps it as it was.
+    /// assert_ne!(scene.meshes[0].mesh.positions, ball.positions);
+    /// assert_eq!(scene.world().meshes[0].mesh.positions, ball.positions);
+    /// // The sun shines down: its rectangle faces down.
     /// assert_eq!(scene.light.normal, DVec3::NEG_Y);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
