@@ -163,6 +163,21 @@ fn the_documented_example_reads_as_documented() {
 }
 
 #[test]
+fn the_documented_distant_light_reads_as_documented() {
+    let doc = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/scene-format.md"),
+    )
+    .unwrap();
+    let section = &doc[doc.find("## Distant lights").expect("the section")..];
+    let start = section.find("```toml\n").expect("its example") + "```toml\n".len();
+    let example = &section[start..start + section[start..].find("```").unwrap()];
+    let s = Scene::from_toml(&format!("{CAMERA}{example}"), Path::new("s.toml")).unwrap();
+    let d = s.distant.as_ref().expect("a distant light");
+    assert_eq!(d.light.angular_size_deg, glam::DVec2::splat(0.53));
+    assert!(d.light.direction.y > 0.0);
+}
+
+#[test]
 fn a_transform_moves_every_light() {
     let text = format!(
         "{CAMERA}{}{}",
