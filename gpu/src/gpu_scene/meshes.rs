@@ -11,6 +11,8 @@ pub(super) struct StoredMesh {
     /// `penumbra_volumes::outward_sign` of the mesh in its own space.
     pub(super) outward: f64,
     pub(super) origin: DVec3,
+    /// The bounding box of the mesh in its own space (`lo > hi` for a mesh of no vertices).
+    pub(super) bounds: (DVec3, DVec3),
     pub(super) transform: DMat4,
     pub(super) stored: Vec<[f32; 3]>,
 }
@@ -27,6 +29,7 @@ impl StoredMesh {
             mesh: mesh.clone(),
             outward,
             origin,
+            bounds: bounds(&mesh.positions),
             transform,
         }
     }
@@ -61,13 +64,18 @@ pub(super) fn world(
     (meshes, triangles)
 }
 
-/// Centre of the bounding box of `positions` (the origin when there are none).
-pub(super) fn centre(positions: &[DVec3]) -> DVec3 {
-    let (lo, hi) = positions
+/// The bounding box `(lo, hi)` of `positions` (`lo > hi` when there are none).
+fn bounds(positions: &[DVec3]) -> (DVec3, DVec3) {
+    positions
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
             (lo.min(p), hi.max(p))
-        });
+        })
+}
+
+/// Centre of the bounding box of `positions` (the origin when there are none).
+pub(super) fn centre(positions: &[DVec3]) -> DVec3 {
+    let (lo, hi) = bounds(positions);
     if lo.x <= hi.x {
         (lo + hi) * 0.5
     } else {
@@ -75,19 +83,13 @@ pub(super) fn centre(positions: &[DVec3]) -> DVec3 {
     }
 }
 
-/// The corners of every mesh's bounding box, in the world: what a distant light's warp must
-/// hold.
+/// The corners of every mesh's bounding box (kept from its upload), in the world: what a
+/// distant light's warp must hold.
 pub(super) fn world_corners(meshes: &[StoredMesh]) -> Vec<DVec3> {
     meshes
         .iter()
         .flat_map(|m| {
-            let (lo, hi) = m
-                .mesh
-                .positions
-                .iter()
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
-                    (lo.min(p), hi.max(p))
-                });
+            let (lo, hi) = m.bounds;
             let corners: Vec<DVec3> = if lo.x <= hi.x {
                 (0..8)
                     .map(|c| {
