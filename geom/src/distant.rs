@@ -108,6 +108,16 @@ impl Light {
             Light::Rect(_) => None,
         }
     }
+
+    /// The rectangle a scene is set up with before a distant light's warp gives it its own
+    /// ([`crate::Scene::with_distant_light`]): the light itself, or for a distant light a unit
+    /// square at the origin facing `-y`, which nothing renders.
+    pub fn rect_or_placeholder(&self) -> RectLight {
+        match self {
+            Light::Rect(l) => *l,
+            Light::Distant(_) => RectLight::new(DVec3::ZERO, DVec3::NEG_Y, DVec3::X, DVec2::ONE),
+        }
+    }
 }
 
 impl From<RectLight> for Light {

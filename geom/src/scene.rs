@@ -132,16 +132,8 @@ impl Scene {
     /// ```
     pub fn with_lights(self, lights: Vec<NamedLight>) -> Result<Scene, LightNameError> {
         check_light_names(&lights)?;
-        let mut world = self.world().clone();
-        world.distant = None;
-        world.lights = lights;
-        Ok(match world.lights[0].light {
-            Light::Rect(first) => {
-                world.light = first;
-                world
-            }
-            Light::Distant(first) => world.warped(first),
-        })
+        let first = lights[0].light;
+        Ok(self.world_under(lights, first))
     }
 
     /// The same scene under the distant light `light` alone, in the form every renderer renders:
@@ -170,10 +162,23 @@ impl Scene {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn with_distant_light(self, light: DistantLight) -> Scene {
+        self.world_under(Vec::new(), Light::Distant(light))
+    }
+
+    /// The world scene with `lights` as its list of lights, in the form the renderers render
+    /// under `light`: warped for a distant light, with `light` as [`Scene::light`] for a
+    /// rectangle.
+    fn world_under(&self, lights: Vec<NamedLight>, light: Light) -> Scene {
         let mut world = self.world().clone();
         world.distant = None;
-        world.lights = Vec::new();
-        world.warped(light)
+        world.lights = lights;
+        match light {
+            Light::Rect(l) => {
+                world.light = l;
+                world
+            }
+            Light::Distant(l) => world.warped(l),
+        }
     }
 
     /// The scene in world coordinates: this one, or the world scene of a scene under a distant
@@ -268,18 +273,9 @@ impl Scene {
             "light {k} of a scene of {} lights",
             self.light_count()
         );
-        let world = self.world();
-        let Some(named) = world.lights.get(k) else {
-            return self.clone();
-        };
-        let mut one = world.clone();
-        one.lights = Vec::new();
-        match named.light {
-            Light::Rect(l) => {
-                one.light = l;
-                one
-            }
-            Light::Distant(l) => one.warped(l),
+        match self.world().lights.get(k) {
+            Some(named) => self.world_under(Vec::new(), named.light),
+            None => self.clone(),
         }
     }
 

@@ -364,16 +364,8 @@ impl Scene {
         let scene = Scene {
             path: path.to_path_buf(),
             camera,
-            light: match light {
-                Light::Rect(l) => l,
-                // Replaced by the rectangle of the warp below.
-                Light::Distant(_) => crate::light::RectLight::new(
-                    DVec3::ZERO,
-                    DVec3::NEG_Y,
-                    DVec3::X,
-                    glam::DVec2::ONE,
-                ),
-            },
+            // A distant light's is replaced by the rectangle of the warp below.
+            light: light.rect_or_placeholder(),
             lights: Vec::new(),
             meshes,
             params,

@@ -138,12 +138,8 @@ impl GpuScene {
             })
             .collect();
         let light = light.into();
-        let rect = match light {
-            Light::Rect(l) => l,
-            // Replaced by the warp's rectangle below.
-            Light::Distant(_) => RectLight::new(DVec3::ZERO, -DVec3::Y, DVec3::X, glam::DVec2::ONE),
-        };
-        let mut scene = Self::with_origins(renderer, &meshes, rect);
+        // A distant light's rectangle is replaced by its warp's in `set_light`.
+        let mut scene = Self::with_origins(renderer, &meshes, light.rect_or_placeholder());
         scene.set_light(light);
         scene
     }
