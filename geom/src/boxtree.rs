@@ -61,6 +61,9 @@ impl BoxTree {
         };
         nodes.push(blank);
         let mut stack = vec![(0usize, 0usize, boxes.len())];
+        // A node's items with their keys: the median is selected on this copy, in one run of
+        // memory, rather than by reading each compared item's box from the whole array.
+        let mut keyed: Vec<(f64, u32)> = Vec::with_capacity(boxes.len());
         while let Some((at, first, len)) = stack.pop() {
             let items = &mut order[first..first + len];
             let mut lo = DVec3::splat(f64::INFINITY);
@@ -90,12 +93,16 @@ impl BoxTree {
             } else {
                 2
             };
-            let key = |i: &u32| {
-                let (a, b) = boxes[*i as usize];
-                a[axis] + b[axis]
-            };
+            keyed.clear();
+            keyed.extend(items.iter().map(|&i| {
+                let (a, b) = boxes[i as usize];
+                (a[axis] + b[axis], i)
+            }));
             let mid = len / 2;
-            items.select_nth_unstable_by(mid, |x, y| key(x).total_cmp(&key(y)));
+            keyed.select_nth_unstable_by(mid, |x, y| x.0.total_cmp(&y.0));
+            for (item, &(_, i)) in items.iter_mut().zip(&keyed) {
+                *item = i;
+            }
             let child = nodes.len();
             nodes.push(blank);
             nodes.push(blank);

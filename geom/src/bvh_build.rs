@@ -28,12 +28,22 @@ const BINS: usize = 32;
 /// stack of 32 node groups.
 const SAH_DEPTH: usize = 48;
 
-/// A node still to be built: the primitives `refs[start..end]`, to be stored at `nodes[node]`.
+/// A node still to be built: the primitives `items[start..end]`, to be stored at `nodes[node]`.
 struct Task {
     node: usize,
     start: usize,
     end: usize,
     depth: usize,
+}
+
+/// A primitive as the build moves it: its box and centroid next to its index, so that every
+/// pass over a node's primitives reads one contiguous run of memory rather than gathering from
+/// the whole scene's arrays.
+#[derive(Clone, Copy)]
+struct Item {
+    bounds: Aabb,
+    centre: Vec3A,
+    index: u32,
 }
 
 /// Builds a binary BVH over `boxes` (primitive `i` has box `boxes[i]`): one primitive per leaf,
@@ -43,8 +53,15 @@ pub fn build_bvh2(boxes: &[Aabb]) -> Bvh2 {
     if n == 0 {
         return Bvh2::default();
     }
-    let centroids: Vec<Vec3A> = boxes.iter().map(Aabb::center).collect();
-    let mut refs: Vec<u32> = (0..n as u32).collect();
+    let mut items: Vec<Item> = boxes
+        .iter()
+        .zip(0u32..)
+        .map(|(b, index)| Item {
+            bounds: *b,
+            centre: b.center(),
+            index,
+        })
+        .collect();
     let mut nodes = Vec::with_capacity(2 * n - 1);
     nodes.push(Bvh2Node::default());
     let mut stack = vec![Task {
@@ -54,20 +71,21 @@ pub fn build_bvh2(boxes: &[Aabb]) -> Bvh2 {
         depth: 0,
     }];
     let mut max_depth = 0;
+    let mut bins = [[(Aabb::empty(), 0u32); BINS]; 3];
     while let Some(task) = stack.pop() {
         max_depth = max_depth.max(task.depth);
-        let items = &mut refs[task.start..task.end];
-        let (bounds, centres) = bounds_of(items, boxes, &centroids);
+        let items = &mut items[task.start..task.end];
+        let (bounds, centres) = bounds_of(items);
         if items.len() == 1 {
             nodes[task.node] = Bvh2Node::new(bounds, 1, task.start as u32);
             continue;
         }
         let sah = if task.depth < SAH_DEPTH {
-            sah_split(items, boxes, &centroids, &centres)
+            sah_split(items, &centres, &mut bins)
         } else {
             None
         };
-        let mid = sah.unwrap_or_else(|| median_split(items, &centroids, &centres));
+        let mid = sah.unwrap_or_else(|| median_split(items, &centres));
         let left = nodes.len();
         nodes.push(Bvh2Node::default());
         nodes.push(Bvh2Node::default());
@@ -87,7 +105,7 @@ pub fn build_bvh2(boxes: &[Aabb]) -> Bvh2 {
     }
     Bvh2 {
         nodes,
-        primitive_indices: refs,
+        primitive_indices: items.iter().map(|i| i.index).collect(),
         children_are_ordered_after_parents: true,
         max_depth: DEFAULT_MAX_STACK_DEPTH.max(max_depth + 1),
         ..Bvh2::default()
@@ -95,15 +113,18 @@ pub fn build_bvh2(boxes: &[Aabb]) -> Bvh2 {
 }
 
 /// The union of the items' boxes and the bounds of their centroids.
-fn bounds_of(items: &[u32], boxes: &[Aabb], centroids: &[Vec3A]) -> (Aabb, Aabb) {
+fn bounds_of(items: &[Item]) -> (Aabb, Aabb) {
     let mut bounds = Aabb::empty();
     let mut centres = Aabb::empty();
-    for &i in items {
-        bounds = bounds.union(&boxes[i as usize]);
-        centres.extend(centroids[i as usize]);
+    for item in items {
+        bounds = bounds.union(&item.bounds);
+        centres.extend(item.centre);
     }
     (bounds, centres)
 }
+
+/// A bin of the SAH sweep: the union of its items' boxes, and their number.
+type Bin = (Aabb, u32);
 
 /// Bin of centroid coordinate `c` on an axis starting at `lo`, `scale` bins per unit, of `bins`.
 #[inline]
@@ -114,35 +135,35 @@ fn bin_of(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
 /// The binned split of least surface-area cost over the three axes, applied to `items`
 /// (partitioned in place); the size of the left part, or `None` when the centroids coincide on
 /// every axis.
-fn sah_split(
-    items: &mut [u32],
-    boxes: &[Aabb],
-    centroids: &[Vec3A],
-    centres: &Aabb,
-) -> Option<usize> {
+fn sah_split(items: &mut [Item], centres: &Aabb, bins: &mut [[Bin; BINS]; 3]) -> Option<usize> {
     let extent = centres.diagonal();
     // No more bins than items: most nodes are small, and sweeping 32 bins for 2 items made the
     // sweeps cost more than the binning.
     let n_bins = items.len().min(BINS);
+    let spread: [bool; 3] = std::array::from_fn(|axis| extent[axis] > 0.0);
+    let scale: [f32; 3] = std::array::from_fn(|axis| n_bins as f32 / extent[axis]);
+    // The three axes' bins in one pass over the items; only the `n_bins` in use are cleared
+    // (clearing all of them cost more than binning the many small nodes).
+    for axis_bins in bins.iter_mut() {
+        axis_bins[..n_bins].fill((Aabb::empty(), 0));
+    }
+    for item in items.iter() {
+        for axis in 0..3 {
+            if spread[axis] {
+                let b = bin_of(item.centre[axis], centres.min[axis], scale[axis], n_bins);
+                let bin = &mut bins[axis][b];
+                bin.0 = bin.0.union(&item.bounds);
+                bin.1 += 1;
+            }
+        }
+    }
     // (cost, axis, first bin of the right part)
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
-        if !(extent[axis] > 0.0) {
+        if !spread[axis] {
             continue;
         }
-        let scale = n_bins as f32 / extent[axis];
-        let mut bins = [(Aabb::empty(), 0u32); BINS];
-        let bins = &mut bins[..n_bins];
-        for &i in items.iter() {
-            let b = bin_of(
-                centroids[i as usize][axis],
-                centres.min[axis],
-                scale,
-                n_bins,
-            );
-            bins[b].0 = bins[b].0.union(&boxes[i as usize]);
-            bins[b].1 += 1;
-        }
+        let bins = &bins[axis][..n_bins];
         // Cost of the right part when it starts at bin k (infinite when empty).
         let mut right_cost = [f32::INFINITY; BINS];
         let (mut acc, mut count) = (Aabb::empty(), 0u32);
@@ -167,19 +188,12 @@ fn sah_split(
         }
     }
     let (_, axis, split) = best?;
-    let scale = n_bins as f32 / extent[axis];
-    let goes_left = |i: u32| {
-        bin_of(
-            centroids[i as usize][axis],
-            centres.min[axis],
-            scale,
-            n_bins,
-        ) < split
-    };
+    let goes_left =
+        |item: &Item| bin_of(item.centre[axis], centres.min[axis], scale[axis], n_bins) < split;
     // In-place two-way partition.
     let (mut lo, mut hi) = (0, items.len());
     while lo < hi {
-        if goes_left(items[lo]) {
+        if goes_left(&items[lo]) {
             lo += 1;
         } else {
             hi -= 1;
@@ -193,14 +207,12 @@ fn sah_split(
 
 /// Splits `items` in half at the median centroid along the axis of their widest centroid spread
 /// (or as they stand when the centroids coincide); the size of the left part.
-fn median_split(items: &mut [u32], centroids: &[Vec3A], centres: &Aabb) -> usize {
+fn median_split(items: &mut [Item], centres: &Aabb) -> usize {
     let mid = items.len() / 2;
     let extent = centres.diagonal();
     if extent.max_element() > 0.0 {
         let axis = centres.largest_axis();
-        items.select_nth_unstable_by(mid, |&a, &b| {
-            centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
-        });
+        items.select_nth_unstable_by(mid, |a, b| a.centre[axis].total_cmp(&b.centre[axis]));
     }
     mid
 }
