@@ -168,6 +168,8 @@ impl PotentialEdges {
         let mut all_edges = 0;
         let mut first_triangle = 0u32;
         let mut crossings = Vec::new();
+        // One list for every edge's apices: allocating one per edge cost as much as the tests.
+        let mut apices: Vec<DVec3> = Vec::new();
         for m in meshes {
             let mesh = m.borrow();
             all_edges += mesh.edges.len();
@@ -187,7 +189,8 @@ impl PotentialEdges {
                     let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
                     pos[w as usize]
                 };
-                let apices: Vec<DVec3> = e.half_edges.iter().map(|&h| apex(h)).collect();
+                apices.clear();
+                apices.extend(e.half_edges.iter().map(|&h| apex(h)));
                 if apices.len() == 2 && !may_fold(a, b, apices[0], apices[1]) {
                     continue;
                 }
