@@ -13,7 +13,6 @@
 //! The result has one primitive per leaf and siblings stored next to each other, as PLOC's has,
 //! so obvhs' reinsertion optimizer and its conversion to a compressed wide BVH apply unchanged.
 
-use glam::Vec3A;
 use obvhs::{
     aabb::Aabb,
     bvh2::{Bvh2, DEFAULT_MAX_STACK_DEPTH, node::Bvh2Node},
@@ -36,32 +35,27 @@ struct Task {
     depth: usize,
 }
 
-/// A primitive as the build moves it: its box and centroid next to its index, so that every
-/// pass over a node's primitives reads one contiguous run of memory rather than gathering from
-/// the whole scene's arrays.
+/// A primitive as the build moves it: its box next to its index, so that every pass over a
+/// node's primitives reads one contiguous run of memory rather than gathering from the whole
+/// scene's arrays. Its centroid is computed where needed, the same `f32` values every time.
 #[derive(Clone, Copy)]
 struct Item {
     bounds: Aabb,
-    centre: Vec3A,
     index: u32,
 }
 
-/// Builds a binary BVH over `boxes` (primitive `i` has box `boxes[i]`): one primitive per leaf,
+/// Builds a binary BVH over `boxes` (primitive `i` has the `i`-th box): one primitive per leaf,
 /// the root at index 0, both children of an inner node adjacent and after their parent.
-pub fn build_bvh2(boxes: &[Aabb]) -> Bvh2 {
-    let n = boxes.len();
+pub fn build_bvh2(boxes: impl IntoIterator<Item = Aabb>) -> Bvh2 {
+    let mut items: Vec<Item> = boxes
+        .into_iter()
+        .zip(0u32..)
+        .map(|(bounds, index)| Item { bounds, index })
+        .collect();
+    let n = items.len();
     if n == 0 {
         return Bvh2::default();
     }
-    let mut items: Vec<Item> = boxes
-        .iter()
-        .zip(0u32..)
-        .map(|(b, index)| Item {
-            bounds: *b,
-            centre: b.center(),
-            index,
-        })
-        .collect();
     let mut nodes = Vec::with_capacity(2 * n - 1);
     nodes.push(Bvh2Node::default());
     let mut stack = vec![Task {
@@ -118,7 +112,7 @@ fn bounds_of(items: &[Item]) -> (Aabb, Aabb) {
     let mut centres = Aabb::empty();
     for item in items {
         bounds = bounds.union(&item.bounds);
-        centres.extend(item.centre);
+        centres.extend(item.bounds.center());
     }
     (bounds, centres)
 }
@@ -150,9 +144,10 @@ fn sah_split(items: &mut [Item], centres: &Aabb, bins: &mut [[Bin; BINS]; 3]) ->
         axis_bins[..n_bins].fill((Aabb::empty(), 0));
     }
     for item in items.iter() {
+        let centre = item.bounds.center();
         for axis in 0..3 {
             if spread[axis] {
-                let b = bin_of(item.centre[axis], centres.min[axis], scale[axis], n_bins);
+                let b = bin_of(centre[axis], centres.min[axis], scale[axis], n_bins);
                 let bin = &mut bins[axis][b];
                 bin.0 = bin.0.union(&item.bounds);
                 bin.1 += 1;
@@ -190,8 +185,14 @@ fn sah_split(items: &mut [Item], centres: &Aabb, bins: &mut [[Bin; BINS]; 3]) ->
         }
     }
     let (_, axis, split) = best?;
-    let goes_left =
-        |item: &Item| bin_of(item.centre[axis], centres.min[axis], scale[axis], n_bins) < split;
+    let goes_left = |item: &Item| {
+        bin_of(
+            item.bounds.center_axis(axis),
+            centres.min[axis],
+            scale[axis],
+            n_bins,
+        ) < split
+    };
     // In-place two-way partition.
     let (mut lo, mut hi) = (0, items.len());
     while lo < hi {
@@ -214,7 +215,11 @@ fn median_split(items: &mut [Item], centres: &Aabb) -> usize {
     let extent = centres.diagonal();
     if extent.max_element() > 0.0 {
         let axis = centres.largest_axis();
-        items.select_nth_unstable_by(mid, |a, b| a.centre[axis].total_cmp(&b.centre[axis]));
+        items.select_nth_unstable_by(mid, |a, b| {
+            a.bounds
+                .center_axis(axis)
+                .total_cmp(&b.bounds.center_axis(axis))
+        });
     }
     mid
 }
@@ -222,6 +227,7 @@ fn median_split(items: &mut [Item], centres: &Aabb) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3A;
 
     fn aabb(lo: [f32; 3], hi: [f32; 3]) -> Aabb {
         Aabb::new(Vec3A::from(lo), Vec3A::from(hi))
@@ -260,7 +266,7 @@ mod tests {
     /// Depth within SAH_DEPTH + log2 N + 1 however the boxes are arranged: PLOC's tree on these
     /// inputs was as deep as the inputs were many, and its build quadratic.
     fn assert_shallow(boxes: &[Aabb]) {
-        let depth = check(&build_bvh2(boxes), boxes);
+        let depth = check(&build_bvh2(boxes.iter().copied()), boxes);
         let bound = SAH_DEPTH + (boxes.len() as f64).log2().ceil() as usize + 1;
         assert!(
             depth <= bound,
@@ -272,7 +278,7 @@ mod tests {
     #[test]
     fn identical_boxes_give_a_balanced_tree() {
         let boxes = vec![aabb([0.0; 3], [1.0, 0.0, 1.0]); 10_000];
-        let depth = check(&build_bvh2(&boxes), &boxes);
+        let depth = check(&build_bvh2(boxes.iter().copied()), &boxes);
         assert_eq!(
             depth, 14,
             "a median split of 10,000 has depth ceil(log2) = 14"
@@ -309,8 +315,8 @@ mod tests {
 
     #[test]
     fn one_and_no_primitives() {
-        assert!(build_bvh2(&[]).nodes.is_empty());
+        assert!(build_bvh2([]).nodes.is_empty());
         let one = [aabb([0.0; 3], [1.0; 3])];
-        assert_eq!(check(&build_bvh2(&one), &one), 0);
+        assert_eq!(check(&build_bvh2(one), &one), 0);
     }
 }

@@ -9,7 +9,7 @@
 
 use glam::{DVec3, Vec3A};
 use obvhs::{
-    Boundable, BvhBuildParams, aabb::Aabb, bvh2::reinsertion::ReinsertionOptimizer, cwbvh::CwBvh,
+    Boundable, BvhBuildParams, bvh2::reinsertion::ReinsertionOptimizer, cwbvh::CwBvh,
     cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh, ray::Ray, triangle::Triangle,
 };
 
@@ -145,8 +145,7 @@ impl SceneBvh {
             })
             .collect();
         let params = BvhBuildParams::medium_build();
-        let boxes: Vec<Aabb> = soup.iter().map(Boundable::aabb).collect();
-        let mut bvh2 = build_bvh2(&boxes);
+        let mut bvh2 = build_bvh2(soup.iter().map(Boundable::aabb));
         ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
         let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
         let ids = bvh.primitive_indices.clone();
