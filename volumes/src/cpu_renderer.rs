@@ -1,6 +1,8 @@
 //! The CPU renderer of the volume techniques ([`CpuRenderer`]): the oracle for the GPU back end
 //! and the fallback without one.
 
+use std::sync::OnceLock;
+
 use glam::DVec3;
 use penumbra_geom::{Camera, Scene, SurfacePoint, Technique, Tracer, VisibilityImage};
 use rayon::prelude::*;
@@ -63,8 +65,10 @@ pub struct CpuRenderer {
     pub tracer: Tracer,
     /// Silhouettes, volumes, wedges.
     pub volumes: Volumes,
-    /// Wedge lookup.
-    pub grid: WedgeGrid,
+    /// Wedge lookup, built on the first query ([`CpuRenderer::grid`]): `hard` makes none.
+    grid: OnceLock<WedgeGrid>,
+    /// The light-space box holding every receiver, which the grid covers.
+    receivers: (DVec3, DVec3),
     /// Occluder of each scene triangle, with the top bit set for casters.
     triangle_occluder: Vec<u32>,
     /// Blending unit of each caster triangle (`Wedge::unit`).
@@ -159,8 +163,7 @@ impl CpuRenderer {
         let tracer = Tracer::new(scene);
         let volumes = Volumes::build(scene);
         let light = scene.light;
-        let (lo, hi) = receiver_box(&light, &tracer.triangles);
-        let grid = WedgeGrid::build(&volumes.wedges, lo, hi);
+        let receivers = receiver_box(&light, &tracer.triangles);
         let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());
         let mut triangle_unit = Vec::with_capacity(tracer.triangles.len());
         let mut first_unit = 0;
@@ -183,7 +186,8 @@ impl CpuRenderer {
         CpuRenderer {
             tracer,
             volumes,
-            grid,
+            grid: OnceLock::new(),
+            receivers,
             triangle_occluder,
             triangle_unit,
             camera: scene.camera,
@@ -241,10 +245,19 @@ impl CpuRenderer {
         counts
     }
 
+    /// The grid of the wedges over the receivers' box, built on the first call: a quarter of
+    /// the set-up of a large scene, which the hard shadow does without.
+    pub fn grid(&self) -> &WedgeGrid {
+        self.grid.get_or_init(|| {
+            let (lo, hi) = self.receivers;
+            WedgeGrid::build(&self.volumes.wedges, lo, hi)
+        })
+    }
+
     /// Indices of the wedges that may contain the light-space point `pl`: the grid's cell, or
     /// every wedge for points outside the scene's box.
     fn candidates(&self, pl: DVec3) -> Candidates<'_> {
-        match self.grid.candidates(pl) {
+        match self.grid().candidates(pl) {
             Some(c) => Candidates::Cell(c.iter()),
             None => Candidates::All(0..self.volumes.wedges.len() as u32),
         }
@@ -355,6 +368,10 @@ impl CpuRenderer {
         let w = cam.width as usize;
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
+        if technique != Technique::Hard {
+            // Built here, before the rows, rather than by the first row while the others wait.
+            self.grid();
+        }
         img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
             for (i, out) in row.iter_mut().enumerate() {
                 if let Some(p) = self
