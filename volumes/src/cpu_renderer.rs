@@ -65,7 +65,7 @@ pub struct CpuRenderer {
     pub tracer: Tracer,
     /// Silhouettes, volumes, wedges.
     pub volumes: Volumes,
-    /// Wedge lookup, built on the first query ([`CpuRenderer::grid`]): `hard` makes none.
+    /// Wedge lookup for queries at any point, built on the first ([`CpuRenderer::grid`]).
     grid: OnceLock<WedgeGrid>,
     /// The light-space box holding every receiver, which the grid covers.
     receivers: (DVec3, DVec3),
@@ -245,8 +245,10 @@ impl CpuRenderer {
         counts
     }
 
-    /// The grid of the wedges over the receivers' box, built on the first call: a quarter of
-    /// the set-up of a large scene, which the hard shadow does without.
+    /// The grid of the wedges over the whole receivers' box, for queries at any point
+    /// ([`CpuRenderer::visibility`], [`CpuRenderer::wedges_containing`]), built on the first
+    /// call. [`CpuRenderer::render`] makes its own, filled only where its pixels' points lie
+    /// ([`WedgeGrid::build_for`]), and none for the hard shadow.
     pub fn grid(&self) -> &WedgeGrid {
         self.grid.get_or_init(|| {
             let (lo, hi) = self.receivers;
@@ -254,10 +256,10 @@ impl CpuRenderer {
         })
     }
 
-    /// Indices of the wedges that may contain the light-space point `pl`: the grid's cell, or
-    /// every wedge for points outside the scene's box.
-    fn candidates(&self, pl: DVec3) -> Candidates<'_> {
-        match self.grid().candidates(pl) {
+    /// Indices of the wedges that may contain the light-space point `pl`: `grid`'s cell, or
+    /// every wedge for points outside it.
+    fn candidates<'a>(&'a self, grid: &'a WedgeGrid, pl: DVec3) -> Candidates<'a> {
+        match grid.candidates(pl) {
             Some(c) => Candidates::Cell(c.iter()),
             None => Candidates::All(0..self.volumes.wedges.len() as u32),
         }
@@ -266,7 +268,7 @@ impl CpuRenderer {
     /// The wedges containing the world point `p`.
     pub fn wedges_containing(&self, p: DVec3) -> Vec<u32> {
         let l = self.volumes.light.to_light_space(p);
-        self.candidates(l)
+        self.candidates(self.grid(), l)
             .filter(|&w| self.volumes.wedges[w as usize].contains(l))
             .collect()
     }
@@ -277,6 +279,17 @@ impl CpuRenderer {
     ///
     /// If `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
     pub fn visibility(&self, p: &SurfacePoint, technique: Technique) -> f64 {
+        self.visibility_in(p, technique, None)
+    }
+
+    /// [`CpuRenderer::visibility`] with the wedges looked up in `grid`, or in
+    /// [`CpuRenderer::grid`] when it is `None`.
+    fn visibility_in(
+        &self,
+        p: &SurfacePoint,
+        technique: Technique,
+        grid: Option<&WedgeGrid>,
+    ) -> f64 {
         assert!(
             technique.is_volume(),
             "{technique} is not a volume technique"
@@ -298,7 +311,8 @@ impl CpuRenderer {
             })
             .collect();
         let mut int = EdgeIntegral::NONE;
-        for wi in self.candidates(pl) {
+        let grid = grid.unwrap_or_else(|| self.grid());
+        for wi in self.candidates(grid, pl) {
             let w = &self.volumes.wedges[wi as usize];
             if !w.integral_into(pl, &mut int) {
                 continue;
@@ -368,21 +382,35 @@ impl CpuRenderer {
         let w = cam.width as usize;
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
-        if technique != Technique::Hard {
-            // Built here, before the rows, rather than by the first row while the others wait.
-            self.grid();
-        }
-        img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-            for (i, out) in row.iter_mut().enumerate() {
-                if let Some(p) = self
-                    .tracer
-                    .surface_point(cam.eye, cam.ray_dir(i as u32, j as u32))
-                {
-                    *out = self.visibility(&p, technique) as f32;
-                }
-            }
-            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+        // The surface points first, so that the wedges are binned only into the cells that hold
+        // one ([`WedgeGrid::build_for`]).
+        let points: Vec<Option<SurfacePoint>> = (0..cam.height)
+            .into_par_iter()
+            .flat_map_iter(|j| {
+                (0..cam.width).map(move |i| self.tracer.surface_point(cam.eye, cam.ray_dir(i, j)))
+            })
+            .collect();
+        let grid = (technique != Technique::Hard).then(|| {
+            let light = &self.volumes.light;
+            let receivers: Vec<DVec3> = points
+                .iter()
+                .flatten()
+                .map(|p| light.to_light_space(p.position))
+                .collect();
+            let (lo, hi) = self.receivers;
+            WedgeGrid::build_for(&self.volumes.wedges, lo, hi, &receivers)
         });
+        img.data
+            .par_chunks_mut(w)
+            .zip(points.par_chunks(w))
+            .for_each(|(row, points)| {
+                for (out, p) in row.iter_mut().zip(points) {
+                    if let Some(p) = p {
+                        *out = self.visibility_in(p, technique, grid.as_ref()) as f32;
+                    }
+                }
+                progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            });
         img
     }
 }

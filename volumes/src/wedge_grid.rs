@@ -8,13 +8,17 @@ use crate::clip::RADIAL_PARTS;
 use crate::wedge::Wedge;
 
 /// A uniform grid over the scene's bounding box listing, per cell, the wedges whose bounding
-/// box meets it.
+/// box meets it: in every cell, or ([`WedgeGrid::build_for`]) only in the runs of cells that
+/// hold given receivers.
 pub struct WedgeGrid {
     lo: DVec3,
     cell: DVec3,
     dims: [usize; 3],
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Per row of cells along `x` (index `z * dims[1] + y`), the cells `x0..x1` that are
+    /// filled; `None` when all are.
+    rows: Option<Vec<(u32, u32)>>,
 }
 
 /// Upper bound on grid cells.
@@ -23,6 +27,28 @@ const GRID_CELLS: f64 = 48.0 * 48.0 * 48.0;
 impl WedgeGrid {
     /// Bins `wedges` (light space) over the light-space box `[lo, hi]` holding every receiver.
     pub fn build(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> Self {
+        Self::build_rows(wedges, lo, hi, None)
+    }
+
+    /// [`WedgeGrid::build`] filling only, in each row of cells along `x`, the run from the
+    /// first to the last cell holding one of the light-space points `receivers` (a camera's
+    /// surface points, which lie on surfaces, not throughout the box): the same candidates,
+    /// in the same order, at those points; every wedge elsewhere. Filling every cell spent most
+    /// of the time and memory on cells no pixel reads.
+    pub fn build_for(wedges: &[Wedge], lo: DVec3, hi: DVec3, receivers: &[DVec3]) -> Self {
+        let (cell, dims) = Self::cells(lo, hi);
+        let mut rows = vec![(u32::MAX, 0u32); dims[1] * dims[2]];
+        for &p in receivers {
+            if let Some([x, y, z]) = cell_of(lo, cell, dims, p) {
+                let r = &mut rows[z * dims[1] + y];
+                *r = (r.0.min(x as u32), r.1.max(x as u32 + 1));
+            }
+        }
+        Self::build_rows(wedges, lo, hi, Some(rows))
+    }
+
+    /// The cell size and the cells per axis of the grid over `[lo, hi]`.
+    fn cells(lo: DVec3, hi: DVec3) -> (DVec3, [usize; 3]) {
         let ext = (hi - lo).max(DVec3::splat(1e-9));
         let k = (GRID_CELLS / (ext.x * ext.y * ext.z)).cbrt();
         let dims = [0, 1, 2].map(|a| ((ext[a] * k).ceil() as usize).clamp(1, 256));
@@ -31,6 +57,11 @@ impl WedgeGrid {
             ext.y / dims[1] as f64,
             ext.z / dims[2] as f64,
         );
+        (cell, dims)
+    }
+
+    fn build_rows(wedges: &[Wedge], lo: DVec3, hi: DVec3, rows: Option<Vec<(u32, u32)>>) -> Self {
+        let (cell, dims) = Self::cells(lo, hi);
         // Each wedge goes into the cells its frustum meets: per slab of cells in depth, those
         // under the hull of its sections at the slab's two depths (sections are linear in
         // depth), which for a slanted wedge is far fewer than its bounding box's.
@@ -50,7 +81,12 @@ impl WedgeGrid {
                     continue;
                 }
                 for y in idx(rlo.y, 1)..=idx(rhi.y, 1) {
-                    for x in idx(rlo.x, 0)..=idx(rhi.x, 0) {
+                    let (mut x0, mut x1) = (idx(rlo.x, 0), idx(rhi.x, 0) + 1);
+                    if let Some(rows) = &rows {
+                        let (r0, r1) = rows[z * dims[1] + y];
+                        (x0, x1) = (x0.max(r0 as usize), x1.min(r1 as usize));
+                    }
+                    for x in x0..x1 {
                         out(flat(x, y, z));
                     }
                 }
@@ -79,23 +115,38 @@ impl WedgeGrid {
             dims,
             start: count,
             items,
+            rows,
         }
     }
 
     /// Candidate wedges for the light-space point `p` (a superset of those containing it), or
-    /// `None` when `p` lies outside the grid (then every wedge is a candidate).
+    /// `None` when `p` lies outside the grid or in a cell left empty by
+    /// [`WedgeGrid::build_for`] (then every wedge is a candidate).
     pub fn candidates(&self, p: DVec3) -> Option<&[u32]> {
-        let mut c = [0usize; 3];
-        for a in 0..3 {
-            let f = (p[a] - self.lo[a]) / self.cell[a];
-            if !(f >= 0.0 && f < self.dims[a] as f64 + 1e-9) {
+        let c = cell_of(self.lo, self.cell, self.dims, p)?;
+        if let Some(rows) = &self.rows {
+            let (x0, x1) = rows[c[2] * self.dims[1] + c[1]];
+            if !(x0 as usize <= c[0] && c[0] < x1 as usize) {
                 return None;
             }
-            c[a] = (f as usize).min(self.dims[a] - 1);
         }
         let i = (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0];
         Some(&self.items[self.start[i] as usize..self.start[i + 1] as usize])
     }
+}
+
+/// The cell of the grid from `lo` with cells of size `cell`, `dims` per axis, holding the
+/// light-space point `p`, or `None` outside the grid.
+fn cell_of(lo: DVec3, cell: DVec3, dims: [usize; 3], p: DVec3) -> Option<[usize; 3]> {
+    let mut c = [0usize; 3];
+    for a in 0..3 {
+        let f = (p[a] - lo[a]) / cell[a];
+        if !(f >= 0.0 && f < dims[a] as f64 + 1e-9) {
+            return None;
+        }
+        c[a] = (f as usize).min(dims[a] - 1);
+    }
+    Some(c)
 }
 
 /// A light-space box holding every point of `w`'s wedge at light-space depth `z <= zmax`: the
@@ -313,5 +364,58 @@ mod tests {
             frusta > 100,
             "the frustum should usually beat the box: {frusta}"
         );
+    }
+
+    #[test]
+    fn a_grid_for_receivers_lists_at_them_what_the_whole_grid_does() {
+        let mut rng = Rng::new(7);
+        let mut r = || rng.next_f64();
+        let (lo, hi) = (DVec3::new(-6.0, -5.0, 0.5), DVec3::new(7.0, 6.0, 9.0));
+        let wedges: Vec<Wedge> = (0..400)
+            .map(|_| {
+                let mut point = || DVec3::new(8.0 * r() - 4.0, 8.0 * r() - 4.0, 0.2 + 9.5 * r());
+                Wedge {
+                    from: point(),
+                    to: point(),
+                    multiplicity: 1,
+                    occluder: 0,
+                    silhouette_loop: 0,
+                    unit: 0,
+                    caster: None,
+                }
+            })
+            .collect();
+        // Receivers on a slanted plane, as a ground seen from a light is.
+        let receivers: Vec<DVec3> = (0..2000)
+            .map(|_| {
+                let (x, y) = (12.0 * r() - 5.5, 10.0 * r() - 4.5);
+                DVec3::new(x, y, 4.0 + 0.3 * x - 0.2 * y)
+            })
+            .collect();
+        let whole = WedgeGrid::build(&wedges, lo, hi);
+        let some = WedgeGrid::build_for(&wedges, lo, hi, &receivers);
+        assert!(
+            some.items.len() * 4 < whole.items.len(),
+            "{} of {}",
+            some.items.len(),
+            whole.items.len()
+        );
+        for &p in &receivers {
+            assert_eq!(some.candidates(p), whole.candidates(p), "at {p}");
+            assert!(some.candidates(p).is_some());
+        }
+        // Elsewhere: the grid's cell where it was filled, every wedge (None) where not.
+        let (mut filled, mut empty) = (0, 0);
+        for _ in 0..2000 {
+            let p = lo + (hi - lo) * DVec3::new(r(), r(), r());
+            match some.candidates(p) {
+                Some(c) => {
+                    assert_eq!(Some(c), whole.candidates(p));
+                    filled += 1;
+                }
+                None => empty += 1,
+            }
+        }
+        assert!(filled > 0 && empty > 0, "{filled} {empty}");
     }
 }
