@@ -384,12 +384,14 @@ impl CpuRenderer {
         let done = std::sync::atomic::AtomicU64::new(0);
         // The surface points first, so that the wedges are binned only into the cells that hold
         // one ([`WedgeGrid::build_for`]).
-        let points: Vec<Option<SurfacePoint>> = (0..cam.height)
-            .into_par_iter()
-            .flat_map_iter(|j| {
-                (0..cam.width).map(move |i| self.tracer.surface_point(cam.eye, cam.ray_dir(i, j)))
-            })
-            .collect();
+        let mut points: Vec<Option<SurfacePoint>> = vec![None; img.data.len()];
+        points.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+            for (i, p) in row.iter_mut().enumerate() {
+                *p = self
+                    .tracer
+                    .surface_point(cam.eye, cam.ray_dir(i as u32, j as u32));
+            }
+        });
         let grid = (technique != Technique::Hard).then(|| {
             let light = &self.volumes.light;
             let receivers: Vec<DVec3> = points
