@@ -19,7 +19,7 @@
 # memory. The table gives the median of each over the rounds, the ratios of the medians to the
 # reference's, the scene's triangles (faces of its OBJ files, a mesh counted once per placement)
 # and its silhouette edges from the light's centre (`penumbra geometry`, the edges that carry the
-# wedges). Progress goes to stderr, the table to stdout. Uses target/release/penumbra, copied at
+# wedges; one count per light, "44 + 52", for a scene of several). Progress goes to stderr, the table to stdout. Uses target/release/penumbra, copied at
 # the start so that a rebuild during the run does not change what is measured.
 set -euo pipefail
 
@@ -119,7 +119,8 @@ rows=()
 for name in "${scenes[@]}"; do
   scene=$dir/$name.toml
   tris=$(triangles "$scene")
-  sil=$("$bin" geometry "$scene" | sed -n 's/.*: \([0-9]*\) silhouette edges.*/\1/p')
+  # One count per light, joined with " + " for a scene of several.
+  sil=$("$bin" geometry "$scene" | sed -n 's/.*: \([0-9]*\) silhouette edges.*/\1/p' | paste -sd '+' | sed 's/+/ + /g')
   declare -A cpu=() mem=()
   for t in "${techniques[@]}"; do cpu[$t]="" mem[$t]=""; done
   for r in $(seq "$rounds"); do
