@@ -11,7 +11,7 @@ use crate::blend::{Part, VBuffer};
 use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
 use crate::volumes::Volumes;
 use crate::wedge::EdgeIntegral;
-use crate::wedge_grid::{WedgeGrid, receiver_box};
+use crate::wedge_grid::{ReceiverCells, WedgeGrid, receiver_box};
 
 /// Everything the CPU needs to render the volume techniques of one scene, and their renderer.
 ///
@@ -382,37 +382,37 @@ impl CpuRenderer {
         let w = cam.width as usize;
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
-        // The surface points first, so that the wedges are binned only into the cells that hold
-        // one ([`WedgeGrid::build_for`]).
-        let mut points: Vec<Option<SurfacePoint>> = vec![None; img.data.len()];
-        points.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-            for (i, p) in row.iter_mut().enumerate() {
-                *p = self
-                    .tracer
-                    .surface_point(cam.eye, cam.ray_dir(i as u32, j as u32));
-            }
-        });
+        let surface = |i: u32, j: u32| self.tracer.surface_point(cam.eye, cam.ray_dir(i, j));
+        // The cells holding a pixel's surface point first, so that the wedges are binned only
+        // into those ([`WedgeGrid::build_for`]); the points are cast again below rather than
+        // kept, which would cost memory in proportion to the image.
         let grid = (technique != Technique::Hard).then(|| {
             let light = &self.volumes.light;
-            let receivers: Vec<DVec3> = points
-                .iter()
-                .flatten()
-                .map(|p| light.to_light_space(p.position))
-                .collect();
             let (lo, hi) = self.receivers;
-            WedgeGrid::build_for(&self.volumes.wedges, lo, hi, &receivers)
+            let cells = (0..cam.height)
+                .into_par_iter()
+                .fold(
+                    || ReceiverCells::new(lo, hi),
+                    |mut cells, j| {
+                        for i in 0..cam.width {
+                            if let Some(p) = surface(i, j) {
+                                cells.add(light.to_light_space(p.position));
+                            }
+                        }
+                        cells
+                    },
+                )
+                .reduce(|| ReceiverCells::new(lo, hi), ReceiverCells::merge);
+            WedgeGrid::build_for(&self.volumes.wedges, cells)
         });
-        img.data
-            .par_chunks_mut(w)
-            .zip(points.par_chunks(w))
-            .for_each(|(row, points)| {
-                for (out, p) in row.iter_mut().zip(points) {
-                    if let Some(p) = p {
-                        *out = self.visibility_in(p, technique, grid.as_ref()) as f32;
-                    }
+        img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                if let Some(p) = surface(i as u32, j as u32) {
+                    *out = self.visibility_in(&p, technique, grid.as_ref()) as f32;
                 }
-                progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-            });
+            }
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+        });
         img
     }
 }

@@ -45,5 +45,5 @@ pub use terminator::{front_share, outward_sign};
 pub use volumes::{GeometryCounts, Occluder, Volumes};
 pub use wedge::{EdgeIntegral, Wedge};
 pub use wedge_grid::{
-    WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
+    ReceiverCells, WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
 };

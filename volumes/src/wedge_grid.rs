@@ -24,6 +24,49 @@ pub struct WedgeGrid {
 /// Upper bound on grid cells.
 const GRID_CELLS: f64 = 48.0 * 48.0 * 48.0;
 
+/// The cells of the grid over a receivers' box that hold given light-space points, kept per row
+/// of cells along `x` as the run from the first to the last: what [`WedgeGrid::build_for`]
+/// fills. Points are added one at a time, so that no list of them is kept; two sets of the same
+/// box merge.
+#[derive(Clone, Debug)]
+pub struct ReceiverCells {
+    lo: DVec3,
+    hi: DVec3,
+    cell: DVec3,
+    dims: [usize; 3],
+    rows: Vec<(u32, u32)>,
+}
+
+impl ReceiverCells {
+    /// No cell yet, of the grid over the light-space box `[lo, hi]`.
+    pub fn new(lo: DVec3, hi: DVec3) -> Self {
+        let (cell, dims) = WedgeGrid::cells(lo, hi);
+        ReceiverCells {
+            lo,
+            hi,
+            cell,
+            dims,
+            rows: vec![(u32::MAX, 0); dims[1] * dims[2]],
+        }
+    }
+
+    /// Adds the cell of the light-space point `p` (nothing for a point outside the box).
+    pub fn add(&mut self, p: DVec3) {
+        if let Some([x, y, z]) = cell_of(self.lo, self.cell, self.dims, p) {
+            let r = &mut self.rows[z * self.dims[1] + y];
+            *r = (r.0.min(x as u32), r.1.max(x as u32 + 1));
+        }
+    }
+
+    /// The cells of both (of the same box).
+    pub fn merge(mut self, other: ReceiverCells) -> Self {
+        for (r, o) in self.rows.iter_mut().zip(&other.rows) {
+            *r = (r.0.min(o.0), r.1.max(o.1));
+        }
+        self
+    }
+}
+
 impl WedgeGrid {
     /// Bins `wedges` (light space) over the light-space box `[lo, hi]` holding every receiver.
     pub fn build(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> Self {
@@ -31,20 +74,12 @@ impl WedgeGrid {
     }
 
     /// [`WedgeGrid::build`] filling only, in each row of cells along `x`, the run from the
-    /// first to the last cell holding one of the light-space points `receivers` (a camera's
-    /// surface points, which lie on surfaces, not throughout the box): the same candidates,
-    /// in the same order, at those points; every wedge elsewhere. Filling every cell spent most
-    /// of the time and memory on cells no pixel reads.
-    pub fn build_for(wedges: &[Wedge], lo: DVec3, hi: DVec3, receivers: &[DVec3]) -> Self {
-        let (cell, dims) = Self::cells(lo, hi);
-        let mut rows = vec![(u32::MAX, 0u32); dims[1] * dims[2]];
-        for &p in receivers {
-            if let Some([x, y, z]) = cell_of(lo, cell, dims, p) {
-                let r = &mut rows[z * dims[1] + y];
-                *r = (r.0.min(x as u32), r.1.max(x as u32 + 1));
-            }
-        }
-        Self::build_rows(wedges, lo, hi, Some(rows))
+    /// first to the last cell holding one of the receivers `cells` has seen (a camera's surface
+    /// points, which lie on surfaces, not throughout the box): the same candidates, in the same
+    /// order, at those points; every wedge elsewhere. Filling every cell spent most of the time
+    /// and memory on cells no pixel reads.
+    pub fn build_for(wedges: &[Wedge], cells: ReceiverCells) -> Self {
+        Self::build_rows(wedges, cells.lo, cells.hi, Some(cells.rows))
     }
 
     /// The cell size and the cells per axis of the grid over `[lo, hi]`.
@@ -393,7 +428,13 @@ mod tests {
             })
             .collect();
         let whole = WedgeGrid::build(&wedges, lo, hi);
-        let some = WedgeGrid::build_for(&wedges, lo, hi, &receivers);
+        // Added in two halves and merged, as the renderer's threads do.
+        let (first, second) = receivers.split_at(receivers.len() / 3);
+        let mut a = ReceiverCells::new(lo, hi);
+        first.iter().for_each(|&p| a.add(p));
+        let mut b = ReceiverCells::new(lo, hi);
+        second.iter().for_each(|&p| b.add(p));
+        let some = WedgeGrid::build_for(&wedges, a.merge(b));
         assert!(
             some.items.len() * 4 < whole.items.len(),
             "{} of {}",
