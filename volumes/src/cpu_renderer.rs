@@ -85,6 +85,11 @@ fn full_parts() -> [Part; 4] {
     })
 }
 
+/// [`CpuRenderer::render`] bins the wedges only into the cells holding its pixels' points (a
+/// second camera ray per pixel) when the wedges number at least one per this many pixels, and
+/// into the whole grid ([`CpuRenderer::grid`]) otherwise.
+const WEDGES_PER_PIXEL_CAST: u64 = 20;
+
 /// Marks caster triangles in `CpuRenderer::triangle_occluder`.
 const CASTER_BIT: u32 = 1 << 31;
 
@@ -247,8 +252,9 @@ impl CpuRenderer {
 
     /// The grid of the wedges over the whole receivers' box, for queries at any point
     /// ([`CpuRenderer::visibility`], [`CpuRenderer::wedges_containing`]), built on the first
-    /// call. [`CpuRenderer::render`] makes its own, filled only where its pixels' points lie
-    /// ([`WedgeGrid::build_for`]), and none for the hard shadow.
+    /// call. [`CpuRenderer::render`] uses it where the wedges are few for the pixels, makes its
+    /// own filled only where its pixels' points lie otherwise ([`WedgeGrid::build_for`]), and
+    /// uses none for the hard shadow.
     pub fn grid(&self) -> &WedgeGrid {
         self.grid.get_or_init(|| {
             let (lo, hi) = self.receivers;
@@ -385,8 +391,15 @@ impl CpuRenderer {
         let surface = |i: u32, j: u32| self.tracer.surface_point(cam.eye, cam.ray_dir(i, j));
         // The cells holding a pixel's surface point first, so that the wedges are binned only
         // into those ([`WedgeGrid::build_for`]); the points are cast again below rather than
-        // kept, which would cost memory in proportion to the image.
-        let grid = (technique != Technique::Hard).then(|| {
+        // kept, which would cost memory in proportion to the image. With few wedges for the
+        // pixels ([`WEDGES_PER_PIXEL_CAST`]), the whole grid costs less than that extra ray.
+        let pixels = u64::from(cam.width) * u64::from(cam.height);
+        let whole = (self.volumes.wedges.len() as u64) * WEDGES_PER_PIXEL_CAST < pixels;
+        if technique != Technique::Hard && whole {
+            // Built here rather than by the first row while the others wait.
+            self.grid();
+        }
+        let grid = (technique != Technique::Hard && !whole).then(|| {
             let light = &self.volumes.light;
             let (lo, hi) = self.receivers;
             let cells = (0..cam.height)
