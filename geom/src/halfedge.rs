@@ -7,6 +7,7 @@
 //! with exactly two half-edges is manifold and those two are each other's `twin`.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::DVec3;
 
@@ -52,6 +53,40 @@ pub struct Edge {
     pub kind: EdgeKind,
 }
 
+/// The map key of the undirected edge `(lo, hi)`.
+fn edge_key((lo, hi): (u32, u32)) -> u64 {
+    (u64::from(lo) << 32) | u64::from(hi)
+}
+
+/// Hashes an edge key in a few instructions (the finaliser of MurmurHash3's 64-bit variant,
+/// which mixes every bit into the high and the low ones the table reads). The map's keys are a
+/// mesh's own vertex indices, not input an attacker chooses to collide, and the edges are
+/// numbered in the order they are met, whatever the hash: the standard hasher's cost bought
+/// nothing here.
+#[derive(Default)]
+struct EdgeKeyHasher(u64);
+
+impl Hasher for EdgeKeyHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 << 8 | self.0 >> 56) ^ u64::from(b);
+        }
+    }
+
+    fn write_u64(&mut self, k: u64) {
+        self.0 ^= k;
+    }
+
+    fn finish(&self) -> u64 {
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ (h >> 33)
+    }
+}
+
 /// Half-edge mesh over welded positions.
 #[derive(Clone, Debug)]
 pub struct HalfEdgeMesh {
@@ -80,13 +115,13 @@ impl HalfEdgeMesh {
     pub fn build(mesh: &TriangleMesh) -> Self {
         let mut half_edges = Vec::with_capacity(mesh.triangles.len() * 3);
         let mut edges: Vec<Edge> = Vec::new();
-        let mut edge_of: HashMap<(u32, u32), u32> =
-            HashMap::with_capacity(mesh.triangles.len() * 2);
+        let mut edge_of: HashMap<u64, u32, BuildHasherDefault<EdgeKeyHasher>> =
+            HashMap::with_capacity_and_hasher(mesh.triangles.len() * 2, Default::default());
         for (f, tri) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
                 let key = (a.min(b), a.max(b));
-                let e = *edge_of.entry(key).or_insert_with(|| {
+                let e = *edge_of.entry(edge_key(key)).or_insert_with(|| {
                     edges.push(Edge {
                         vertices: [key.0, key.1],
                         half_edges: Vec::with_capacity(2),

@@ -23,7 +23,6 @@ use glam::DVec3;
 use penumbra_geom::{BoxTree, Plane};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
 
-use crate::silhouette::orient3d;
 
 /// One face on a potential silhouette edge `a b`, as the plane through the edge and the face's
 /// third vertex `w`: `F(x) = n . (x - a)` with `n = (b - a) x (w - a)`, whose sign at a point
@@ -134,7 +133,10 @@ fn light_crossing(t: [DVec3; 3], triangle: u32) -> Option<LightCrossing> {
 /// Whether some point of the light sees the two faces with apices `w0`, `w1` on the same side
 /// of the edge `a b` (conservatively: only a light wholly on opposite sides says no).
 fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
-    let side = |w: DVec3| LIGHT_CORNERS.map(|l| orient3d(a, b, l, w));
+    // `orient3d(a, b, l, w)` for the four corners `l`, the cross products shared by both apices
+    // (the same operations, so the same values).
+    let normals = LIGHT_CORNERS.map(|l| (b - a).cross(l - a));
+    let side = |w: DVec3| normals.map(|n| n.dot(w - a));
     let (s0, s1) = (side(w0), side(w1));
     let opposite =
         |p: [f64; 4], q: [f64; 4]| p.iter().all(|&x| x > 0.0) && q.iter().all(|&x| x < 0.0);
@@ -173,6 +175,10 @@ impl PotentialEdges {
         for m in meshes {
             let mesh = m.borrow();
             all_edges += mesh.edges.len();
+            // At most every edge, with its faces: reserved ahead, the lists are not copied as
+            // they grow (pages never written are never touched).
+            edges.reserve(mesh.edges.len());
+            faces.reserve(mesh.half_edges.len());
             let pos: Vec<DVec3> = mesh
                 .positions
                 .iter()
