@@ -23,7 +23,6 @@ use glam::DVec3;
 use penumbra_geom::{BoxTree, Plane};
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
 
-
 /// One face on a potential silhouette edge `a b`, as the plane through the edge and the face's
 /// third vertex `w`: `F(x) = n . (x - a)` with `n = (b - a) x (w - a)`, whose sign at a point
 /// tells the side of the plane through that point and the edge the face lies on.
