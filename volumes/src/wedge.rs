@@ -137,6 +137,12 @@ impl Wedge {
     /// integral for all its wedges rather than have each returned (a copy of some 300 bytes).
     /// `out` is unspecified when it returns `false`.
     pub fn integral_into(&self, p: DVec3, out: &mut EdgeIntegral) -> bool {
+        self.integral_by(p, out, true)
+    }
+
+    /// [`Wedge::integral_into`], taking the closed form for a projected edge inside one radial
+    /// part when `closed_form`, else clipping every part (the tests compare the two).
+    pub(crate) fn integral_by(&self, p: DVec3, out: &mut EdgeIntegral, closed_form: bool) -> bool {
         let Some((a, b)) = self.project(p) else {
             return false;
         };
@@ -193,6 +199,12 @@ impl Wedge {
         let (mut half, mut cone) = (Poly::EMPTY, Poly::EMPTY);
         let (mut beyond, mut near) = (Poly::EMPTY, Poly::EMPTY);
         let mut any = false;
+        // The radial part holding both projected ends when both lie inside the light: the
+        // common case of a short edge, whose integral needs no clipping.
+        let inner_part = match (part_within(a), part_within(b)) {
+            (Some(ka), Some(kb)) if ka == kb && closed_form => Some(ka),
+            _ => None,
+        };
         for (k, part) in RADIAL_PARTS.iter().enumerate() {
             let (u, v) = (k, (k + 1) % 4);
             let keeps = |f: &[f64; 4]| f[u] >= 0.0 && f[v] >= 0.0;
@@ -219,6 +231,23 @@ impl Wedge {
                     out.near[k] = Rect::of(&[DVec2::ZERO]);
                     any = true;
                 }
+                continue;
+            }
+            if Some(k) == inner_part {
+                // Both ends inside the light and in this part: the cone meets the part's outer
+                // side at the ends' rays, `a2` and `b2`, and the edge leaves the triangle
+                // `c a b` on its near side and the quadrilateral `a a2 b2 b` beyond, in closed
+                // form (what the clips below would give, up to rounding).
+                let to_side = |x: DVec2| x / (if k % 2 == 0 { x.x } else { x.y }).abs();
+                let (a2, b2) = (to_side(a), to_side(b));
+                out.cover[k] = (b2 - a2).length();
+                let r = 0.5 * (cross(a2, b2).abs() - cross(a, b).abs());
+                if r > 0.0 {
+                    out.area[k] = m * r;
+                    out.beyond[k] = Rect::of(&[a, a2, b2, b]);
+                }
+                out.near[k] = Rect::of(&[DVec2::ZERO, a, b]);
+                any = true;
                 continue;
             }
             if keeps(&at_a) && keeps(&at_b) {
@@ -373,6 +402,28 @@ impl Wedge {
             }
         }
         planes
+    }
+}
+
+/// The radial part (0 right, 1 top, 2 left, 3 bottom, as [`RADIAL_PARTS`]) of a point strictly
+/// inside the light square, `None` outside it, at its centre or within `1e-9` of its distance
+/// from a diagonal (where the clipping's rounding may put the point in either part).
+pub(crate) fn part_within(x: DVec2) -> Option<usize> {
+    let (ax, ay) = (x.x.abs(), x.y.abs());
+    if !(ax < 1.0 && ay < 1.0) {
+        return None;
+    }
+    let margin = 1e-9 * (ax + ay);
+    if x.x - ay > margin {
+        Some(0)
+    } else if x.y - ax > margin {
+        Some(1)
+    } else if -x.x - ay > margin {
+        Some(2)
+    } else if -x.y - ax > margin {
+        Some(3)
+    } else {
+        None
     }
 }
 

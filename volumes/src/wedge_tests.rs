@@ -1,5 +1,6 @@
 //! The wedge integral's shortcuts (parts the cone keeps whole or misses, each line's values
-//! shared between its two sides) against the plain clipping of every radial part, bit for bit.
+//! shared between its two sides) against the plain clipping of every radial part, bit for bit,
+//! and its closed form for an edge inside one radial part against the same, to rounding.
 
 use glam::{DVec2, DVec3};
 use penumbra_geom::Rng;
@@ -89,11 +90,83 @@ fn integral_matches_the_plain_clipping_bit_for_bit() {
             unit: 0,
             caster: None,
         };
-        let (fast, plain) = (w.integral(p), plain_integral(&w, p));
+        let mut out = EdgeIntegral::NONE;
+        let fast = w.integral_by(p, &mut out, false).then_some(out);
+        let plain = plain_integral(&w, p);
         assert_eq!(fast, plain, "edge {w:?} at {p}");
         compared += usize::from(fast.is_some());
     }
     assert!(compared > 5_000, "only {compared} integrals compared");
+}
+
+#[test]
+fn closed_form_inside_one_part_matches_the_plain_clipping() {
+    let mut rng = Rng::new(0x00c1_05ed);
+    let (mut closed, mut compared) = (0, 0);
+    for i in 0..20_000 {
+        let p = DVec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(0.5, 4.0),
+        );
+        // Short edges whose projections lie in the light, long ones, and ends on the part
+        // boundaries (the diagonals) and near the light's sides.
+        let first = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        let spot = |rng: &mut Rng| match i % 4 {
+            0 => first + DVec2::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)),
+            1 => DVec2::new(rng.range(-1.2, 1.2), rng.range(-1.2, 1.2)),
+            2 => DVec2::splat(rng.range(-1.0, 1.0)) * DVec2::new(1.0, [1.0, -1.0][rng.below(2)]),
+            _ => {
+                DVec2::new(rng.range(0.999, 1.0), rng.range(-1.0, 1.0)) * [1.0, -1.0][rng.below(2)]
+            }
+        };
+        let end = |rng: &mut Rng, on: DVec2| {
+            let z = rng.range(0.05, 0.95) * p.z;
+            let k = p.z / (p.z - z);
+            DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+        };
+        let (s, t) = (spot(&mut rng), spot(&mut rng));
+        let w = Wedge {
+            from: end(&mut rng, s),
+            to: end(&mut rng, t),
+            multiplicity: 1 + (i % 3) as u32,
+            occluder: 0,
+            silhouette_loop: 0,
+            unit: 0,
+            caster: None,
+        };
+        let plain = plain_integral(&w, p);
+        let got = w.integral(p);
+        assert_eq!(got.is_some(), plain.is_some(), "edge {w:?} at {p}");
+        let (Some(got), Some(plain)) = (got, plain) else {
+            continue;
+        };
+        compared += 1;
+        let (a, b) = w.project(p).expect("it has an integral");
+        closed += usize::from(part_within(a).is_some() && part_within(a) == part_within(b));
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
+        let rect_close = |r: Rect, q: Rect| {
+            r.is_empty() && q.is_empty()
+                || [r.min.x, r.min.y, r.max.x, r.max.y]
+                    .iter()
+                    .zip([q.min.x, q.min.y, q.max.x, q.max.y])
+                    .all(|(&x, y)| close(x, y))
+        };
+        assert_eq!(got.sign, plain.sign);
+        for k in 0..4 {
+            assert!(
+                close(got.area[k], plain.area[k])
+                    && close(got.cover[k], plain.cover[k])
+                    && rect_close(got.near[k], plain.near[k])
+                    && (plain.area[k] == 0.0 || rect_close(got.beyond[k], plain.beyond[k])),
+                "part {k} of edge {w:?} at {p}: {got:?} against {plain:?}"
+            );
+        }
+    }
+    assert!(
+        compared > 10_000 && closed > 5_000,
+        "{closed} closed forms of {compared} integrals"
+    );
 }
 
 /// Liang & Barsky's loop as the textbook writes it.
