@@ -193,18 +193,36 @@ impl Wedge {
         let edge_line = |x: DVec2| s0 * cross(b - a, x - a);
         // Part k runs from corner k to corner k + 1: their values decide, before any clipping,
         // whether the cone keeps the whole part or misses it.
+        let centre_near = edge_line(DVec2::ZERO) >= 0.0;
+        // Both projected ends inside the light and in one radial part (the common case of a
+        // short edge): the cone meets that part's outer side at the ends' rays, `a2` and `b2`,
+        // and the edge leaves the triangle `c a b` on its near side and the quadrilateral
+        // `a a2 b2 b` beyond, in closed form; the cone misses the other parts, as below. These
+        // are what the clips give, up to rounding.
+        if let (Some(k), true) = (part_within(a), closed_form) {
+            if part_within(b) == Some(k) {
+                let to_side = |x: DVec2| x / (if k % 2 == 0 { x.x } else { x.y }).abs();
+                let (a2, b2) = (to_side(a), to_side(b));
+                out.cover[k] = (b2 - a2).length();
+                let r = 0.5 * (cross(a2, b2).abs() - cross(a, b).abs());
+                if r > 0.0 {
+                    out.area[k] = m * r;
+                    out.beyond[k] = Rect::of(&[a, a2, b2, b]);
+                }
+                out.near[k] = Rect::of(&[DVec2::ZERO, a, b]);
+                if centre_near {
+                    for j in (0..4).filter(|&j| j != k) {
+                        out.near[j] = Rect::of(&[DVec2::ZERO]);
+                    }
+                }
+                return true;
+            }
+        }
         let corners = RADIAL_PARTS.map(|part| part[1]);
         let (at_a, at_b) = (corners.map(side_a), corners.map(side_b));
-        let centre_near = edge_line(DVec2::ZERO) >= 0.0;
         let (mut half, mut cone) = (Poly::EMPTY, Poly::EMPTY);
         let (mut beyond, mut near) = (Poly::EMPTY, Poly::EMPTY);
         let mut any = false;
-        // The radial part holding both projected ends when both lie inside the light: the
-        // common case of a short edge, whose integral needs no clipping.
-        let inner_part = match (part_within(a), part_within(b)) {
-            (Some(ka), Some(kb)) if ka == kb && closed_form => Some(ka),
-            _ => None,
-        };
         for (k, part) in RADIAL_PARTS.iter().enumerate() {
             let (u, v) = (k, (k + 1) % 4);
             let keeps = |f: &[f64; 4]| f[u] >= 0.0 && f[v] >= 0.0;
@@ -231,23 +249,6 @@ impl Wedge {
                     out.near[k] = Rect::of(&[DVec2::ZERO]);
                     any = true;
                 }
-                continue;
-            }
-            if Some(k) == inner_part {
-                // Both ends inside the light and in this part: the cone meets the part's outer
-                // side at the ends' rays, `a2` and `b2`, and the edge leaves the triangle
-                // `c a b` on its near side and the quadrilateral `a a2 b2 b` beyond, in closed
-                // form (what the clips below would give, up to rounding).
-                let to_side = |x: DVec2| x / (if k % 2 == 0 { x.x } else { x.y }).abs();
-                let (a2, b2) = (to_side(a), to_side(b));
-                out.cover[k] = (b2 - a2).length();
-                let r = 0.5 * (cross(a2, b2).abs() - cross(a, b).abs());
-                if r > 0.0 {
-                    out.area[k] = m * r;
-                    out.beyond[k] = Rect::of(&[a, a2, b2, b]);
-                }
-                out.near[k] = Rect::of(&[DVec2::ZERO, a, b]);
-                any = true;
                 continue;
             }
             if keeps(&at_a) && keeps(&at_b) {
