@@ -318,18 +318,24 @@ impl CpuRenderer {
             .collect();
         let mut int = EdgeIntegral::NONE;
         let grid = grid.unwrap_or_else(|| self.grid());
+        // A unit's wedges are numbered together, so the candidates (in wedge order) mostly meet
+        // the unit of the one before: its entry is looked at first.
+        let mut last = 0;
         for wi in self.candidates(grid, pl) {
             let w = &self.volumes.wedges[wi as usize];
             if !w.integral_into(pl, &mut int) {
                 continue;
             }
-            let a = match acc.iter().position(|a| a.occluder == w.unit) {
-                Some(i) => &mut acc[i],
-                None => {
-                    acc.push(Accum::new(w.unit));
-                    acc.last_mut().expect("just pushed")
-                }
-            };
+            if acc.get(last).is_none_or(|a| a.occluder != w.unit) {
+                last = match acc.iter().position(|a| a.occluder == w.unit) {
+                    Some(i) => i,
+                    None => {
+                        acc.push(Accum::new(w.unit));
+                        acc.len() - 1
+                    }
+                };
+            }
+            let a = &mut acc[last];
             for k in 0..4 {
                 a.area[k] += int.sign * int.area[k];
                 if int.sign > 0.0 {
