@@ -191,8 +191,6 @@ impl Wedge {
         let side_a = |x: DVec2| s0 * cross(a, x);
         let side_b = |x: DVec2| s0 * cross(x, b);
         let edge_line = |x: DVec2| s0 * cross(b - a, x - a);
-        // Part k runs from corner k to corner k + 1: their values decide, before any clipping,
-        // whether the cone keeps the whole part or misses it.
         let centre_near = edge_line(DVec2::ZERO) >= 0.0;
         // Both projected ends inside the light and in one radial part (the common case of a
         // short edge): the cone meets that part's outer side at the ends' rays, `a2` and `b2`,
@@ -218,6 +216,8 @@ impl Wedge {
                 return true;
             }
         }
+        // Part k runs from corner k to corner k + 1: their values decide, before any clipping,
+        // whether the cone keeps the whole part or misses it.
         let corners = RADIAL_PARTS.map(|part| part[1]);
         let (at_a, at_b) = (corners.map(side_a), corners.map(side_b));
         let (mut half, mut cone) = (Poly::EMPTY, Poly::EMPTY);
