@@ -192,24 +192,47 @@ impl Wedge {
         let side_b = |x: DVec2| s0 * cross(x, b);
         let edge_line = |x: DVec2| s0 * cross(b - a, x - a);
         let centre_near = edge_line(DVec2::ZERO) >= 0.0;
-        // Both projected ends inside the light and in one radial part (the common case of a
-        // short edge): the cone meets that part's outer side at the ends' rays, `a2` and `b2`,
-        // and the edge leaves the triangle `c a b` on its near side and the quadrilateral
-        // `a a2 b2 b` beyond, in closed form; the cone misses the other parts, as below. These
-        // are what the clips give, up to rounding.
-        if let (Some(k), true) = (part_within(a), closed_form) {
-            if part_within(b) == Some(k) {
+        // Both projected ends inside the light, in one radial part or in two neighbours (the
+        // common case of a short edge): closed forms, with no clipping. Within one part, the
+        // cone meets the part's outer side at the ends' rays, `a2` and `b2`, and the edge leaves
+        // the triangle `c a b` on its near side and the quadrilateral `a a2 b2 b` beyond. Across
+        // two, the diagonal between them cuts the edge at `d`, and each part holds that form for
+        // its half, `a d` or `d b`. The cone misses the other parts, as below. These are what
+        // the clips give, up to rounding.
+        if let (Some(ka), Some(kb), true) = (part_within(a), part_within(b), closed_form) {
+            let mut part = |k: usize, x: DVec2, y: DVec2| {
                 let to_side = |x: DVec2| x / (if k % 2 == 0 { x.x } else { x.y }).abs();
-                let (a2, b2) = (to_side(a), to_side(b));
-                out.cover[k] = (b2 - a2).length();
-                let r = 0.5 * (cross(a2, b2).abs() - cross(a, b).abs());
+                let (x2, y2) = (to_side(x), to_side(y));
+                out.cover[k] = (y2 - x2).length();
+                let r = 0.5 * (cross(x2, y2).abs() - cross(x, y).abs());
                 if r > 0.0 {
                     out.area[k] = m * r;
-                    out.beyond[k] = Rect::of(&[a, a2, b2, b]);
+                    out.beyond[k] = Rect::of(&[x, x2, y2, y]);
                 }
-                out.near[k] = Rect::of(&[DVec2::ZERO, a, b]);
+                out.near[k] = Rect::of(&[DVec2::ZERO, x, y]);
+            };
+            // The corner between neighbouring parts `k` and `k + 1` ends part `k`'s side.
+            let shared = if (ka + 1) % 4 == kb {
+                Some(RADIAL_PARTS[ka][2])
+            } else if (kb + 1) % 4 == ka {
+                Some(RADIAL_PARTS[kb][2])
+            } else {
+                None
+            };
+            let done = if ka == kb {
+                part(ka, a, b);
+                true
+            } else if let Some(corner) = shared {
+                let d = a + (b - a) * (cross(a, corner) / cross(a - b, corner));
+                part(ka, a, d);
+                part(kb, d, b);
+                true
+            } else {
+                false
+            };
+            if done {
                 if centre_near {
-                    for j in (0..4).filter(|&j| j != k) {
+                    for j in (0..4).filter(|&j| j != ka && j != kb) {
                         out.near[j] = Rect::of(&[DVec2::ZERO]);
                     }
                 }
