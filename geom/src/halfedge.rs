@@ -48,10 +48,64 @@ pub struct Edge {
     /// Its two vertices, smaller index first.
     pub vertices: [u32; 2],
     /// The half-edges lying on it, in face order.
-    pub half_edges: Vec<u32>,
+    pub half_edges: HalfEdgeList,
     /// Classification by the faces meeting there.
     pub kind: EdgeKind,
 }
+
+/// The half-edges on one edge, read as a slice: up to two kept inline (every edge of a manifold
+/// mesh), more in a list of their own, so that building a mesh's edges allocates nothing for
+/// most of them.
+#[derive(Clone, Debug, Default)]
+pub struct HalfEdgeList {
+    inline: [u32; 2],
+    len: u32,
+    more: Vec<u32>,
+}
+
+impl HalfEdgeList {
+    /// Appends half-edge `h`.
+    pub fn push(&mut self, h: u32) {
+        match self.len {
+            0 | 1 => self.inline[self.len as usize] = h,
+            2 => {
+                self.more.extend_from_slice(&self.inline);
+                self.more.push(h);
+            }
+            _ => self.more.push(h),
+        }
+        self.len += 1;
+    }
+}
+
+impl std::ops::Deref for HalfEdgeList {
+    type Target = [u32];
+
+    fn deref(&self) -> &[u32] {
+        if self.len <= 2 {
+            &self.inline[..self.len as usize]
+        } else {
+            &self.more
+        }
+    }
+}
+
+impl<'a> IntoIterator for &'a HalfEdgeList {
+    type Item = &'a u32;
+    type IntoIter = std::slice::Iter<'a, u32>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+impl PartialEq for HalfEdgeList {
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
+}
+
+impl Eq for HalfEdgeList {}
 
 /// The map key of the undirected edge `(lo, hi)`.
 fn edge_key((lo, hi): (u32, u32)) -> u64 {
@@ -124,7 +178,7 @@ impl HalfEdgeMesh {
                 let e = *edge_of.entry(edge_key(key)).or_insert_with(|| {
                     edges.push(Edge {
                         vertices: [key.0, key.1],
-                        half_edges: Vec::with_capacity(2),
+                        half_edges: HalfEdgeList::default(),
                         kind: EdgeKind::Boundary,
                     });
                     (edges.len() - 1) as u32

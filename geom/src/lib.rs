@@ -39,7 +39,7 @@ pub use camera::{Camera, CameraError};
 pub use channels::{Channel, LIGHTS_ATTRIBUTE, VisibilityChannels, is_visibility_channel};
 pub use distant::{DistantLight, Light, Warp};
 pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
-pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeMesh, InvariantError, NO_TWIN};
+pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeList, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
 pub use image_files::{CHANNEL, PngColor, write_png_bytes};
 pub use light::RectLight;
