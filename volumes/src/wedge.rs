@@ -140,8 +140,9 @@ impl Wedge {
         self.integral_by(p, out, true)
     }
 
-    /// [`Wedge::integral_into`], taking the closed form for a projected edge inside one radial
-    /// part when `closed_form`, else clipping every part (the tests compare the two).
+    /// [`Wedge::integral_into`], taking the closed forms for a projected edge inside one radial
+    /// part or two neighbouring ones when `closed_form`, else clipping every part (the tests
+    /// compare the two).
     pub(crate) fn integral_by(&self, p: DVec3, out: &mut EdgeIntegral, closed_form: bool) -> bool {
         let Some((a, b)) = self.project(p) else {
             return false;
