@@ -167,6 +167,7 @@ fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
 /// The samples the potential silhouette edge `e` (its faces `faces`) separates from the centre
 /// as seen from the light-space point `pl` on triangle `receiver`, and the change of their
 /// counts; `None` when it changes none.
+#[inline(always)]
 pub(crate) fn edge_region(
     e: &PotentialEdge,
     faces: &[EdgeFace],
