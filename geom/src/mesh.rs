@@ -365,16 +365,24 @@ fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), Mes
         let mut words = stmt.split_whitespace();
         match words.next() {
             Some("v") => {
-                let nums: Vec<&str> = words.collect();
-                if nums.len() != 3 && nums.len() != 4 && nums.len() != 6 {
+                // The words on the stack: a list allocated per vertex cost as much as parsing.
+                let mut kept = [""; 6];
+                let mut count = 0;
+                for w in words {
+                    if let Some(k) = kept.get_mut(count) {
+                        *k = w;
+                    }
+                    count += 1;
+                }
+                if count != 3 && count != 4 && count != 6 {
                     return Err(parse_err(
                         line,
                         format!(
-                            "`v` needs 3 coordinates (then a weight w, or 3 colour components), found {} numbers",
-                            nums.len()
+                            "`v` needs 3 coordinates (then a weight w, or 3 colour components), found {count} numbers"
                         ),
                     ));
                 }
+                let nums = &kept[..count];
                 let number = |w: &str| -> Result<f64, MeshError> {
                     w.parse()
                         .map_err(|_| parse_err(line, format!("`{w}` is not a number")))
@@ -444,14 +452,14 @@ fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), Mes
                 vertices += 1;
             }
             Some("f") => {
-                let refs: Vec<&str> = words.collect();
-                if refs.len() < 3 {
+                let count = words.clone().count();
+                if count < 3 {
                     return Err(parse_err(
                         line,
-                        format!("a face needs at least 3 vertices, found {}", refs.len()),
+                        format!("a face needs at least 3 vertices, found {count}"),
                     ));
                 }
-                for r in refs {
+                for r in words {
                     let first = r.split('/').next().unwrap_or("");
                     let i: i64 = first
                         .parse()
