@@ -86,6 +86,8 @@ pub struct Scratch {
     counts: Vec<i32>,
     /// The regions of the point's edges, before any sample is placed.
     regions: Vec<Region>,
+    /// Each region's runs of sorted samples.
+    runs: Vec<Option<[std::ops::Range<u32>; 2]>>,
     hits: Vec<u32>,
     near: Vec<u32>,
     candidates: Candidates,
@@ -140,9 +142,16 @@ impl Scratch {
                 .count()
         } else {
             self.samples.fill(&self.xs, &self.ys);
+            // Every cone's runs first, then the samples: the runs' divisions overlap.
+            self.runs.clear();
+            self.runs.extend(self.regions.iter().map(|r| {
+                let (k0, k1) = r.cone();
+                self.samples.cone_runs(k0, k1)
+            }));
             self.regions
                 .iter()
-                .filter(|r| r.apply(&self.samples, counts))
+                .zip(&self.runs)
+                .filter(|(r, runs)| r.apply(&self.samples, runs, counts))
                 .count()
         }
     }

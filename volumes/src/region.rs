@@ -41,7 +41,7 @@ impl Line {
 
 /// The samples one edge changes: those of the light where four lines are positive. The
 /// second and third pass through the light's centre: the region lies in the cone they bound,
-/// whose samples [`Sectors::in_cone`] finds.
+/// whose samples [`Sectors::cone_runs`] finds.
 pub(crate) struct Region {
     delta: i32,
     lines: [Line; 4],
@@ -60,10 +60,35 @@ impl Region {
     ///
     /// The lines are evaluated in `f32`: their rounding (about 1e-7 of the light's half side)
     /// is that of the reference's `f32` shadow rays.
-    pub(crate) fn apply(&self, samples: &Sectors, counts: &mut [i32]) -> bool {
+    /// The two lines through the centre that bound its cone, whose samples
+    /// [`Sectors::cone_runs`] finds.
+    pub(crate) fn cone(&self) -> (DVec3, DVec3) {
+        (self.lines[1].k, self.lines[2].k)
+    }
+
+    /// Adds the change to the counts of the samples inside (`counts[k]` that of sample `k` of
+    /// `samples`), looking only at the samples of the sectors the cone spans: `runs`, its
+    /// [`Sectors::cone_runs`] (found for every region first, so that their divisions overlap),
+    /// and the near-centre ones. Returns whether any was inside.
+    ///
+    /// The lines are evaluated in `f32`: their rounding (about 1e-7 of the light's half side)
+    /// is that of the reference's `f32` shadow rays.
+    pub(crate) fn apply(
+        &self,
+        samples: &Sectors,
+        runs: &Option<[std::ops::Range<u32>; 2]>,
+        counts: &mut [i32],
+    ) -> bool {
+        let Some(runs) = runs else {
+            return false;
+        };
         let k = self.lines.map(|l| l.k.as_vec3());
         let mut inside = 0;
-        samples.in_cone(self.lines[1].k, self.lines[2].k, |r| {
+        for r in runs
+            .iter()
+            .map(|r| r.start as usize..r.end as usize)
+            .chain(std::iter::once(samples.near()))
+        {
             inside += add(
                 &k,
                 self.delta,
@@ -71,7 +96,7 @@ impl Region {
                 &samples.ys[r.clone()],
                 &mut counts[r],
             );
-        });
+        }
         inside > 0
     }
 

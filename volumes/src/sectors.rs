@@ -108,12 +108,17 @@ impl Sectors {
         self.start.len() - 2
     }
 
-    /// Calls `f` with the ranges of sample indices that may lie in the open cone `k0 . s > 0,
-    /// k1 . s > 0` (`k0`, `k1` the `x`, `y` coefficients of two lines through the centre):
-    /// one or two runs of sectors, and the near-centre samples. Nothing for an empty cone.
-    pub fn in_cone(&self, k0: DVec3, k1: DVec3, mut f: impl FnMut(std::ops::Range<usize>)) {
+    /// The near-centre samples, which every non-empty cone reads besides its runs.
+    pub fn near(&self) -> std::ops::Range<usize> {
+        self.start[self.sectors()] as usize..self.xs.len()
+    }
+
+    /// The ranges of sample indices that may lie in the open cone `k0 . s > 0, k1 . s > 0`
+    /// (`k0`, `k1` the `x`, `y` coefficients of two lines through the centre): one or two runs
+    /// of sectors (the second empty when there is one), to be read with the near-centre
+    /// samples ([`Sectors::near`]). `None` for an empty cone, which reads no sample.
+    pub fn cone_runs(&self, k0: DVec3, k1: DVec3) -> Option<[std::ops::Range<u32>; 2]> {
         let (k0, k1) = (k0.truncate(), k1.truncate());
-        let near = self.start[self.sectors()] as usize..self.xs.len();
         // The half-plane `k . s > 0` spans the directions from `k` turned by -90 degrees to `k`
         // turned by +90; the cone runs from the later start to the earlier end.
         let (c, d) = (k0.perp_dot(k1), k0.dot(k1));
@@ -121,8 +126,7 @@ impl Sectors {
         let plus = |k: DVec2| DVec2::new(-k.y, k.x);
         let (from, to) = if k0 == DVec2::ZERO || k1 == DVec2::ZERO || (c == 0.0 && d <= 0.0) {
             // A line with no slope holds no sample (`0 > 0`), as do opposite half-planes.
-            f(0..0);
-            return;
+            return None;
         } else if c == 0.0 {
             (minus(k0), plus(k0))
         } else if c > 0.0 {
@@ -142,14 +146,12 @@ impl Sectors {
         }
         let sector = |p: f64| ((p * scale) as usize).min(b - 1);
         let (s0, s1) = (sector(p0), sector(p1));
-        let run = |a: usize, z: usize| self.start[a] as usize..self.start[z + 1] as usize;
-        if p0 <= p1 {
-            f(run(s0, s1));
+        let run = |a: usize, z: usize| self.start[a]..self.start[z + 1];
+        Some(if p0 <= p1 {
+            [run(s0, s1), 0..0]
         } else {
-            f(run(s0, b - 1));
-            f(run(0, s1));
-        }
-        f(near);
+            [run(s0, b - 1), run(0, s1)]
+        })
     }
 }
 
@@ -192,7 +194,12 @@ mod tests {
                 DVec3::new(u(), u(), 0.0)
             };
             let mut listed = vec![false; points.len()];
-            s.in_cone(k0, k1, |r| r.for_each(|i| listed[i] = true));
+            if let Some(runs) = s.cone_runs(k0, k1) {
+                for r in runs.iter().map(|r| r.start as usize..r.end as usize) {
+                    r.for_each(|i| listed[i] = true);
+                }
+                s.near().for_each(|i| listed[i] = true);
+            }
             for ((&x, &y), &listed) in s.xs.iter().zip(&s.ys).zip(&listed) {
                 let at = |k: DVec3| k.x as f32 * x + k.y as f32 * y;
                 if at(k0) > 0.0 && at(k1) > 0.0 {
