@@ -140,6 +140,29 @@ fn bins_of(c: Vec3A, lo: Vec3A, scale: Vec3A, bins: usize) -> glam::IVec3 {
         .as_ivec3()
 }
 
+/// The least `f32` in `[lo, hi]` whose [`bin_of`] (on the axis from `lo`) is `split` or more,
+/// where `lo`'s bin is less and `hi`'s is not: as a bin only grows with the coordinate (each
+/// rounded step is monotone), a centroid goes left of the split exactly when it is less than
+/// this, one comparison instead of a bin per item. Found by bisecting the floats between.
+fn first_of_bin(lo: f32, hi: f32, scale: f32, bins: usize, split: usize) -> f32 {
+    // The floats in order as integers (negative ones reversed below the positive ones).
+    let key = |x: f32| {
+        let u = x.to_bits();
+        if u >> 31 == 1 { !u } else { u | 0x8000_0000 }
+    };
+    let float = |k: u32| f32::from_bits(if k >> 31 == 1 { k & 0x7fff_ffff } else { !k });
+    let (mut below, mut at) = (key(lo), key(hi));
+    while at - below > 1 {
+        let mid = below + (at - below) / 2;
+        if bin_of(float(mid), lo, scale, bins) >= split {
+            at = mid;
+        } else {
+            below = mid;
+        }
+    }
+    float(at)
+}
+
 /// The binned split of least surface-area cost over the three axes, applied to `items`
 /// (partitioned in place); the size of the left part, or `None` when the centroids coincide on
 /// every axis.
@@ -197,13 +220,23 @@ fn sah_split(items: &mut [Item], centres: &Aabb, bins: &mut [[Bin; BINS]; 3]) ->
         }
     }
     let (_, axis, split) = best?;
-    let goes_left = |item: &Item| {
-        bin_of(
-            item.bounds.center_axis(axis),
+    // For a large node, the least coordinate of the right part, found once, instead of each
+    // item's bin (the search costs some thirty bins).
+    let first = (items.len() >= 128).then(|| {
+        first_of_bin(
             centres.min[axis],
+            centres.max[axis],
             scale[axis],
             n_bins,
-        ) < split
+            split,
+        )
+    });
+    let goes_left = |item: &Item| {
+        let c = item.bounds.center_axis(axis);
+        match first {
+            Some(first) => c < first,
+            None => bin_of(c, centres.min[axis], scale[axis], n_bins) < split,
+        }
     };
     // In-place two-way partition.
     let (mut lo, mut hi) = (0, items.len());
@@ -285,6 +318,43 @@ mod tests {
             "depth {depth} over {bound} for {} boxes",
             boxes.len()
         );
+    }
+
+    #[test]
+    fn a_split_s_first_coordinate_parts_centroids_as_their_bins_do() {
+        let mut rng = crate::Rng::stream(12, 0);
+        let mut u = |r: f32| (rng.next_f64() as f32 * 2.0 - 1.0) * r;
+        let mut checked = 0;
+        for bins in [2usize, 3, 7, 32] {
+            for _ in 0..2_000 {
+                // Ranges of either sign, across zero, and tiny ones.
+                let lo = u(4.0) * [1.0, 1e-30, 0.0][checked % 3];
+                let hi = lo + u(3.0).abs() * [1.0, 1e-6, 1e-36][checked % 3] + f32::MIN_POSITIVE;
+                let scale = bins as f32 / (hi - lo);
+                for split in 1..bins {
+                    if bin_of(lo, lo, scale, bins) >= split || bin_of(hi, lo, scale, bins) < split {
+                        continue;
+                    }
+                    let first = first_of_bin(lo, hi, scale, bins, split);
+                    for _ in 0..20 {
+                        let t = u(0.5) + 0.5;
+                        let c = (lo + (hi - lo) * t).clamp(lo, hi);
+                        for c in [c, first, first.next_down(), first.next_up(), lo, hi, -0.0, 0.0] {
+                            if !(lo..=hi).contains(&c) {
+                                continue;
+                            }
+                            assert_eq!(
+                                c < first,
+                                bin_of(c, lo, scale, bins) < split,
+                                "{c} {lo} {hi} {bins} {split}"
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 100_000, "{checked}");
     }
 
     #[test]
