@@ -145,22 +145,28 @@ fn bins_of(c: Vec3A, lo: Vec3A, scale: Vec3A, bins: usize) -> glam::IVec3 {
 /// rounded step is monotone), a centroid goes left of the split exactly when it is less than
 /// this, one comparison instead of a bin per item. Found by bisecting the floats between.
 fn first_of_bin(lo: f32, hi: f32, scale: f32, bins: usize, split: usize) -> f32 {
-    // The floats in order as integers (negative ones reversed below the positive ones).
-    let key = |x: f32| {
-        let u = x.to_bits();
-        if u >> 31 == 1 { !u } else { u | 0x8000_0000 }
-    };
-    let float = |k: u32| f32::from_bits(if k >> 31 == 1 { k & 0x7fff_ffff } else { !k });
-    let (mut below, mut at) = (key(lo), key(hi));
+    let (mut below, mut at) = (ordered(lo), ordered(hi));
     while at - below > 1 {
         let mid = below + (at - below) / 2;
-        if bin_of(float(mid), lo, scale, bins) >= split {
+        if bin_of(unordered(mid), lo, scale, bins) >= split {
             at = mid;
         } else {
             below = mid;
         }
     }
-    float(at)
+    unordered(at)
+}
+
+/// The floats (but NaN) in their order as integers: the negative ones reversed, below the
+/// positive ones.
+fn ordered(x: f32) -> u32 {
+    let u = x.to_bits();
+    if u >> 31 == 1 { !u } else { u | 0x8000_0000 }
+}
+
+/// The float of [`ordered`] value `k`.
+fn unordered(k: u32) -> f32 {
+    f32::from_bits(if k >> 31 == 1 { k & 0x7fff_ffff } else { !k })
 }
 
 /// The binned split of least surface-area cost over the three axes, applied to `items`
@@ -339,7 +345,9 @@ mod tests {
                     for _ in 0..20 {
                         let t = u(0.5) + 0.5;
                         let c = (lo + (hi - lo) * t).clamp(lo, hi);
-                        for c in [c, first, first.next_down(), first.next_up(), lo, hi, -0.0, 0.0] {
+                        let (before, after) =
+                            (unordered(ordered(first) - 1), unordered(ordered(first) + 1));
+                        for c in [c, first, before, after, lo, hi, -0.0, 0.0] {
                             if !(lo..=hi).contains(&c) {
                                 continue;
                             }
@@ -369,7 +377,11 @@ mod tests {
                 let scale = Vec3A::splat(bins as f32) / extent;
                 // Inside the range, on its ends and beyond them (rounding puts a centroid there).
                 let c = lo + extent * Vec3A::new(u(1.2) + 0.5, u(1.2) + 0.5, u(1.2) + 0.5);
-                let ends = [lo, lo + extent, lo + extent * (bins - 1) as f32 / bins as f32];
+                let ends = [
+                    lo,
+                    lo + extent,
+                    lo + extent * (bins - 1) as f32 / bins as f32,
+                ];
                 for c in [c].into_iter().chain(ends) {
                     let all = bins_of(c, lo, scale, bins);
                     for axis in 0..3 {
