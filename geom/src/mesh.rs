@@ -346,11 +346,13 @@ fn statements(text: &str) -> Vec<(usize, Cow<'_, str>)> {
     out
 }
 
-/// Checks the statements penumbra relies on (`v` and `f`), so that errors carry a line number:
-/// `v` needs three numbers, all finite, then an optional weight `w` (finite, non-zero: a point
-/// at infinity has no place in a mesh) or three colour components; `f` needs at least three
-/// vertex references, each a non-zero integer (negative ones relative) naming a vertex defined
-/// before it.
+/// Checks the statements penumbra relies on (`v`, `f` and `l`), so that errors carry a line
+/// number: `v` needs three numbers, all finite, then an optional weight `w` (finite, non-zero: a
+/// point at infinity has no place in a mesh) or three colour components; `f` needs at least
+/// three vertex references, `l` any number, each a non-zero integer (negative ones relative)
+/// naming a vertex defined before it, and where a reference gives a texture coordinate's or a
+/// normal's index, that too is a non-zero integer, a relative one naming one defined before it
+/// and a positive one at most 2^32 - 1.
 fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), MeshError> {
     let parse_err = |line: usize, message: String| MeshError::Parse {
         path: path.to_path_buf(),
@@ -358,6 +360,7 @@ fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), Mes
         message,
     };
     let mut vertices = 0usize;
+    let (mut texcoords, mut normals) = (0usize, 0usize);
     let mut colours: Option<(bool, usize)> = None;
     for (line, raw) in statements {
         let line = *line;
@@ -451,16 +454,21 @@ fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), Mes
                 }
                 vertices += 1;
             }
-            Some("f") => {
+            Some("vt") => texcoords += 1,
+            Some("vn") => normals += 1,
+            Some(kind @ ("f" | "l")) => {
+                // The reader takes a line (`l`) of three or more points as a face, and reads
+                // both kinds of reference alike.
                 let count = words.clone().count();
-                if count < 3 {
+                if kind == "f" && count < 3 {
                     return Err(parse_err(
                         line,
                         format!("a face needs at least 3 vertices, found {count}"),
                     ));
                 }
                 for r in words {
-                    let first = r.split('/').next().unwrap_or("");
+                    let mut parts = r.split('/');
+                    let first = parts.next().unwrap_or("");
                     let i: i64 = first
                         .parse()
                         .map_err(|_| parse_err(line, format!("`{r}` is not a vertex index")))?;
@@ -473,6 +481,31 @@ fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), Mes
                                 "vertex index {i} out of range ({vertices} vertices defined so far)"
                             ),
                         ));
+                    }
+                    // A texture coordinate's and a normal's index, where given: unused here,
+                    // but the reader computes with them. Zero, or a relative one before the
+                    // first, became an index near 2^64, whose multiplication overflowed (a
+                    // panic in a build with overflow checks).
+                    for (k, part) in parts.take(2).enumerate() {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let (what, defined) = if k == 0 {
+                            ("texture coordinate", texcoords)
+                        } else {
+                            ("normal", normals)
+                        };
+                        let j: i64 = part.parse().map_err(|_| {
+                            parse_err(line, format!("`{r}`: `{part}` is not a {what} index"))
+                        })?;
+                        let ok = (j > 0 && j <= i64::from(u32::MAX))
+                            || (j < 0 && (j.unsigned_abs() as usize) <= defined);
+                        if !ok {
+                            return Err(parse_err(
+                                line,
+                                format!("{what} index {j} out of range ({defined} defined so far)"),
+                            ));
+                        }
                     }
                 }
             }
@@ -573,6 +606,41 @@ mod tests {
                 MeshError::Parse { line, .. } => assert_eq!(line, want, "{text}"),
                 other => panic!("unexpected {other}"),
             }
+        }
+    }
+
+    #[test]
+    fn texture_coordinate_and_normal_indices_are_checked_with_their_line() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+        // Relative ones before the first (the reader's index wrapped around and its arithmetic
+        // overflowed), zero, beyond 2^32 - 1, no number; and a line's (`l`) vertices.
+        for (face, what) in [
+            ("f 1/-3 2/1 3/1", "texture coordinate index -3"),
+            ("f 1//1 2//-5 3//1", "normal index -5"),
+            ("f 1/1/1 2/1/0 3/1/1", "normal index 0"),
+            (
+                "f 1//7000000000000000000 2//1 3//1",
+                "normal index 7000000000000000000",
+            ),
+            ("f 1/x 2/1 3/1", "`x` is not a texture coordinate index"),
+            ("l -9 1", "vertex index -9"),
+        ] {
+            match load_str(&format!("{head}\n{face}\n")).unwrap_err() {
+                MeshError::Parse { line, message, .. } => {
+                    assert_eq!(line, 7, "{face}");
+                    assert!(message.contains(what), "{face}: {message}");
+                }
+                other => panic!("{face}: unexpected {other}"),
+            }
+        }
+        // Given ones, relative ones, empty ones and forward ones within range load.
+        for face in [
+            "f 1/1/1 2/-1/-1 3//1",
+            "f 1/ 2// 3/1/",
+            "f 1/2 2/2 3/2\nvt 1 1",
+        ] {
+            let m = load_str(&format!("{head}{face}\n")).unwrap_or_else(|e| panic!("{face}: {e}"));
+            assert_eq!(m.triangles.len(), 1, "{face}");
         }
     }
 
