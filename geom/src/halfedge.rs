@@ -168,7 +168,9 @@ impl HalfEdgeMesh {
     /// Builds the structure from a welded triangle mesh.
     pub fn build(mesh: &TriangleMesh) -> Self {
         let mut half_edges = Vec::with_capacity(mesh.triangles.len() * 3);
-        let mut edges: Vec<Edge> = Vec::new();
+        // A closed mesh has 3/2 edges per face, an open one a few more: reserved ahead, the list
+        // is copied once at most as it grows.
+        let mut edges: Vec<Edge> = Vec::with_capacity(mesh.triangles.len() * 3 / 2 + 16);
         let mut edge_of: HashMap<u64, u32, BuildHasherDefault<EdgeKeyHasher>> =
             HashMap::with_capacity_and_hasher(mesh.triangles.len() * 2, Default::default());
         for (f, tri) in mesh.triangles.iter().enumerate() {
