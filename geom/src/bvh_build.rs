@@ -178,6 +178,10 @@ fn sah_split(items: &mut [Item], centres: &Aabb, bins: &mut [[Bin; BINS]; 3]) ->
     // sweeps cost more than the binning.
     let n_bins = items.len().min(BINS);
     let spread: [bool; 3] = std::array::from_fn(|axis| extent[axis] > 0.0);
+    if spread == [false; 3] {
+        // Coincident centroids: no split on any axis, as the sweep below would find.
+        return None;
+    }
     let scale: [f32; 3] = std::array::from_fn(|axis| n_bins as f32 / extent[axis]);
     // The three axes' bins in one pass over the items; only the `n_bins` in use are cleared
     // (clearing all of them cost more than binning the many small nodes).
