@@ -22,6 +22,10 @@ use obvhs::{
 /// Bins per axis of the SAH split search.
 const BINS: usize = 32;
 
+/// Nodes of this many items or more are partitioned by one coordinate ([`first_of_bin`]), which
+/// costs some thirty bins to find, rather than by each item's bin.
+const SPLIT_BY_COORDINATE_FROM: usize = 128;
+
 /// Levels below which only object-median splits are made. Ordinary meshes rarely need SAH splits
 /// this deep; the bound keeps the whole tree within `SAH_DEPTH + log2 N` levels, which both caps
 /// the build at O(N log N) and keeps the wide BVH's depth well inside obvhs' fixed traversal
@@ -231,8 +235,8 @@ fn sah_split(items: &mut [Item], centres: &Aabb, bins: &mut [[Bin; BINS]; 3]) ->
     }
     let (_, axis, split) = best?;
     // For a large node, the least coordinate of the right part, found once, instead of each
-    // item's bin (the search costs some thirty bins).
-    let first = (items.len() >= 128).then(|| {
+    // item's bin.
+    let first = (items.len() >= SPLIT_BY_COORDINATE_FROM).then(|| {
         first_of_bin(
             centres.min[axis],
             centres.max[axis],

@@ -483,9 +483,10 @@ fn scan_obj(path: &Path, statements: &[(usize, Cow<'_, str>)]) -> Result<(), Mes
                         ));
                     }
                     // A texture coordinate's and a normal's index, where given: unused here,
-                    // but the reader computes with them. Zero, or a relative one before the
-                    // first, became an index near 2^64, whose multiplication overflowed (a
-                    // panic in a build with overflow checks).
+                    // but the reader computes with them. A relative one two or more before the
+                    // first, or a positive one near 2^63, made its index multiplication
+                    // overflow (a panic in a build with overflow checks); zero and one just
+                    // before the first it read as no index. All of them are refused here.
                     for (k, part) in parts.take(2).enumerate() {
                         if part.is_empty() {
                             continue;

@@ -54,12 +54,6 @@ impl Region {
         Some(Region { delta, lines })
     }
 
-    /// Adds the change to the counts of the samples inside (`counts[k]` that of sample `k` of
-    /// `samples`), looking only at the samples of the sectors the cone spans. Returns whether
-    /// any was inside.
-    ///
-    /// The lines are evaluated in `f32`: their rounding (about 1e-7 of the light's half side)
-    /// is that of the reference's `f32` shadow rays.
     /// The two lines through the centre that bound its cone, whose samples
     /// [`Sectors::cone_runs`] finds.
     pub(crate) fn cone(&self) -> (DVec3, DVec3) {
