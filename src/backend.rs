@@ -7,23 +7,22 @@
 //! 1. The technique: the shadow-map techniques run on a GPU only, the references on the CPU
 //!    only; the others (`hard`, `wedges`, `wedges-blend`, `depth-complexity`) on either.
 //! 2. The back end: [`Backend::Cpu`] and [`Backend::Gpu`] are obeyed or the render is refused;
-//!    [`Backend::Auto`] takes the GPU where one opens.
-//! 3. Under [`Backend::Auto`], the CPU renders what the GPU cannot or renders slowly: more
-//!    depth-complexity samples than [`MAX_GPU_SAMPLES`] or jittered ones, depth-complexity on a
-//!    software adapter, an image wider than the GPU's textures, `wedges-blend` with more than
-//!    [`MAX_GPU_BLEND_UNITS`] blending units, a triangle wider than [`MAX_GPU_EXTENT_RATIO`]
-//!    times the eye's distance to the light's centre ([`extent_ratio`]: the GPU's 32-bit floats
-//!    misplace shadows beyond). Under [`Backend::Gpu`] the first and third are refused, and the
-//!    last renders on the GPU with a warning ([`crate::Warning::GpuExtent`]).
+//!    [`Backend::Auto`] takes the GPU where one opens, except for `depth-complexity`, which it
+//!    renders on the CPU without opening one: the CPU renderer is faster than the GPU's
+//!    counting pass on every device measured, lavapipe and an NVIDIA H200 alike
+//!    (`docs/benchmarks.md`).
+//! 3. Under [`Backend::Auto`], the CPU renders what the GPU cannot or renders slowly: an image
+//!    wider than the GPU's textures, `wedges-blend` with more than [`MAX_GPU_BLEND_UNITS`]
+//!    blending units, a triangle wider than [`MAX_GPU_EXTENT_RATIO`] times the eye's distance
+//!    to the light's centre ([`extent_ratio`]: the GPU's 32-bit floats misplace shadows
+//!    beyond). Under [`Backend::Gpu`] the first is refused, and the last renders on the GPU
+//!    with a warning ([`crate::Warning::GpuExtent`]); so are more depth-complexity samples
+//!    than [`MAX_GPU_SAMPLES`] or jittered ones.
 //! 4. An image the memory available would not hold is refused, before anything is allocated.
-//! 5. Under [`Backend::Auto`], a GPU depth-complexity render that the device would cut short,
-//!    or whose buffers exceed the device's, is rendered again on the CPU
-//!    ([`Choice::cpu_after`]).
 
 use std::fmt;
 
 use penumbra_geom::{Scene, Technique};
-use penumbra_gpu::GpuError;
 
 use crate::error::{MissingGpu, RenderError};
 use crate::options::RenderOptions;
@@ -119,7 +118,7 @@ const GPU_BYTES_PER_PIXEL: u64 = 128;
 /// (V, and each pixel's state and counts, bounded by one storage binding of `max_binding`
 /// bytes: [`penumbra_gpu::count_buffer_bytes`], the figure its allocation uses). A frame whose
 /// buffer would not fit one binding is refused by the GPU before it allocates it
-/// ([`GpuError::TooLarge`]), and adds nothing here.
+/// ([`penumbra_gpu::GpuError::TooLarge`]), and adds nothing here.
 fn gpu_bytes(
     technique: Technique,
     (width, height): (u32, u32),
@@ -157,21 +156,11 @@ pub enum Reason {
         /// Why there is none.
         missing: MissingGpu,
     },
-    /// Under [`Backend::Auto`]: depth-complexity samples that the GPU does not take.
-    GpuSamples {
-        /// The samples asked for.
-        samples: usize,
-        /// Whether jittered.
-        jitter: bool,
-        /// The most the GPU takes.
-        max: u32,
-    },
-    /// Under [`Backend::Auto`]: depth-complexity on a software adapter, on which it takes 18 to
-    /// 22 times the CPU renderer's time (`docs/benchmarks.md`).
-    SoftwareAdapter {
-        /// The adapter's description.
-        adapter: String,
-    },
+    /// Under [`Backend::Auto`]: depth-complexity sampling, which the CPU renders faster than
+    /// the GPU's counting pass (`docs/benchmarks.md`: on lavapipe the pass takes 19 to 28 times
+    /// the CPU renderer's frame, and on an NVIDIA H200 still 1.8 to 3 times its frame on this
+    /// project's 2-core machine).
+    CountingOnCpu,
     /// Under [`Backend::Auto`]: an image wider or taller than the GPU's textures.
     TooLargeForGpu {
         /// The GPU's largest texture side.
@@ -198,19 +187,9 @@ impl fmt::Display for Reason {
             Reason::GpuOnlyTechnique => f.write_str("a shadow-map technique runs on a GPU only"),
             Reason::CpuOnlyTechnique => f.write_str("the references run on the CPU only"),
             Reason::NoGpu { missing } => write!(f, "no GPU: {missing}"),
-            Reason::GpuSamples {
-                samples,
-                jitter,
-                max,
-            } => write!(
-                f,
-                "the GPU takes up to {max} multi-jittered samples, not {samples}{}",
-                if *jitter { " jittered" } else { "" }
-            ),
-            Reason::SoftwareAdapter { adapter } => write!(
-                f,
-                "{adapter} is a software adapter, on which the CPU renders depth-complexity faster"
-            ),
+            Reason::CountingOnCpu => {
+                f.write_str("the CPU renders depth-complexity faster than a GPU's counting pass")
+            }
             Reason::TooLargeForGpu { max_side } => write!(
                 f,
                 "the GPU's textures are at most {max_side} pixels on a side"
@@ -235,19 +214,6 @@ pub struct Choice {
     pub placement: Placement,
     /// Why there.
     pub reason: Reason,
-    backend: Backend,
-    technique: Technique,
-}
-
-impl Choice {
-    /// Whether a GPU render that failed with `error` is rendered again on the CPU: under
-    /// [`Backend::Auto`], depth-complexity sampling that a software device would cut short, or
-    /// whose buffers exceed the device's.
-    pub fn cpu_after(&self, error: &GpuError) -> bool {
-        self.backend == Backend::Auto
-            && self.technique == Technique::DepthComplexity
-            && matches!(error, GpuError::CutShort { .. } | GpuError::TooLarge { .. })
-    }
 }
 
 /// What a render asks of the policy.
@@ -270,8 +236,6 @@ pub struct Request<'a> {
 pub struct GpuOffer {
     /// The adapter's description (`GpuContext::describe`).
     pub adapter: String,
-    /// Whether the adapter is a software one (Mesa's lavapipe).
-    pub software: bool,
     /// The largest texture side it takes.
     pub max_texture_side: u32,
     /// The most bytes one storage binding holds ([`penumbra_gpu::storage_binding_limit`]):
@@ -329,6 +293,9 @@ pub(crate) fn place_technique(
         },
         (Runs::CpuOnly, _) => Ok((Placement::Cpu, Reason::CpuOnlyTechnique, None)),
         (Runs::Either, Backend::Cpu) => Ok((Placement::Cpu, Reason::Chosen, None)),
+        (Runs::Either, Backend::Auto) if technique == Technique::DepthComplexity => {
+            Ok((Placement::Cpu, Reason::CountingOnCpu, None))
+        }
         (Runs::Either, Backend::Auto) => match gpu() {
             Ok(offer) => Ok((Placement::Gpu, Reason::Chosen, Some(offer))),
             Err(missing) => Ok((Placement::Cpu, Reason::NoGpu { missing }, None)),
@@ -377,12 +344,7 @@ pub fn choose(request: &Request, machine: &mut dyn Machine) -> Result<Choice, Re
             available,
         });
     }
-    Ok(Choice {
-        placement,
-        reason,
-        backend,
-        technique,
-    })
+    Ok(Choice { placement, reason })
 }
 
 /// The third rule, for a render the first two placed on the GPU that `offer` describes: why the
@@ -400,26 +362,14 @@ fn gpu_limits(
         height,
     } = *request;
     let auto = backend == Backend::Auto;
+    // Under Auto the first two rules placed depth-complexity on the CPU.
     let counting = technique == Technique::DepthComplexity;
     if counting && (options.jitter || options.samples > MAX_GPU_SAMPLES as usize) {
-        let (samples, jitter, max) = (options.samples, options.jitter, MAX_GPU_SAMPLES);
-        if !auto {
-            return Err(RenderError::GpuSamples {
-                samples,
-                jitter,
-                max,
-            });
-        }
-        return Ok(Some(Reason::GpuSamples {
-            samples,
-            jitter,
-            max,
-        }));
-    }
-    if counting && offer.software && auto {
-        return Ok(Some(Reason::SoftwareAdapter {
-            adapter: offer.adapter,
-        }));
+        return Err(RenderError::GpuSamples {
+            samples: options.samples,
+            jitter: options.jitter,
+            max: MAX_GPU_SAMPLES,
+        });
     }
     let max_side = offer.max_texture_side;
     if width > max_side || height > max_side {

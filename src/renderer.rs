@@ -6,9 +6,9 @@ use std::sync::Arc;
 use penumbra_geom::{Channel, VisibilityChannels, VisibilityImage};
 use penumbra_geom::{Scene, Technique};
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
-use penumbra_volumes::{SamplePattern, Volumes};
+use penumbra_volumes::Volumes;
 
-use crate::backend::{self, Backend, Choice, GpuOffer, Machine, Placement, Reason, Request};
+use crate::backend::{self, Backend, GpuOffer, Machine, Placement, Reason, Request};
 use crate::error::{MissingGpu, RenderError};
 use crate::frame::{self, Frame};
 use crate::options::RenderOptions;
@@ -44,7 +44,6 @@ impl GpuState {
         let ctx = self.open()?;
         Ok(GpuOffer {
             adapter: ctx.describe(),
-            software: ctx.info.device_type == penumbra_gpu::wgpu::DeviceType::Cpu,
             max_texture_side: ctx.device.limits().max_texture_dimension_2d,
             max_storage_binding: penumbra_gpu::storage_binding_limit(&ctx.device.limits()),
         })
@@ -249,12 +248,11 @@ impl Renderer {
                     built = Some(Volumes::build(scene));
                 }
                 let volumes = volumes.or(built.as_ref());
-                self.render_gpu(scene, &request, pattern, volumes, &choice, progress)?
+                self.render_gpu(scene, &request, volumes)?
             }
             Placement::Cpu => {
                 let mut frame = crate::cpu::render(scene, technique, pattern, progress);
-                if let Reason::SoftwareAdapter { .. } | Reason::WideTriangle { .. } = choice.reason
-                {
+                if let Reason::WideTriangle { .. } = choice.reason {
                     frame.detail = format!("{}; {}", frame.detail, choice.reason);
                 }
                 frame
@@ -264,16 +262,12 @@ impl Renderer {
         Ok(frame)
     }
 
-    /// Renders on the GPU the policy placed it on; under [`Backend::Auto`], depth-complexity
-    /// sampling that the device cannot finish goes to the CPU ([`Choice::cpu_after`]).
+    /// Renders on the GPU the policy placed it on.
     fn render_gpu(
         &mut self,
         scene: &Scene,
         request: &Request,
-        pattern: SamplePattern,
         volumes: Option<&Volumes>,
-        choice: &Choice,
-        progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Frame, RenderError> {
         let (technique, options) = (request.technique, request.options);
         let ctx = match &self.gpu {
@@ -309,14 +303,7 @@ impl Renderer {
             .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
         r.set_counters(self.counters);
         if technique == Technique::DepthComplexity {
-            let out = match r.render_depth_complexity(scene, options.samples as u32) {
-                Err(e) if choice.cpu_after(&e) => {
-                    let mut f = crate::cpu::render(scene, technique, pattern, progress);
-                    f.detail = format!("{} ({e})", f.detail);
-                    return Ok(f);
-                }
-                other => other?,
-            };
+            let out = r.render_depth_complexity(scene, options.samples as u32)?;
             let mut detail = format!(
                 "gpu: {}, {} multi-jittered samples, {} potential silhouette edges of {}, \
                  {} edge-list entries",
