@@ -264,11 +264,18 @@ impl PotentialEdges {
         let (centre, half) = (0.5 * (lo + hi) - e.a, 0.5 * (hi - lo));
         let range = |n: DVec3| {
             let (mid, spread) = (n.dot(centre), n.abs().dot(half));
-            let margin = 1e-9 * (n.length() * centre.length() + spread);
-            (mid - spread - margin, mid + spread + margin)
+            (mid - spread, mid + spread, spread)
         };
-        let ((lo0, hi0), (lo1, hi1)) = (range(f0.normal), range(f1.normal));
-        !((lo0 > 0.0 && hi1 < 0.0) || (hi0 < 0.0 && lo1 > 0.0))
+        let ((lo0, hi0, s0), (lo1, hi1, s1)) = (range(f0.normal), range(f1.normal));
+        // The margins only widen the ranges: a box that straddles a plane without them does
+        // with them, so they are computed (square roots) only for the boxes left.
+        if !((lo0 > 0.0 && hi1 < 0.0) || (hi0 < 0.0 && lo1 > 0.0)) {
+            return true;
+        }
+        let c = centre.length();
+        let margin = |n: DVec3, spread: f64| 1e-9 * (n.length() * c + spread);
+        let (m0, m1) = (margin(f0.normal, s0), margin(f1.normal, s1));
+        !((lo0 - m0 > 0.0 && hi1 + m1 < 0.0) || (hi0 + m0 < 0.0 && lo1 - m1 > 0.0))
     }
 
     /// Calls `f` with every edge that may meet the pyramid from the light-space point `p`
