@@ -15,9 +15,9 @@
 //!    wider than the GPU's textures, `wedges-blend` with more than [`MAX_GPU_BLEND_UNITS`]
 //!    blending units, a triangle wider than [`MAX_GPU_EXTENT_RATIO`] times the eye's distance
 //!    to the light's centre ([`extent_ratio`]: the GPU's 32-bit floats misplace shadows
-//!    beyond). Under [`Backend::Gpu`] the first is refused, and the last renders on the GPU
-//!    with a warning ([`crate::Warning::GpuExtent`]); so are more depth-complexity samples
-//!    than [`MAX_GPU_SAMPLES`] or jittered ones.
+//!    beyond). Under [`Backend::Gpu`] the first is refused, as are more depth-complexity
+//!    samples than [`MAX_GPU_SAMPLES`] or jittered ones, and the last renders on the GPU with a
+//!    warning ([`crate::Warning::GpuExtent`]).
 //! 4. An image the memory available would not hold is refused, before anything is allocated.
 
 use std::fmt;
