@@ -267,15 +267,18 @@ impl PotentialEdges {
             (mid - spread, mid + spread, spread)
         };
         let ((lo0, hi0, s0), (lo1, hi1, s1)) = (range(f0.normal), range(f1.normal));
+        // Apart with the ranges widened by margins `m0` and `m1`.
+        let apart = |m0: f64, m1: f64| {
+            (lo0 - m0 > 0.0 && hi1 + m1 < 0.0) || (hi0 + m0 < 0.0 && lo1 - m1 > 0.0)
+        };
         // The margins only widen the ranges: a box that straddles a plane without them does
         // with them, so they are computed (square roots) only for the boxes left.
-        if !((lo0 > 0.0 && hi1 < 0.0) || (hi0 < 0.0 && lo1 > 0.0)) {
+        if !apart(0.0, 0.0) {
             return true;
         }
         let c = centre.length();
         let margin = |n: DVec3, spread: f64| 1e-9 * (n.length() * c + spread);
-        let (m0, m1) = (margin(f0.normal, s0), margin(f1.normal, s1));
-        !((lo0 - m0 > 0.0 && hi1 + m1 < 0.0) || (hi0 + m0 < 0.0 && lo1 - m1 > 0.0))
+        !apart(margin(f0.normal, s0), margin(f1.normal, s1))
     }
 
     /// Calls `f` with every edge that may meet the pyramid from the light-space point `p`
