@@ -28,8 +28,10 @@ pub(crate) struct Candidates {
     /// `(MARGIN |n_k|)^2`.
     t0: Vec<f32>,
     t1: Vec<f32>,
-    /// What the last pre-test kept.
-    pub(crate) keep: Vec<bool>,
+    /// Whether the last pre-test kept each.
+    keep: Vec<bool>,
+    /// The indices (into `ids` and `edges`) of those it kept, in order.
+    pub(crate) kept: Vec<u32>,
 }
 
 /// What the pre-test reads for an edge without exactly two faces: a zero normal, never dropped.
@@ -73,7 +75,7 @@ impl Candidates {
         self.t1.push(t(n1));
     }
 
-    /// Marks in `keep` the edges that may change a count seen from `p`; `r2` is `R^2`.
+    /// Lists in `kept` the edges that may change a count seen from `p`; `r2` is `R^2`.
     pub(crate) fn pretest(&mut self, p: DVec3, r2: f32) {
         let n = self.ids.len();
         self.keep.clear();
@@ -92,5 +94,14 @@ impl Candidates {
             let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
             keep[k] = !apart;
         }
+        // The list without a branch: every index is written, and the count moves past the kept.
+        self.kept.clear();
+        self.kept.resize(n + 1, 0);
+        let mut count = 0;
+        for (k, &kept) in keep.iter().enumerate() {
+            self.kept[count] = k as u32;
+            count += usize::from(kept);
+        }
+        self.kept.truncate(count);
     }
 }

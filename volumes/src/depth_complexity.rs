@@ -273,14 +273,13 @@ impl DepthComplexity {
         candidates.pretest(pl, self.reach2);
         let regions = &mut scratch.regions;
         regions.clear();
-        for (k, (e, two)) in candidates.edges.iter().enumerate() {
-            if candidates.keep[k] {
-                let faces = match e.face_count {
-                    2 => &two[..],
-                    _ => self.edges.faces_of(e),
-                };
-                regions.extend(edge_region(e, faces, pl, &pyramid, p.triangle));
-            }
+        for &k in &candidates.kept {
+            let (e, two) = &candidates.edges[k as usize];
+            let faces = match e.face_count {
+                2 => &two[..],
+                _ => self.edges.faces_of(e),
+            };
+            regions.extend(edge_region(e, faces, pl, &pyramid, p.triangle));
         }
         regions.extend(
             self.edges
@@ -319,7 +318,7 @@ impl DepthComplexity {
         !complete
             || at.get(at.len() / 2).is_some_and(|&m| {
                 candidates.pretest(m, self.reach2);
-                let kept = candidates.keep.iter().filter(|&&k| k).count();
+                let kept = candidates.kept.len();
                 kept as f64 > self.cast_from.kept * samples as f64
             })
     }
