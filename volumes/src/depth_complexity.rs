@@ -76,8 +76,9 @@ pub struct PointVisibility {
 /// Per-thread working memory of [`DepthComplexity::visibility`].
 #[derive(Default)]
 pub struct Scratch {
+    /// The samples of a pixel that casts them.
     points: Vec<DVec2>,
-    /// The points in `f32`, in the pattern's order.
+    /// Those of a pixel that counts them, in `f32`, in the pattern's order.
     xs: Vec<f32>,
     ys: Vec<f32>,
     /// The same, sorted by their angle around the light's centre, for points with many regions.
@@ -128,12 +129,8 @@ impl Scratch {
             self.counts.push(0);
             return 0;
         }
-        pattern.points(pixel, &mut self.points);
-        self.xs.clear();
-        self.xs.extend(self.points.iter().map(|q| q.x as f32));
-        self.ys.clear();
-        self.ys.extend(self.points.iter().map(|q| q.y as f32));
-        self.counts.resize(self.points.len(), 0);
+        pattern.points_f32(pixel, &mut self.xs, &mut self.ys);
+        self.counts.resize(self.xs.len(), 0);
         let counts = &mut self.counts;
         if self.regions.len() < SORT_FROM {
             self.regions

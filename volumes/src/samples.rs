@@ -31,43 +31,72 @@ impl SamplePattern {
     /// The pattern's points for camera pixel `pixel` (`y * width + x`), in `[-1, 1]^2`, row by
     /// row: sample `j * N + i` lies in cell `(i, j)`.
     pub fn points(&self, pixel: u64, out: &mut Vec<DVec2>) {
-        let n = self.per_axis;
-        let cell = 2.0 / n as f64;
         out.clear();
         if self.jitter {
             let mut rng = Rng::stream(REFERENCE_SEED, pixel);
-            out.extend(RectLight::stratified_samples(n, &mut rng));
+            out.extend(RectLight::stratified_samples(self.per_axis, &mut rng));
         } else {
-            let seed = (pixel ^ (pixel >> 32)) as u32;
-            let m = n as u32;
-            let fine = 1.0 / n as f64;
-            // The fine column within cell (i, j) is a permutation of the row index j, the fine
-            // row one of the column index i: one point per fine row and column.
-            // The row permutation, on the stack for up to 256 per axis (65,536 samples).
-            let mut rows_stack = [0u32; 256];
-            let mut rows_heap = Vec::new();
-            let rows: &mut [u32] = if n <= 256 {
-                &mut rows_stack[..n]
-            } else {
-                rows_heap.resize(n, 0);
-                &mut rows_heap
-            };
-            for (i, r) in rows.iter_mut().enumerate() {
-                *r = permute(i as u32, m, seed.wrapping_mul(0xa511_e9b3));
+            out.resize(self.per_axis * self.per_axis, DVec2::ZERO);
+            self.each_multi_jittered(pixel, |k, x, y| out[k] = DVec2::new(x, y));
+        }
+    }
+
+    /// [`SamplePattern::points`] rounded to `f32`, their `x` in `xs` and `y` in `ys`.
+    pub(crate) fn points_f32(&self, pixel: u64, xs: &mut Vec<f32>, ys: &mut Vec<f32>) {
+        xs.clear();
+        ys.clear();
+        if self.jitter {
+            let mut rng = Rng::stream(REFERENCE_SEED, pixel);
+            for q in RectLight::stratified_samples(self.per_axis, &mut rng) {
+                xs.push(q.x as f32);
+                ys.push(q.y as f32);
             }
-            out.reserve(n * n);
-            for j in 0..m {
-                let sx = permute(j, m, seed.wrapping_mul(0x63d8_3595));
-                for (i, &sy) in rows.iter().enumerate() {
-                    let s = j * m + i as u32;
-                    // Both jitters from one hash, 16 bits each: a 65,536th of a fine cell.
-                    let h = hash(s, seed.wrapping_mul(0xa399_d265));
-                    let jx = (h & 0xffff) as f64 / 65_536.0;
-                    let jy = (h >> 16) as f64 / 65_536.0;
-                    let x = (i as f64 + (sx as f64 + jx) * fine) * cell;
-                    let y = (j as f64 + (sy as f64 + jy) * fine) * cell;
-                    out.push(DVec2::new(-1.0 + x, -1.0 + y));
-                }
+        } else {
+            let n = self.per_axis * self.per_axis;
+            xs.resize(n, 0.0);
+            ys.resize(n, 0.0);
+            let (xs, ys) = (&mut xs[..n], &mut ys[..n]);
+            self.each_multi_jittered(pixel, |k, x, y| {
+                xs[k] = x as f32;
+                ys[k] = y as f32;
+            });
+        }
+    }
+
+    /// Calls `f(k, x, y)` for the `k`-th correlated multi-jittered point `(x, y)` of `pixel`,
+    /// `k` from 0 to `N² - 1` in the order of [`SamplePattern::points`].
+    #[inline(always)]
+    fn each_multi_jittered(&self, pixel: u64, mut f: impl FnMut(usize, f64, f64)) {
+        let n = self.per_axis;
+        let cell = 2.0 / n as f64;
+        let seed = (pixel ^ (pixel >> 32)) as u32;
+        let m = n as u32;
+        let fine = 1.0 / n as f64;
+        // The fine column within cell (i, j) is a permutation of the row index j, the fine
+        // row one of the column index i: one point per fine row and column.
+        // The row permutation, on the stack for up to 256 per axis (65,536 samples).
+        let mut rows_stack = [0u32; 256];
+        let mut rows_heap = Vec::new();
+        let rows: &mut [u32] = if n <= 256 {
+            &mut rows_stack[..n]
+        } else {
+            rows_heap.resize(n, 0);
+            &mut rows_heap
+        };
+        for (i, r) in rows.iter_mut().enumerate() {
+            *r = permute(i as u32, m, seed.wrapping_mul(0xa511_e9b3));
+        }
+        for j in 0..m {
+            let sx = permute(j, m, seed.wrapping_mul(0x63d8_3595));
+            for (i, &sy) in rows.iter().enumerate() {
+                let s = j * m + i as u32;
+                // Both jitters from one hash, 16 bits each: a 65,536th of a fine cell.
+                let h = hash(s, seed.wrapping_mul(0xa399_d265));
+                let jx = (h & 0xffff) as f64 / 65_536.0;
+                let jy = (h >> 16) as f64 / 65_536.0;
+                let x = (i as f64 + (sx as f64 + jx) * fine) * cell;
+                let y = (j as f64 + (sy as f64 + jy) * fine) * cell;
+                f(s as usize, -1.0 + x, -1.0 + y);
             }
         }
     }
