@@ -95,6 +95,9 @@ impl Candidates {
             keep[k] = !apart;
         }
         // The list without a branch: every index is written, and the count moves past the kept.
+        // A pass of its own: written inside the test's loop, the list's count chains its steps,
+        // and the test no longer runs four edges at a time (with every tile of the scale scene
+        // counting, the render took 12% longer than with no list at all).
         self.kept.clear();
         self.kept.resize(n + 1, 0);
         let mut count = 0;
