@@ -32,7 +32,8 @@ const SPLIT_BY_COORDINATE_FROM: usize = 128;
 /// stack of 32 node groups.
 const SAH_DEPTH: usize = 48;
 
-/// A node still to be built: the primitives `items[start..end]`, to be stored at `nodes[node]`.
+/// A node still to be built by [`build_serial`]: the primitives `items[start..end]` of its
+/// subtree, to be stored at index `node` of the whole array.
 struct Task {
     node: usize,
     start: usize,
@@ -49,9 +50,19 @@ struct Item {
     index: u32,
 }
 
+/// Subtrees of this many primitives or more build their two halves on two threads. The tree
+/// is the same on any number of threads: each node's split depends only on its primitives, and
+/// each subtree's nodes have their place in the array before it is built ([`build_subtree`]).
+const PARALLEL_FROM: usize = 4096;
+
 /// Builds a binary BVH over `boxes` (primitive `i` has the `i`-th box): one primitive per leaf,
 /// the root at index 0, both children of an inner node adjacent and after their parent.
 pub fn build_bvh2(boxes: impl IntoIterator<Item = Aabb>) -> Bvh2 {
+    build_bvh2_from(boxes, PARALLEL_FROM)
+}
+
+/// [`build_bvh2`], splitting subtrees of `parallel_from` primitives or more over threads.
+fn build_bvh2_from(boxes: impl IntoIterator<Item = Aabb>, parallel_from: usize) -> Bvh2 {
     let mut items: Vec<Item> = boxes
         .into_iter()
         .zip(0u32..)
@@ -61,47 +72,19 @@ pub fn build_bvh2(boxes: impl IntoIterator<Item = Aabb>) -> Bvh2 {
     if n == 0 {
         return Bvh2::default();
     }
-    let mut nodes = Vec::with_capacity(2 * n - 1);
-    nodes.push(Bvh2Node::default());
-    let mut stack = vec![Task {
-        node: 0,
-        start: 0,
-        end: n,
-        depth: 0,
-    }];
-    let mut max_depth = 0;
-    let mut bins = [[(Aabb::empty(), 0u32); BINS]; 3];
-    while let Some(task) = stack.pop() {
-        max_depth = max_depth.max(task.depth);
-        let items = &mut items[task.start..task.end];
-        let (bounds, centres) = bounds_of(items);
-        if items.len() == 1 {
-            nodes[task.node] = Bvh2Node::new(bounds, 1, task.start as u32);
-            continue;
-        }
-        let sah = if task.depth < SAH_DEPTH {
-            sah_split(items, &centres, &mut bins)
-        } else {
-            None
-        };
-        let mid = sah.unwrap_or_else(|| median_split(items, &centres));
-        let left = nodes.len();
-        nodes.push(Bvh2Node::default());
-        nodes.push(Bvh2Node::default());
-        nodes[task.node] = Bvh2Node::new(bounds, 0, left as u32);
-        stack.push(Task {
-            node: left + 1,
-            start: task.start + mid,
-            end: task.end,
-            depth: task.depth + 1,
-        });
-        stack.push(Task {
-            node: left,
-            start: task.start,
-            end: task.start + mid,
-            depth: task.depth + 1,
-        });
-    }
+    let mut nodes = vec![Bvh2Node::default(); 2 * n - 1];
+    let (root, below) = nodes.split_first_mut().expect("n > 0");
+    let max_depth = build_subtree(
+        Subtree {
+            items: &mut items,
+            first_item: 0,
+            node: root,
+            below,
+            first_below: 1,
+            depth: 0,
+        },
+        parallel_from,
+    );
     Bvh2 {
         nodes,
         primitive_indices: items.iter().map(|i| i.index).collect(),
@@ -109,6 +92,128 @@ pub fn build_bvh2(boxes: impl IntoIterator<Item = Aabb>) -> Bvh2 {
         max_depth: DEFAULT_MAX_STACK_DEPTH.max(max_depth + 1),
         ..Bvh2::default()
     }
+}
+
+/// A subtree to build: its primitives `items` (at `first_item` in the whole list), its root
+/// `node` and the `2 n - 2` nodes below it, `below`, which are the array's from `first_below`.
+///
+/// Nodes are placed depth first, a node's two children side by side: below a node come its
+/// children, then everything below the first child (`2 n_left - 2` nodes), then everything
+/// below the second. So once a node is split, where each part of its subtree goes is known.
+struct Subtree<'a> {
+    items: &'a mut [Item],
+    first_item: usize,
+    node: &'a mut Bvh2Node,
+    below: &'a mut [Bvh2Node],
+    first_below: usize,
+    depth: usize,
+}
+
+/// The split of a node of `depth`: binned SAH near the top, else (or without one) the median.
+fn split(items: &mut [Item], centres: &Aabb, depth: usize, bins: &mut [[Bin; BINS]; 3]) -> usize {
+    let sah = if depth < SAH_DEPTH {
+        sah_split(items, centres, bins)
+    } else {
+        None
+    };
+    sah.unwrap_or_else(|| median_split(items, centres))
+}
+
+/// Builds `t`, the halves of subtrees of `parallel_from` primitives or more on two threads;
+/// returns its depth below the tree's root.
+fn build_subtree(t: Subtree, parallel_from: usize) -> usize {
+    if t.items.len() < parallel_from {
+        return build_serial(t);
+    }
+    let (bounds, centres) = bounds_of(t.items);
+    let mid = split(
+        t.items,
+        &centres,
+        t.depth,
+        &mut [[(Aabb::empty(), 0u32); BINS]; 3],
+    );
+    *t.node = Bvh2Node::new(bounds, 0, t.first_below as u32);
+    let (pair, rest) = t.below.split_at_mut(2);
+    let (left_node, right_node) = pair.split_at_mut(1);
+    let (left_below, right_below) = rest.split_at_mut(2 * mid - 2);
+    let (left_items, right_items) = t.items.split_at_mut(mid);
+    let (left, right) = rayon::join(
+        || {
+            build_subtree(
+                Subtree {
+                    items: left_items,
+                    first_item: t.first_item,
+                    node: &mut left_node[0],
+                    below: left_below,
+                    first_below: t.first_below + 2,
+                    depth: t.depth + 1,
+                },
+                parallel_from,
+            )
+        },
+        || {
+            build_subtree(
+                Subtree {
+                    items: right_items,
+                    first_item: t.first_item + mid,
+                    node: &mut right_node[0],
+                    below: right_below,
+                    first_below: t.first_below + 2 * mid,
+                    depth: t.depth + 1,
+                },
+                parallel_from,
+            )
+        },
+    );
+    left.max(right)
+}
+
+/// Builds `t` on this thread, a node at a time from a stack; returns its depth below the
+/// tree's root.
+fn build_serial(t: Subtree) -> usize {
+    // The root's index, not in `below`: one before the first of those.
+    let root = t.first_below - 1;
+    let (node, below) = (t.node, t.below);
+    let mut stack = vec![Task {
+        node: root,
+        start: 0,
+        end: t.items.len(),
+        depth: t.depth,
+    }];
+    let mut next = t.first_below;
+    let mut max_depth = t.depth;
+    let mut bins = [[(Aabb::empty(), 0u32); BINS]; 3];
+    while let Some(task) = stack.pop() {
+        max_depth = max_depth.max(task.depth);
+        let items = &mut t.items[task.start..task.end];
+        let (bounds, centres) = bounds_of(items);
+        let built = if items.len() == 1 {
+            Bvh2Node::new(bounds, 1, (t.first_item + task.start) as u32)
+        } else {
+            let mid = split(items, &centres, task.depth, &mut bins);
+            let left = next;
+            next += 2;
+            stack.push(Task {
+                node: left + 1,
+                start: task.start + mid,
+                end: task.end,
+                depth: task.depth + 1,
+            });
+            stack.push(Task {
+                node: left,
+                start: task.start,
+                end: task.start + mid,
+                depth: task.depth + 1,
+            });
+            Bvh2Node::new(bounds, 0, left as u32)
+        };
+        if task.node == root {
+            *node = built;
+        } else {
+            below[task.node - t.first_below] = built;
+        }
+    }
+    max_depth
 }
 
 /// The union of the items' boxes and the bounds of their centroids.
@@ -439,6 +544,38 @@ mod tests {
             })
             .collect();
         assert_shallow(&octaves);
+    }
+
+    #[test]
+    fn threads_build_the_tree_one_thread_builds() {
+        let mut rng = crate::Rng::stream(13, 0);
+        let mut u = || rng.next_f64() as f32;
+        let random: Vec<Aabb> = (0..20_000)
+            .map(|_| {
+                let lo = [u() * 10.0, u() * 10.0, u() * 10.0];
+                aabb(lo, [lo[0] + u(), lo[1] + u() * 0.1, lo[2] + u()])
+            })
+            .collect();
+        let same = vec![aabb([0.0; 3], [1.0, 0.0, 1.0]); 3000];
+        let nested: Vec<Aabb> = (0..3000)
+            .map(|i| aabb([0.0; 3], [1.001f32.powi(i), 1.0, 1.001f32.powi(i)]))
+            .collect();
+        for boxes in [random, same, nested] {
+            let one = build_bvh2_from(boxes.iter().copied(), usize::MAX);
+            check(&one, &boxes);
+            for from in [2, 3, 100, 4096] {
+                let many = build_bvh2_from(boxes.iter().copied(), from);
+                let key = |b: &Bvh2| -> Vec<_> {
+                    b.nodes
+                        .iter()
+                        .map(|n| (*n.aabb(), n.prim_count, n.first_index))
+                        .collect()
+                };
+                assert!(key(&one) == key(&many), "nodes differ from {from}");
+                assert_eq!(one.primitive_indices, many.primitive_indices);
+                assert_eq!(one.max_depth, many.max_depth);
+            }
+        }
     }
 
     #[test]
