@@ -471,40 +471,22 @@ pub(crate) fn part_within(x: DVec2) -> Option<usize> {
     }
 }
 
-/// Whether the segment `a b` meets the square `[-1, 1]^2` (Liang & Barsky 1984).
+/// Whether the segment `a b` meets the closed square `[-1, 1]^2`.
 ///
-/// The segment `a + t (b - a)`, `0 <= t <= 1`, is inside the side `(p, q)` where `p t <= q`.
-/// A side with `q >= 0` (`a` inside it) can only lower the exit `t1`, and from 1 to no less
-/// than 0; one with `q < 0` rules the segment out unless it enters there (`p < 0`), which raises
-/// the entry `t0`. So `t0` comes first, and the exits, with their divisions, are only needed
-/// when `a` lies outside the square: the same answer as the textbook loop, bit for bit, since
-/// each ratio is the same division.
+/// Two disjoint convex polygons have a separating line parallel to a side of one of them: here
+/// a side of the square (the segment's bounding box lies beyond it) or the segment's own line
+/// (the square's four corners lie strictly on one side of it). The corners' side is
+/// `k + (d.x c.y - d.y c.x)` with `d = b - a` and `k` its value at the centre, whose extremes
+/// over the corners are `k ± (|d.x| + |d.y|)`. No division: the test runs for every candidate
+/// wedge of every pixel. Rounding decides only ties, a segment through a corner or along a
+/// side to within rounding of its coordinates, where Liang and Barsky's clipping (1984) may
+/// answer the other way (`volumes/src/wedge_tests.rs`).
 #[inline]
 pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
+    if a.x.min(b.x) > 1.0 || a.x.max(b.x) < -1.0 || a.y.min(b.y) > 1.0 || a.y.max(b.y) < -1.0 {
+        return false;
+    }
     let d = b - a;
-    let sides = [
-        (-d.x, a.x + 1.0),
-        (d.x, 1.0 - a.x),
-        (-d.y, a.y + 1.0),
-        (d.y, 1.0 - a.y),
-    ];
-    let mut t0 = 0.0f64;
-    for (p, q) in sides {
-        if q < 0.0 {
-            if p >= 0.0 {
-                return false;
-            }
-            t0 = t0.max(q / p);
-        }
-    }
-    if !(t0 > 0.0) {
-        return true;
-    }
-    let mut t1 = 1.0f64;
-    for (p, q) in sides {
-        if q >= 0.0 && p > 0.0 {
-            t1 = t1.min(q / p);
-        }
-    }
-    t0 <= t1
+    let (k, r) = (d.y * a.x - d.x * a.y, d.x.abs() + d.y.abs());
+    !(k - r > 0.0 || k + r < 0.0)
 }

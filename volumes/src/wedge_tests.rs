@@ -202,7 +202,7 @@ fn plain_meets_square(a: DVec2, b: DVec2) -> bool {
 }
 
 #[test]
-fn segment_meets_square_matches_the_textbook_loop() {
+fn segment_meets_square_as_the_textbook_loop_does_but_for_ties() {
     let mut rng = Rng::new(0x51de);
     // Coordinates on the square's lines and corners, just off them, and anywhere.
     let coord = |rng: &mut Rng| match rng.below(5) {
@@ -211,13 +211,45 @@ fn segment_meets_square_matches_the_textbook_loop() {
         2 => rng.range(-1.0, 1.0),
         _ => rng.range(-4.0, 4.0),
     };
-    let mut met = 0;
+    // The textbook loop on the square grown or shrunk by a relative `1e-12`, far beyond
+    // rounding: a segment that meets the smaller square meets this one, one that misses the
+    // larger misses it; between the two lie the ties, which either answer may decide.
+    let scaled = |a: DVec2, b: DVec2, s: f64| plain_meets_square(a / s, b / s);
+    let (mut met, mut missed, mut ties, mut differ) = (0, 0, 0, 0);
     for _ in 0..200_000 {
         let a = DVec2::new(coord(&mut rng), coord(&mut rng));
         let b = DVec2::new(coord(&mut rng), coord(&mut rng));
-        let plain = plain_meets_square(a, b);
-        assert_eq!(segment_meets_square(a, b), plain, "{a} {b}");
-        met += usize::from(plain);
+        let ours = segment_meets_square(a, b);
+        differ += usize::from(ours != plain_meets_square(a, b));
+        if scaled(a, b, 1.0 - 1e-12) {
+            assert!(ours, "{a} {b} meets the smaller square");
+            met += 1;
+        } else if !scaled(a, b, 1.0 + 1e-12) {
+            assert!(!ours, "{a} {b} misses the larger square");
+            missed += 1;
+        } else {
+            ties += 1;
+        }
     }
-    assert!(met > 50_000 && met < 190_000, "{met} of 200000 met");
+    assert!(
+        met > 50_000 && missed > 10_000,
+        "{met} met, {missed} missed"
+    );
+    // The ties are exercised, and they are all the two tests disagree on.
+    assert!(
+        ties > 1_000 && differ < ties,
+        "{ties} ties, {differ} differ"
+    );
+    // Touching counts as meeting: the square is closed.
+    for (a, b) in [
+        ((2.0, 3.0), (1.0, 1.0)),
+        ((2.0, 0.0), (0.0, 2.0)),
+        ((1.0, -5.0), (1.0, 5.0)),
+        ((-1.0, -1.0), (-1.0, -1.0)),
+    ] {
+        assert!(segment_meets_square(a.into(), b.into()), "{a:?} {b:?}");
+    }
+    for (a, b) in [((1.0, 2.0), (1.0, 3.0)), ((2.5, 0.0), (0.0, 2.5))] {
+        assert!(!segment_meets_square(a.into(), b.into()), "{a:?} {b:?}");
+    }
 }
