@@ -101,6 +101,13 @@ impl Wedge {
     /// side.
     #[inline]
     pub fn project(&self, p: DVec3) -> Option<(DVec2, DVec2)> {
+        let (a, b) = self.clip(p)?;
+        project_from(p, a, b)
+    }
+
+    /// The edge clipped to `p`'s near plane ([`Wedge::project`]), or `None`.
+    #[inline(always)]
+    fn clip(&self, p: DVec3) -> Option<(DVec3, DVec3)> {
         if !(p.z > 0.0) || !p.is_finite() {
             return None;
         }
@@ -112,19 +119,39 @@ impl Wedge {
             (false, true) => a = b + (a - b) * ((limit - b.z) / (a.z - b.z)),
             (true, true) => {}
         }
-        let proj = |x: DVec3| {
-            let k = p.z / (p.z - x.z);
-            DVec2::new(p.x + (x.x - p.x) * k, p.y + (x.y - p.y) * k)
-        };
-        let (a, b) = (proj(a), proj(b));
-        (a.is_finite() && b.is_finite()).then_some((a, b))
+        Some((a, b))
+    }
+
+    /// [`Wedge::project`] when the projected edge meets the light square, else `None`: whether
+    /// `p` lies in the wedge.
+    ///
+    /// Decided before the divisions of the projection, which half of a pixel's candidates
+    /// never need: in homogeneous coordinates the end `a` projects to `(A, w_a)` with
+    /// `A = p.z a.xy - a.z p.xy` and `w_a = p.z - a.z > 0`, so an end lies beyond the side
+    /// `x = 1` where `A.x > w_a`, and the corner `c` lies on the side of the projected line
+    /// given by the sign of `L . (c, 1)`, `L = (A, w_a) x (B, w_b)`, which is `w_a w_b` times
+    /// that of the projected points ([`segment_meets_square`]'s separating lines). Rounding
+    /// decides only ties, as there.
+    #[inline(always)]
+    pub fn project_onto_light(&self, p: DVec3) -> Option<(DVec2, DVec2)> {
+        let (a, b) = self.clip(p)?;
+        let (ha, hb) = (homogeneous(p, a), homogeneous(p, b));
+        let beyond = |k: usize| (ha[k] > ha.z && hb[k] > hb.z) || (ha[k] < -ha.z && hb[k] < -hb.z);
+        if beyond(0) || beyond(1) {
+            return None;
+        }
+        let l = ha.cross(hb);
+        let r = l.x.abs() + l.y.abs();
+        if l.z - r > 0.0 || l.z + r < 0.0 {
+            return None;
+        }
+        project_from(p, a, b)
     }
 
     /// Whether `p` lies in the wedge: the projected, clipped edge meets the light square, so the
     /// edge hides or reveals some of the light from `p`.
     pub fn contains(&self, p: DVec3) -> bool {
-        self.project(p)
-            .is_some_and(|(a, b)| segment_meets_square(a, b))
+        self.project_onto_light(p).is_some()
     }
 
     /// The wedge integral at `p` (light space), or `None` when the edge does not touch the light
@@ -150,14 +177,11 @@ impl Wedge {
     /// about half of the grid's candidates fail; the integral itself is not.
     #[inline(always)]
     pub(crate) fn integral_by(&self, p: DVec3, out: &mut EdgeIntegral, closed_form: bool) -> bool {
-        let Some((a, b)) = self.project(p) else {
-            return false;
-        };
         // Only wedges containing p contribute: an edge whose projection misses the light hides
         // none of it (its near region would otherwise depend on which edges a search returns).
-        if !segment_meets_square(a, b) {
+        let Some((a, b)) = self.project_onto_light(p) else {
             return false;
-        }
+        };
         self.integral_of(a, b, p, out, closed_form)
     }
 
@@ -471,16 +495,35 @@ pub(crate) fn part_within(x: DVec2) -> Option<usize> {
     }
 }
 
+/// The ends `a` and `b` (in front of `p`'s near plane) projected from `p` onto the light's plane,
+/// or `None` where that overflows.
+#[inline(always)]
+fn project_from(p: DVec3, a: DVec3, b: DVec3) -> Option<(DVec2, DVec2)> {
+    let proj = |x: DVec3| {
+        let k = p.z / (p.z - x.z);
+        DVec2::new(p.x + (x.x - p.x) * k, p.y + (x.y - p.y) * k)
+    };
+    let (a, b) = (proj(a), proj(b));
+    (a.is_finite() && b.is_finite()).then_some((a, b))
+}
+
+/// `x` (in front of `p`'s near plane) projected from `p` onto the light's plane, in homogeneous
+/// coordinates `(X, Y, W)`, `W > 0`: the point `(X / W, Y / W)`.
+#[inline(always)]
+fn homogeneous(p: DVec3, x: DVec3) -> DVec3 {
+    DVec3::new(p.z * x.x - x.z * p.x, p.z * x.y - x.z * p.y, p.z - x.z)
+}
+
 /// Whether the segment `a b` meets the closed square `[-1, 1]^2`.
 ///
 /// Two disjoint convex polygons have a separating line parallel to a side of one of them: here
 /// a side of the square (the segment's bounding box lies beyond it) or the segment's own line
 /// (the square's four corners lie strictly on one side of it). The corners' side is
 /// `k + (d.x c.y - d.y c.x)` with `d = b - a` and `k` its value at the centre, whose extremes
-/// over the corners are `k ± (|d.x| + |d.y|)`. No division: the test runs for every candidate
-/// wedge of every pixel. Rounding decides only ties, a segment through a corner or along a
-/// side to within rounding of its coordinates, where Liang and Barsky's clipping (1984) may
-/// answer the other way (`volumes/src/wedge_tests.rs`).
+/// over the corners are `k ± (|d.x| + |d.y|)`, with no division ([`Wedge::project_onto_light`]
+/// makes the same test on the ends before they are divided out). Rounding decides only ties, a
+/// segment through a corner or along a side to within rounding of its coordinates, where Liang
+/// and Barsky's clipping (1984) may answer the other way (`volumes/src/wedge_tests.rs`).
 #[inline]
 pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
     if a.x.min(b.x) > 1.0 || a.x.max(b.x) < -1.0 || a.y.min(b.y) > 1.0 || a.y.max(b.y) < -1.0 {

@@ -13,8 +13,9 @@ use crate::wedge::*;
 /// The integral as the plain clipping computes it: every part clipped by the cone's two sides,
 /// then by the edge's line once for each side (for an edge in front of the light).
 fn plain_integral(w: &Wedge, p: DVec3) -> Option<EdgeIntegral> {
-    let (a, b) = w.project(p)?;
-    if !segment_meets_square(a, b) || cross(a, b) == 0.0 {
+    // Whether p lies in the wedge is the renderer's own test: this compares what follows it.
+    let (a, b) = w.project_onto_light(p)?;
+    if cross(a, b) == 0.0 {
         return None;
     }
     let s0 = cross(a, b).signum();
@@ -199,6 +200,67 @@ fn plain_meets_square(a: DVec2, b: DVec2) -> bool {
         }
     }
     t0 <= t1
+}
+
+#[test]
+fn a_point_is_in_a_wedge_where_the_projected_edge_meets_the_light_but_for_ties() {
+    let mut rng = Rng::new(0x0b5e55ed);
+    let (mut inside, mut outside, mut ties) = (0, 0, 0);
+    for i in 0..100_000 {
+        let p = DVec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(0.5, 4.0),
+        );
+        // Ends anywhere in front of p, and ends that project onto the light's corners and
+        // sides, where the answer ties. (An end beyond p is clipped to its near plane, a
+        // billionth of its depth before it, and projects with a billion times the rounding of
+        // the clipped point: its ties are that wide, whichever test decides them.)
+        let end = |rng: &mut Rng| {
+            let z = rng.range(0.05, 0.95) * p.z;
+            let on = match i % 3 {
+                0 => DVec2::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)),
+                1 => RADIAL_PARTS[rng.below(4)][1],
+                _ => DVec2::new([-1.0, 1.0][rng.below(2)], rng.range(-2.0, 2.0)),
+            };
+            let k = p.z / (p.z - z);
+            DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+        };
+        let w = Wedge {
+            from: end(&mut rng),
+            to: end(&mut rng),
+            multiplicity: 1,
+            occluder: 0,
+            silhouette_loop: 0,
+            unit: 0,
+            caster: None,
+        };
+        let ours = w.project_onto_light(p);
+        // The projection is the same wherever the edge meets the light.
+        if let Some(ends) = ours {
+            assert_eq!(Some(ends), w.project(p));
+        }
+        let Some((a, b)) = w.project(p) else {
+            assert!(ours.is_none());
+            continue;
+        };
+        // As in the segment test below: the square grown and shrunk far beyond rounding.
+        let m = 1e-9;
+        let scaled = |s: f64| segment_meets_square(a / s, b / s);
+        if scaled(1.0 - m) {
+            assert!(ours.is_some(), "{w:?} at {p} meets the smaller square");
+            inside += 1;
+        } else if !scaled(1.0 + m) {
+            assert!(ours.is_none(), "{w:?} at {p} misses the larger square");
+            outside += 1;
+        } else {
+            ties += 1;
+        }
+    }
+    assert!(
+        inside > 10_000 && outside > 10_000 && ties > 1_000,
+        "{inside} inside, {outside} outside, {ties} ties"
+    );
 }
 
 #[test]
