@@ -130,7 +130,7 @@ impl Wedge {
     /// `A = p.z a.xy - a.z p.xy` and `w_a = p.z - a.z > 0`, so an end lies beyond the side
     /// `x = 1` where `A.x > w_a`, and the corner `c` lies on the side of the projected line
     /// given by the sign of `L . (c, 1)`, `L = (A, w_a) x (B, w_b)`, which is `w_a w_b` times
-    /// that of the projected points ([`segment_meets_square`]'s separating lines). Rounding
+    /// that of the projected points (the separating lines of `segment_meets_square`). Rounding
     /// decides only ties, as there.
     #[inline(always)]
     pub fn project_onto_light(&self, p: DVec3) -> Option<(DVec2, DVec2)> {
