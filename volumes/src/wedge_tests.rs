@@ -10,6 +10,34 @@ use crate::clip::{RADIAL_PARTS, Rect, area, clip_halfplane, clip_segment, cross}
 use crate::silhouette::orient3d;
 use crate::wedge::*;
 
+/// A receiver point anywhere in front of the light, in light space.
+fn random_receiver(rng: &mut Rng) -> DVec3 {
+    DVec3::new(
+        rng.range(-3.0, 3.0),
+        rng.range(-3.0, 3.0),
+        rng.range(0.5, 4.0),
+    )
+}
+
+/// The point at depth `z` (below `p`'s) that projects from `p` onto `on` in the light's plane.
+fn projecting_onto(p: DVec3, on: DVec2, z: f64) -> DVec3 {
+    let k = p.z / (p.z - z);
+    DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+}
+
+/// The wedge of the edge `from -> to` of a mesh in front of the light, `multiplicity` times.
+fn front_wedge(from: DVec3, to: DVec3, multiplicity: u32) -> Wedge {
+    Wedge {
+        from,
+        to,
+        multiplicity,
+        occluder: 0,
+        silhouette_loop: 0,
+        unit: 0,
+        caster: None,
+    }
+}
+
 /// The integral as the plain clipping computes it: every part clipped by the cone's two sides,
 /// then by the edge's line once for each side (for an edge in front of the light).
 fn plain_integral(w: &Wedge, p: DVec3) -> Option<EdgeIntegral> {
@@ -66,11 +94,7 @@ fn integral_matches_the_plain_clipping_bit_for_bit() {
     for i in 0..20_000 {
         // Receivers and edges anywhere, and edges whose projections pass through the light's
         // corners and its centre's diagonals, where the shortcuts' conditions tie.
-        let p = DVec3::new(
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-            rng.range(0.5, 4.0),
-        );
+        let p = random_receiver(&mut rng);
         let end = |rng: &mut Rng| {
             let z = rng.range(0.05, 0.95) * p.z;
             let on = match i % 4 {
@@ -80,18 +104,9 @@ fn integral_matches_the_plain_clipping_bit_for_bit() {
                 _ => DVec2::new(rng.range(-1.0, 1.0), 0.0),
             };
             // The point that projects from p onto `on` in the light's plane.
-            let k = p.z / (p.z - z);
-            DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+            projecting_onto(p, on, z)
         };
-        let w = Wedge {
-            from: end(&mut rng),
-            to: end(&mut rng),
-            multiplicity: 1 + (i % 3) as u32,
-            occluder: 0,
-            silhouette_loop: 0,
-            unit: 0,
-            caster: None,
-        };
+        let w = front_wedge(end(&mut rng), end(&mut rng), 1 + (i % 3) as u32);
         let mut out = EdgeIntegral::NONE;
         let fast = w.integral_by(p, &mut out, false).then_some(out);
         let plain = plain_integral(&w, p);
@@ -107,11 +122,7 @@ fn closed_forms_inside_the_light_match_the_plain_clipping() {
     // Integrals compared, and those in closed form within one part and across two.
     let (mut compared, mut one, mut two) = (0, 0, 0);
     for i in 0..20_000 {
-        let p = DVec3::new(
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-            rng.range(0.5, 4.0),
-        );
+        let p = random_receiver(&mut rng);
         // Short edges whose projections lie in the light, long ones, and ends on the part
         // boundaries (the diagonals) and near the light's sides.
         let first = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
@@ -125,19 +136,10 @@ fn closed_forms_inside_the_light_match_the_plain_clipping() {
         };
         let end = |rng: &mut Rng, on: DVec2| {
             let z = rng.range(0.05, 0.95) * p.z;
-            let k = p.z / (p.z - z);
-            DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+            projecting_onto(p, on, z)
         };
         let (s, t) = (spot(&mut rng), spot(&mut rng));
-        let w = Wedge {
-            from: end(&mut rng, s),
-            to: end(&mut rng, t),
-            multiplicity: 1 + (i % 3) as u32,
-            occluder: 0,
-            silhouette_loop: 0,
-            unit: 0,
-            caster: None,
-        };
+        let w = front_wedge(end(&mut rng, s), end(&mut rng, t), 1 + (i % 3) as u32);
         let plain = plain_integral(&w, p);
         let got = w.integral(p);
         assert_eq!(got.is_some(), plain.is_some(), "edge {w:?} at {p}");
@@ -207,11 +209,7 @@ fn a_point_is_in_a_wedge_where_the_projected_edge_meets_the_light_but_for_ties()
     let mut rng = Rng::new(0x0b5e55ed);
     let (mut inside, mut outside, mut ties) = (0, 0, 0);
     for i in 0..100_000 {
-        let p = DVec3::new(
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-            rng.range(0.5, 4.0),
-        );
+        let p = random_receiver(&mut rng);
         // Ends anywhere in front of p, and ends that project onto the light's corners and
         // sides, where the answer ties. (An end beyond p is clipped to its near plane, a
         // billionth of its depth before it, and projects with a billion times the rounding of
@@ -223,18 +221,9 @@ fn a_point_is_in_a_wedge_where_the_projected_edge_meets_the_light_but_for_ties()
                 1 => RADIAL_PARTS[rng.below(4)][1],
                 _ => DVec2::new([-1.0, 1.0][rng.below(2)], rng.range(-2.0, 2.0)),
             };
-            let k = p.z / (p.z - z);
-            DVec3::new(p.x + (on.x - p.x) / k, p.y + (on.y - p.y) / k, z)
+            projecting_onto(p, on, z)
         };
-        let w = Wedge {
-            from: end(&mut rng),
-            to: end(&mut rng),
-            multiplicity: 1,
-            occluder: 0,
-            silhouette_loop: 0,
-            unit: 0,
-            caster: None,
-        };
+        let w = front_wedge(end(&mut rng), end(&mut rng), 1);
         let ours = w.project_onto_light(p);
         // The projection is the same wherever the edge meets the light.
         if let Some(ends) = ours {
