@@ -127,22 +127,11 @@ impl Wedge {
     ///
     /// Decided before the divisions of the projection, which half of a pixel's candidates
     /// never need: in homogeneous coordinates the end `a` projects to `(A, w_a)` with
-    /// `A = p.z a.xy - a.z p.xy` and `w_a = p.z - a.z > 0`, so an end lies beyond the side
-    /// `x = 1` where `A.x > w_a`, and the corner `c` lies on the side of the projected line
-    /// given by the sign of `L . (c, 1)`, `L = (A, w_a) x (B, w_b)`, which is `w_a w_b` times
-    /// that of the projected points (the separating lines of `segment_meets_square`). Rounding
-    /// decides only ties, as there.
+    /// `A = p.z a.xy - a.z p.xy` and `w_a = p.z - a.z > 0` ([`meets_square`]).
     #[inline(always)]
     pub fn project_onto_light(&self, p: DVec3) -> Option<(DVec2, DVec2)> {
         let (a, b) = self.clip(p)?;
-        let (ha, hb) = (homogeneous(p, a), homogeneous(p, b));
-        let beyond = |k: usize| (ha[k] > ha.z && hb[k] > hb.z) || (ha[k] < -ha.z && hb[k] < -hb.z);
-        if beyond(0) || beyond(1) {
-            return None;
-        }
-        let l = ha.cross(hb);
-        let r = l.x.abs() + l.y.abs();
-        if l.z - r > 0.0 || l.z + r < 0.0 {
+        if !meets_square(homogeneous(p, a), homogeneous(p, b)) {
             return None;
         }
         project_from(p, a, b)
@@ -514,22 +503,31 @@ fn homogeneous(p: DVec3, x: DVec3) -> DVec3 {
     DVec3::new(p.z * x.x - x.z * p.x, p.z * x.y - x.z * p.y, p.z - x.z)
 }
 
-/// Whether the segment `a b` meets the closed square `[-1, 1]^2`.
-///
-/// Two disjoint convex polygons have a separating line parallel to a side of one of them: here
-/// a side of the square (the segment's bounding box lies beyond it) or the segment's own line
-/// (the square's four corners lie strictly on one side of it). The corners' side is
-/// `k + (d.x c.y - d.y c.x)` with `d = b - a` and `k` its value at the centre, whose extremes
-/// over the corners are `k ± (|d.x| + |d.y|)`, with no division ([`Wedge::project_onto_light`]
-/// makes the same test on the ends before they are divided out). Rounding decides only ties, a
-/// segment through a corner or along a side to within rounding of its coordinates, where Liang
-/// and Barsky's clipping (1984) may answer the other way (`volumes/src/wedge_tests.rs`).
+/// Whether the segment `a b` meets the closed square `[-1, 1]^2` ([`meets_square`] of its ends
+/// with weight 1).
 #[inline]
 pub fn segment_meets_square(a: DVec2, b: DVec2) -> bool {
-    if a.x.min(b.x) > 1.0 || a.x.max(b.x) < -1.0 || a.y.min(b.y) > 1.0 || a.y.max(b.y) < -1.0 {
+    meets_square(a.extend(1.0), b.extend(1.0))
+}
+
+/// Whether the segment between the points `(A.x / A.z, A.y / A.z)` and `(B.x / B.z, B.y / B.z)`
+/// (homogeneous, `A.z`, `B.z > 0`) meets the closed square `[-1, 1]^2`, without dividing.
+///
+/// Two disjoint convex polygons have a separating line parallel to a side of one of them: here
+/// a side of the square (both ends beyond it: `A.x > A.z` and `B.x > B.z` for the side
+/// `x = 1`) or the segment's own line `L = A x B`, whose value `L . (c, 1)` at a corner `c` is
+/// `A.z B.z` times the corner's side of the line through the projected points; the square's
+/// four corners lie strictly on one side of it where `L.z ± (|L.x| + |L.y|)`, its extremes over
+/// them, have one sign. Rounding decides only ties, a segment through a corner or along a side
+/// to within rounding of its coordinates, where Liang and Barsky's clipping (1984) may answer
+/// the other way (`volumes/src/wedge_tests.rs`).
+#[inline(always)]
+fn meets_square(a: DVec3, b: DVec3) -> bool {
+    let beyond = |k: usize| (a[k] > a.z && b[k] > b.z) || (a[k] < -a.z && b[k] < -b.z);
+    if beyond(0) || beyond(1) {
         return false;
     }
-    let d = b - a;
-    let (k, r) = (d.y * a.x - d.x * a.y, d.x.abs() + d.y.abs());
-    !(k - r > 0.0 || k + r < 0.0)
+    let l = a.cross(b);
+    let r = l.x.abs() + l.y.abs();
+    !(l.z - r > 0.0 || l.z + r < 0.0)
 }
