@@ -127,7 +127,7 @@ impl Wedge {
     ///
     /// Decided before the divisions of the projection, which half of a pixel's candidates
     /// never need: in homogeneous coordinates the end `a` projects to `(A, w_a)` with
-    /// `A = p.z a.xy - a.z p.xy` and `w_a = p.z - a.z > 0` ([`meets_square`]).
+    /// `A = p.z a.xy - a.z p.xy` and `w_a = p.z - a.z > 0`, tested by `meets_square`.
     #[inline(always)]
     pub fn project_onto_light(&self, p: DVec3) -> Option<(DVec2, DVec2)> {
         let (a, b) = self.clip(p)?;
