@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use penumbra_geom::{Camera, Scene, SurfacePoint, Technique, Tracer, VisibilityImage};
 use rayon::prelude::*;
 
@@ -323,7 +323,8 @@ impl CpuRenderer {
         let mut last = 0;
         for wi in self.candidates(grid, pl) {
             let w = &self.volumes.wedges[wi as usize];
-            if !w.integral_into(pl, &mut int) {
+            let parts = w.integral_parts(pl, &mut int, true);
+            if !parts.any() {
                 continue;
             }
             if acc.get(last).is_none_or(|a| a.occluder != w.unit) {
@@ -336,7 +337,14 @@ impl CpuRenderer {
                 };
             }
             let a = &mut acc[last];
-            for k in 0..4 {
+            // The parts not written add nothing but, to an inner half-wedge whose centre lies
+            // on the near side, the centre to their near rectangles.
+            if int.sign < 0.0 && parts.centre_near {
+                for k in (0..4).filter(|&k| !parts.has(k)) {
+                    a.inner_rect[k] = a.inner_rect[k].union(&Rect::of(&[DVec2::ZERO]));
+                }
+            }
+            for k in (0..4).filter(|&k| parts.has(k)) {
                 a.area[k] += int.sign * int.area[k];
                 if int.sign > 0.0 {
                     if int.area[k] > 0.0 {

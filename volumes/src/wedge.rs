@@ -95,6 +95,56 @@ impl EdgeIntegral {
     };
 }
 
+/// Which radial parts of an [`EdgeIntegral`] [`Wedge::integral_parts`] wrote; every other part
+/// `k` is [`EdgeIntegral::NONE`]'s but for `near[k]`, the centre alone when `centre_near` (the
+/// centre lies on the near side of the edge, whose cone misses the part).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Parts {
+    /// Bit `k` for part `k`.
+    pub written: u8,
+    pub centre_near: bool,
+}
+
+impl Parts {
+    /// No integral: the point lies outside the wedge, or in the plane of the edge and the centre.
+    pub const NONE: Parts = Parts {
+        written: 0,
+        centre_near: false,
+    };
+    /// Every part written.
+    pub const ALL: Parts = Parts {
+        written: 0b1111,
+        centre_near: false,
+    };
+
+    /// Whether there is an integral.
+    pub fn any(self) -> bool {
+        self.written != 0
+    }
+
+    /// Whether part `k` was written.
+    #[inline(always)]
+    pub fn has(self, k: usize) -> bool {
+        self.written & (1 << k) != 0
+    }
+}
+
+impl EdgeIntegral {
+    /// Sets the parts that `parts` says were not written to what they stand for.
+    fn complete(&mut self, parts: Parts) {
+        for k in (0..4).filter(|&k| !parts.has(k)) {
+            self.area[k] = 0.0;
+            self.beyond[k] = Rect::EMPTY;
+            self.near[k] = if parts.centre_near {
+                Rect::of(&[DVec2::ZERO])
+            } else {
+                Rect::EMPTY
+            };
+            self.cover[k] = 0.0;
+        }
+    }
+}
+
 impl Wedge {
     /// The edge clipped to the local near plane of `p` and projected from `p` onto the light
     /// plane, or `None` when nothing of it lies in front of `p` or `p` is not on the emitting
@@ -161,20 +211,34 @@ impl Wedge {
     /// [`Wedge::integral_into`], taking the closed forms for a projected edge inside one radial
     /// part or two neighbouring ones when `closed_form`, else clipping every part (the tests
     /// compare the two).
+    pub(crate) fn integral_by(&self, p: DVec3, out: &mut EdgeIntegral, closed_form: bool) -> bool {
+        let parts = self.integral_parts(p, out, closed_form);
+        out.complete(parts);
+        parts.any()
+    }
+
+    /// The integral's parts that differ from [`EdgeIntegral::NONE`]'s, written into `out`, whose
+    /// other parts are left as they were: the renderer reads only the parts written, and
+    /// a short edge's projection (nearly every one) lies in one part or two.
     ///
     /// Inlined into the caller's loop up to the test of whether `p` lies in the wedge, which
     /// about half of the grid's candidates fail; the integral itself is not.
     #[inline(always)]
-    pub(crate) fn integral_by(&self, p: DVec3, out: &mut EdgeIntegral, closed_form: bool) -> bool {
+    pub(crate) fn integral_parts(
+        &self,
+        p: DVec3,
+        out: &mut EdgeIntegral,
+        closed_form: bool,
+    ) -> Parts {
         // Only wedges containing p contribute: an edge whose projection misses the light hides
         // none of it (its near region would otherwise depend on which edges a search returns).
         let Some((a, b)) = self.project_onto_light(p) else {
-            return false;
+            return Parts::NONE;
         };
         self.integral_of(a, b, p, out, closed_form)
     }
 
-    /// [`Wedge::integral_by`] of `p` whose projected edge `a b` meets the light.
+    /// [`Wedge::integral_parts`] of `p` whose projected edge `a b` meets the light.
     #[inline(never)]
     fn integral_of(
         &self,
@@ -183,10 +247,10 @@ impl Wedge {
         p: DVec3,
         out: &mut EdgeIntegral,
         closed_form: bool,
-    ) -> bool {
+    ) -> Parts {
         let s0 = cross(a, b);
         if s0 == 0.0 {
-            return false;
+            return Parts::NONE;
         }
         let s0 = s0.signum();
         // Outer when the caster, seen from p, lies beyond the edge from the light's centre. On a
@@ -210,15 +274,10 @@ impl Wedge {
             }
         };
         if side == 0.0 {
-            return false;
+            return Parts::NONE;
         }
         let m = self.multiplicity as f64;
-        // Field by field: a whole new value would be built aside and copied over.
         out.sign = side.signum();
-        out.area = [0.0; 4];
-        out.beyond = [Rect::EMPTY; 4];
-        out.near = [Rect::EMPTY; 4];
-        out.cover = [0.0; 4];
         // The cone over the edge from the centre is where both `side_a` and `side_b` are
         // non-negative; `edge_line` is non-negative on the centre's side of the edge.
         let side_a = |x: DVec2| s0 * cross(a, x);
@@ -238,10 +297,11 @@ impl Wedge {
                 let (x2, y2) = (to_side(x), to_side(y));
                 out.cover[k] = (y2 - x2).length();
                 let r = 0.5 * (cross(x2, y2).abs() - cross(x, y).abs());
-                if r > 0.0 {
-                    out.area[k] = m * r;
-                    out.beyond[k] = Rect::of(&[x, x2, y2, y]);
-                }
+                (out.area[k], out.beyond[k]) = if r > 0.0 {
+                    (m * r, Rect::of(&[x, x2, y2, y]))
+                } else {
+                    (0.0, Rect::EMPTY)
+                };
                 out.near[k] = Rect::of(&[DVec2::ZERO, x, y]);
             };
             // The corner between neighbouring parts `k` and `k + 1` ends part `k`'s side.
@@ -264,14 +324,16 @@ impl Wedge {
                 false
             };
             if done {
-                if centre_near {
-                    for j in (0..4).filter(|&j| j != ka && j != kb) {
-                        out.near[j] = Rect::of(&[DVec2::ZERO]);
-                    }
-                }
-                return true;
+                return Parts {
+                    written: (1 << ka) | (1 << kb),
+                    centre_near,
+                };
             }
         }
+        out.area = [0.0; 4];
+        out.beyond = [Rect::EMPTY; 4];
+        out.near = [Rect::EMPTY; 4];
+        out.cover = [0.0; 4];
         // Part k runs from corner k to corner k + 1: their values decide, before any clipping,
         // whether the cone keeps the whole part or misses it.
         let corners = RADIAL_PARTS.map(|part| part[1]);
@@ -334,7 +396,7 @@ impl Wedge {
                 any = true;
             }
         }
-        any
+        if any { Parts::ALL } else { Parts::NONE }
     }
 }
 

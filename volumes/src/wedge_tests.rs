@@ -304,3 +304,79 @@ fn segment_meets_square_as_the_textbook_loop_does_but_for_ties() {
         assert!(!segment_meets_square(a.into(), b.into()), "{a:?} {b:?}");
     }
 }
+
+#[test]
+fn the_parts_written_and_what_the_others_stand_for_are_the_whole_integral() {
+    let mut rng = Rng::new(0x9a27);
+    // An integral whose every field is NaN: a part left as it was shows.
+    let stale = EdgeIntegral {
+        sign: f64::NAN,
+        area: [f64::NAN; 4],
+        beyond: [Rect {
+            min: DVec2::NAN,
+            max: DVec2::NAN,
+        }; 4],
+        near: [Rect {
+            min: DVec2::NAN,
+            max: DVec2::NAN,
+        }; 4],
+        cover: [f64::NAN; 4],
+    };
+    let (mut some, mut few, mut centre_near) = (0, 0, 0);
+    for i in 0..20_000 {
+        let p = random_receiver(&mut rng);
+        // Short edges inside the light (one part or two written) and edges anywhere (all four).
+        let first = DVec2::new(rng.range(-1.2, 1.2), rng.range(-1.2, 1.2));
+        let spot = |rng: &mut Rng| match i % 2 {
+            0 => first + DVec2::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2)),
+            _ => DVec2::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)),
+        };
+        let end = |rng: &mut Rng| projecting_onto(p, spot(rng), rng.range(0.05, 0.95) * p.z);
+        let w = front_wedge(end(&mut rng), end(&mut rng), 1 + (i % 2) as u32);
+        let whole = w.integral(p);
+        // The parts not written as clipping every part gives them.
+        let mut clipped = EdgeIntegral::NONE;
+        let clipped = w.integral_by(p, &mut clipped, false).then_some(clipped);
+        assert_eq!(clipped.is_some(), whole.is_some(), "edge {w:?} at {p}");
+        let mut out = stale;
+        let parts = w.integral_parts(p, &mut out, true);
+        assert_eq!(parts.any(), whole.is_some(), "edge {w:?} at {p}");
+        let (Some(whole), Some(clipped)) = (whole, clipped) else {
+            continue;
+        };
+        some += 1;
+        few += usize::from(parts.written != 0b1111);
+        centre_near += usize::from(parts.centre_near);
+        assert_eq!(out.sign, whole.sign);
+        for k in 0..4 {
+            if parts.has(k) {
+                assert!(
+                    out.area[k] == whole.area[k]
+                        && out.beyond[k] == whole.beyond[k]
+                        && out.near[k] == whole.near[k]
+                        && out.cover[k] == whole.cover[k],
+                    "part {k} of edge {w:?} at {p}: {out:?} against {whole:?}"
+                );
+            } else {
+                let near = if parts.centre_near {
+                    Rect::of(&[DVec2::ZERO])
+                } else {
+                    Rect::EMPTY
+                };
+                for got in [whole, clipped] {
+                    assert!(
+                        got.area[k] == 0.0
+                            && got.beyond[k] == Rect::EMPTY
+                            && got.near[k] == near
+                            && got.cover[k] == 0.0,
+                        "part {k} of edge {w:?} at {p} not written: {got:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        some > 5_000 && few > 2_000 && centre_near > 500 && some - few > 1_000,
+        "{some} integrals, {few} with parts not written, {centre_near} with the centre near"
+    );
+}
