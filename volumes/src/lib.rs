@@ -27,6 +27,7 @@ mod terminator;
 mod volumes;
 mod wedge;
 mod wedge_grid;
+mod wedge_integral;
 
 #[cfg(test)]
 mod depth_complexity_tests;
@@ -43,7 +44,8 @@ pub use shadow_volume::{FaceKind, OpenVolume, ShadowVolume, VolumeVertex, caps, 
 pub use silhouette::{Silhouette, SilhouetteEdge};
 pub use terminator::{front_share, outward_sign};
 pub use volumes::{GeometryCounts, Occluder, Volumes};
-pub use wedge::{EdgeIntegral, Wedge};
+pub use wedge::Wedge;
 pub use wedge_grid::{
     ReceiverCells, WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
 };
+pub use wedge_integral::EdgeIntegral;

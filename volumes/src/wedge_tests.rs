@@ -9,6 +9,7 @@ use penumbra_geom::Rng;
 use crate::clip::{RADIAL_PARTS, Rect, area, clip_halfplane, clip_segment, cross};
 use crate::silhouette::orient3d;
 use crate::wedge::*;
+use crate::wedge_integral::*;
 
 /// A receiver point anywhere in front of the light, in light space.
 fn random_receiver(rng: &mut Rng) -> DVec3 {
