@@ -18,3 +18,4 @@ mod renderer;
 mod repeated_faces;
 mod several_lights;
 mod volumes;
+mod wedge_lookup;

@@ -90,6 +90,10 @@ fn full_parts() -> [Part; 4] {
 /// into the whole grid ([`CpuRenderer::grid`]) otherwise.
 const WEDGES_PER_PIXEL_CAST: u64 = 20;
 
+/// [`CpuRenderer::render`] glances at `GLANCE x GLANCE` pixels, evenly spread, to tell whether
+/// the camera sees a far smaller part of the receivers' box than the whole.
+const GLANCE: u32 = 16;
+
 /// Marks caster triangles in `CpuRenderer::triangle_occluder`.
 const CASTER_BIT: u32 = 1 << 31;
 
@@ -403,33 +407,57 @@ impl CpuRenderer {
         let mut img = VisibilityImage::filled(cam.width, cam.height, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
         let surface = |i: u32, j: u32| self.tracer.surface_point(cam.eye, cam.ray_dir(i, j));
+        let light = &self.volumes.light;
         // The cells holding a pixel's surface point first, so that the wedges are binned only
-        // into those ([`WedgeGrid::build_for`]); the points are cast again below rather than
-        // kept, which would cost memory in proportion to the image. With few wedges for the
-        // pixels ([`WEDGES_PER_PIXEL_CAST`]), the whole grid costs less than that extra ray.
+        // into those ([`WedgeGrid::build_for`]), over the box of those points where it is far
+        // smaller than the receivers' ([`ReceiverCells::tighter`]); the points are cast again
+        // below rather than kept, which would cost memory in proportion to the image. With few
+        // wedges for the pixels ([`WEDGES_PER_PIXEL_CAST`]), the whole grid costs less than
+        // that extra ray, unless a glance at a sparse grid of pixels finds that the camera sees
+        // a far smaller box than the receivers' (a ground reaching far beyond the view), whose
+        // cells then hold far fewer wedges.
         let pixels = u64::from(cam.width) * u64::from(cam.height);
-        let whole = (self.volumes.wedges.len() as u64) * WEDGES_PER_PIXEL_CAST < pixels;
+        let sees_little = || {
+            let mut cells = ReceiverCells::new(self.receivers.0, self.receivers.1);
+            for j in 0..GLANCE {
+                for i in 0..GLANCE {
+                    let at = |k: u32, n: u32| ((2 * k + 1) * n / (2 * GLANCE)).min(n - 1);
+                    if let Some(p) = surface(at(i, cam.width), at(j, cam.height)) {
+                        cells.add(light.to_light_space(p.position));
+                    }
+                }
+            }
+            cells.tighter().is_some()
+        };
+        let whole = (self.volumes.wedges.len() as u64) * WEDGES_PER_PIXEL_CAST < pixels
+            && !(technique != Technique::Hard && sees_little());
         if technique != Technique::Hard && whole {
             // Built here rather than by the first row while the others wait.
             self.grid();
         }
         let grid = (technique != Technique::Hard && !whole).then(|| {
-            let light = &self.volumes.light;
-            let (lo, hi) = self.receivers;
-            let cells = (0..cam.height)
-                .into_par_iter()
-                .fold(
-                    || ReceiverCells::new(lo, hi),
-                    |mut cells, j| {
-                        for i in 0..cam.width {
-                            if let Some(p) = surface(i, j) {
-                                cells.add(light.to_light_space(p.position));
+            let cells_over = |(lo, hi): (DVec3, DVec3)| {
+                (0..cam.height)
+                    .into_par_iter()
+                    .fold(
+                        || ReceiverCells::new(lo, hi),
+                        |mut cells, j| {
+                            for i in 0..cam.width {
+                                if let Some(p) = surface(i, j) {
+                                    cells.add(light.to_light_space(p.position));
+                                }
                             }
-                        }
-                        cells
-                    },
-                )
-                .reduce(|| ReceiverCells::new(lo, hi), ReceiverCells::merge);
+                            cells
+                        },
+                    )
+                    .reduce(|| ReceiverCells::new(lo, hi), ReceiverCells::merge)
+            };
+            let mut cells = cells_over(self.receivers);
+            // Where the pixels' points fill a far smaller box than the receivers' (a ground
+            // reaching far beyond the view), a grid over theirs, cast once more.
+            if let Some(tighter) = cells.tighter() {
+                cells = cells_over(tighter);
+            }
             WedgeGrid::build_for(&self.volumes.wedges, cells)
         });
         img.data.par_chunks_mut(w).enumerate().for_each(|(j, row)| {

@@ -35,7 +35,13 @@ pub struct ReceiverCells {
     cell: DVec3,
     dims: [usize; 3],
     rows: Vec<(u32, u32)>,
+    /// The bounding box of the points added, empty (`min > max`) before the first.
+    seen: (DVec3, DVec3),
 }
+
+/// [`ReceiverCells::tighter`] offers the box of the points seen when it is smaller than the
+/// grid's box this many times over (its cells twice as fine on each axis or more).
+const TIGHTER_FROM: f64 = 8.0;
 
 impl ReceiverCells {
     /// No cell yet, of the grid over the light-space box `[lo, hi]`.
@@ -47,6 +53,7 @@ impl ReceiverCells {
             cell,
             dims,
             rows: vec![(u32::MAX, 0); dims[1] * dims[2]],
+            seen: (DVec3::INFINITY, DVec3::NEG_INFINITY),
         }
     }
 
@@ -55,6 +62,7 @@ impl ReceiverCells {
         if let Some([x, y, z]) = cell_of(self.lo, self.cell, self.dims, p) {
             let r = &mut self.rows[z * self.dims[1] + y];
             *r = (r.0.min(x as u32), r.1.max(x as u32 + 1));
+            self.seen = (self.seen.0.min(p), self.seen.1.max(p));
         }
     }
 
@@ -63,7 +71,23 @@ impl ReceiverCells {
         for (r, o) in self.rows.iter_mut().zip(&other.rows) {
             *r = (r.0.min(o.0), r.1.max(o.1));
         }
+        self.seen = (self.seen.0.min(other.seen.0), self.seen.1.max(other.seen.1));
         self
+    }
+
+    /// The box of the points added, padded as [`receiver_box`] pads, when it is far smaller than
+    /// the grid's (the camera sees a small part of the receivers: a ground reaching far beyond
+    /// the view, or behind the light); `None` otherwise, or without a point. A grid over it
+    /// gives every one of those points fewer candidates, in finer cells.
+    pub fn tighter(&self) -> Option<(DVec3, DVec3)> {
+        let (lo, hi) = self.seen;
+        if !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
+            return None;
+        }
+        let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
+        let (lo, hi) = ((lo - pad).max(self.lo), (hi + pad).min(self.hi));
+        let volume = |d: DVec3| d.x * d.y * d.z;
+        (volume(hi - lo) * TIGHTER_FROM < volume(self.hi - self.lo)).then_some((lo, hi))
     }
 }
 
@@ -458,5 +482,43 @@ mod tests {
             }
         }
         assert!(filled > 0 && empty > 0, "{filled} {empty}");
+    }
+
+    #[test]
+    fn a_tighter_box_holds_every_point_and_only_where_it_is_far_smaller() {
+        let (lo, hi) = (
+            DVec3::new(-100.0, -100.0, 0.0),
+            DVec3::new(100.0, 100.0, 200.0),
+        );
+        let mut cells = ReceiverCells::new(lo, hi);
+        assert_eq!(cells.tighter(), None, "no point");
+        let mut rng = Rng::new(0x7167);
+        let mut points = Vec::new();
+        for _ in 0..1000 {
+            let p = DVec3::new(
+                rng.range(-2.0, 3.0),
+                rng.range(1.0, 2.0),
+                rng.range(5.0, 9.0),
+            );
+            cells.add(p);
+            points.push(p);
+        }
+        // A point outside the grid's box is no receiver of it.
+        cells.add(DVec3::new(500.0, 0.0, 1.0));
+        let (tlo, thi) = cells.tighter().expect("a box far smaller than the grid's");
+        assert!(
+            points
+                .iter()
+                .all(|p| p.cmpgt(tlo).all() && p.cmplt(thi).all())
+        );
+        assert!(
+            thi.x < 3.1 && thi.y < 2.1 && thi.z < 9.1 && tlo.x > -2.1,
+            "{tlo} {thi}"
+        );
+        // Points spread over more than an eighth of the box: no tighter one.
+        for (a, b) in [(0.0, 0.0), (0.9, 0.9)] {
+            cells.add(lo + (hi - lo) * DVec3::new(a, b, a));
+        }
+        assert_eq!(cells.tighter(), None);
     }
 }
