@@ -11,7 +11,7 @@
 #          so that a slow spell of the machine weighs on all three alike
 # SCENE    only these scenes: names or quoted globs, with or without .toml, one per argument or
 #          several in one (e.g. 'tris-10k light-*'); default all, in the order tris-10k, tris-50k,
-#          tris-200k, tris-1m, light-0.25x, light-1x, light-4x
+#          tris-200k, tris-1m, light-0.25x, light-1x, light-4x, light-low, wide-ground
 #
 # Every run is `penumbra render SCENE --technique T --backend cpu` (reference and
 # depth-complexity with --samples 256), timed by /usr/bin/time: the CPU time of the whole process
@@ -55,7 +55,7 @@ out=/tmp/growth.exr
 # The scenes to run, in table order, filtered by the SCENE patterns: those of
 # scripts/growth-scenes.py in the order above, or else every scene of the folder by name (so that
 # the same table can be made for fixtures/scenes or fixtures/scale).
-order=(tris-10k tris-50k tris-200k tris-1m light-0.25x light-1x light-4x)
+order=(tris-10k tris-50k tris-200k tris-1m light-0.25x light-1x light-4x light-low wide-ground)
 if ! ls "$dir/${order[0]}.toml" >/dev/null 2>&1; then
   order=()
   for f in "$dir"/*.toml; do

@@ -15,6 +15,12 @@ larger lights.
   light-0.25x.toml, light-1x.toml, light-4x.toml
                                  the 200k scene under lights of sides 1.25, 5 (the scale scene's)
                                  and 20: same centre, normal and tangent
+  light-low.toml                 the 200k scene under a light of the scale scene's area, 10 x 2.5,
+                                 low beside the group (its centre 2.5 above the ground, aimed 12
+                                 degrees down), whose plane crosses the ground: long shadows, and
+                                 receivers reaching beyond the view and behind the light
+  wide-ground.toml               the 200k scene on a ground 20 times as wide, 400 x 400 (a
+                                 user's ground often reaches far beyond the view)
 
 The ground quad stays two triangles. The meshes the scenes name are written next to them
 (originals copied byte for byte). Prints the triangles of each scene (the faces of its OBJ files,
@@ -55,6 +61,10 @@ LIGHT_CENTER = (-1.5, 6.5, 2.5)
 LIGHT_NORMAL = (0.20733584922834458, -0.8984553466561598, -0.3870269185595765)
 LIGHT_TANGENT = (-0.6832113873158513, 0.1501690414500469, -0.7146128037139579)
 LIGHT_SIDE = 5.0
+
+# light-low.toml's light: (centre, normal, tangent along its long side, size).
+LOW_LIGHT = ((-7.0, 2.5, 3.0), (0.8740445360226472, -0.21226795874835716, -0.4370222680113236),
+             (0.447213595499958, 0.0, 0.894427190999916), (10.0, 2.5))
 
 # (obj, scale, rotate_axis_angle or None, translate): the scale scene's [[mesh]] entries after
 # the ground, in its order.
@@ -225,11 +235,15 @@ def fmt(v):
     return "[" + ", ".join(repr(float(x)) for x in v) + "]"
 
 
-def scene_text(what, mesh_file, side):
+def scene_text(what, mesh_file, side, light=None, ground=20.0):
+    """The scene under the scale scene's light with sides `side`, or under `light` (centre,
+    normal, tangent, size), on the unit quad scaled by `ground`."""
+    centre, normal, tangent, size = light or (LIGHT_CENTER, LIGHT_NORMAL, LIGHT_TANGENT,
+                                              (side, side))
     text = HEADER.format(what=what) + "\n" + CAMERA + "\n"
     text += ("[light]\ncenter = %s\nnormal = %s\ntangent = %s\nsize = [%r, %r]\n"
-             % (fmt(LIGHT_CENTER), fmt(LIGHT_NORMAL), fmt(LIGHT_TANGENT), side, side))
-    text += '\n[[mesh]]\nobj = "quad.obj"\nscale = 20.0\ntranslate = [0.0, 0.0, 0.0]\n'
+             % (fmt(centre), fmt(normal), fmt(tangent), size[0], size[1]))
+    text += '\n[[mesh]]\nobj = "quad.obj"\nscale = %r\ntranslate = [0.0, 0.0, 0.0]\n' % ground
     for name, scale, rot, tr in PLACEMENTS:
         text += '\n[[mesh]]\nobj = "%s"\nscale = %r\n' % (mesh_file[name], scale)
         if rot is not None:
@@ -325,7 +339,18 @@ def main(out):
         report("light-%s.toml" % label, {n: len(meshes[n][1]) for n in names},
                "light %g x %g" % (factor * LIGHT_SIDE, factor * LIGHT_SIDE))
 
-    # The light's plane against the meshes (the same plane for every scene): the format allows a
+    write_atomic(os.path.join(out, "light-low.toml"), scene_text(
+        "Growth with the light: the scale scene (%s triangles) under a light of its area, 10 x "
+        "2.5, low beside the group; its plane crosses the ground." % format(original, ","),
+        same, None, LOW_LIGHT))
+    report("light-low.toml", {n: len(meshes[n][1]) for n in names}, "light 10 x 2.5, low")
+    write_atomic(os.path.join(out, "wide-ground.toml"), scene_text(
+        "The scale scene (%s triangles) on a ground 20 times as wide, 400 x 400."
+        % format(original, ","), same, LIGHT_SIDE, ground=400.0))
+    report("wide-ground.toml", {n: len(meshes[n][1]) for n in names}, "ground 400 x 400")
+
+    # The light's plane against the meshes (the same plane for every scene but light-low, whose
+    # plane crosses the ground, as printed last): the format allows a
     # mesh through it, but then only its part in front can cast a shadow.
     print("\nLight plane (centre %s, normal %s): least distance of each placed mesh in front of it"
           % (fmt(LIGHT_CENTER), fmt(LIGHT_NORMAL)))
@@ -346,6 +371,10 @@ def main(out):
         low = LIGHT_CENTER[1] - half * (abs(LIGHT_TANGENT[1]) + abs(b[1]))
         print("  light side %-5g lowest corner at y = %.3f (highest mesh top %.3f)"
               % (factor * LIGHT_SIDE, low, max(tops)))
+    centre, normal = LOW_LIGHT[0], LOW_LIGHT[1]
+    behind = [c for c in ((-10, 0, -10), (-10, 0, 10), (10, 0, -10), (10, 0, 10))
+              if sum((c[i] - centre[i]) * normal[i] for i in range(3)) < 0]
+    print("light-low's plane: %d of the ground's 4 corners behind it" % len(behind))
 
 
 if __name__ == "__main__":
