@@ -85,10 +85,14 @@ fn full_parts() -> [Part; 4] {
     })
 }
 
-/// [`CpuRenderer::render`] bins the wedges only into the cells holding its pixels' points (a
-/// second camera ray per pixel) when the wedges number at least one per this many pixels, and
-/// into the whole grid ([`CpuRenderer::grid`]) otherwise.
-const WEDGES_PER_PIXEL_CAST: u64 = 20;
+/// [`CpuRenderer::render`] fills the whole grid ([`CpuRenderer::grid`]) when it holds fewer
+/// (wedge, cell) entries than this many per pixel and fewer than [`WHOLE_ENTRIES`], and
+/// otherwise bins the wedges only into the cells holding its pixels' points (found by a second
+/// camera ray per pixel, which costs about as much as filling some 75 entries).
+const WHOLE_ENTRIES_PER_PIXEL: u64 = 32;
+
+/// The most (wedge, cell) entries of a whole grid that [`CpuRenderer::render`] fills: 64 MiB.
+const WHOLE_ENTRIES: u64 = 1 << 24;
 
 /// [`CpuRenderer::render`] glances at `GLANCE x GLANCE` pixels, evenly spread, to tell whether
 /// the camera sees a far smaller part of the receivers' box than the whole.
@@ -411,8 +415,8 @@ impl CpuRenderer {
         // The cells holding a pixel's surface point first, so that the wedges are binned only
         // into those ([`WedgeGrid::build_for`]), over the box of those points where it is far
         // smaller than the receivers' ([`ReceiverCells::tighter`]); the points are cast again
-        // below rather than kept, which would cost memory in proportion to the image. With few
-        // wedges for the pixels ([`WEDGES_PER_PIXEL_CAST`]), the whole grid costs less than
+        // below rather than kept, which would cost memory in proportion to the image. A whole
+        // grid with few entries for the pixels ([`WHOLE_ENTRIES_PER_PIXEL`]) costs less than
         // that extra ray, unless a glance at a sparse grid of pixels finds that the camera sees
         // a far smaller box than the receivers' (a ground reaching far beyond the view), whose
         // cells then hold far fewer wedges.
@@ -429,9 +433,12 @@ impl CpuRenderer {
             }
             cells.tighter().is_some()
         };
-        let whole = (self.volumes.wedges.len() as u64) * WEDGES_PER_PIXEL_CAST < pixels
-            && !(technique != Technique::Hard && sees_little());
-        if technique != Technique::Hard && whole {
+        let whole = technique != Technique::Hard && {
+            let (lo, hi) = self.receivers;
+            let entries = WedgeGrid::entries(&self.volumes.wedges, lo, hi);
+            entries < (WHOLE_ENTRIES_PER_PIXEL * pixels).min(WHOLE_ENTRIES) && !sees_little()
+        };
+        if whole {
             // Built here rather than by the first row while the others wait.
             self.grid();
         }

@@ -119,28 +119,38 @@ impl WedgeGrid {
         (cell, dims)
     }
 
+    /// How many (wedge, cell) entries [`WedgeGrid::build`] makes over `[lo, hi]`, counted slab
+    /// by slab without filling any: what its time and memory grow with (large lights give
+    /// large wedges, each in many cells).
+    pub fn entries(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> u64 {
+        let slabs = Slabs::new(lo, hi);
+        wedges
+            .iter()
+            .filter_map(|w| wedge_frustum(w, lo, hi))
+            .map(|f| {
+                let mut n = 0u64;
+                slabs.each_slab(&f, |_, [x0, x1], [y0, y1]| {
+                    n += ((x1 - x0) * (y1 - y0)) as u64
+                });
+                n
+            })
+            .sum()
+    }
+
     fn build_rows(wedges: &[Wedge], lo: DVec3, hi: DVec3, rows: Option<Vec<(u32, u32)>>) -> Self {
-        let (cell, dims) = Self::cells(lo, hi);
+        let slabs = Slabs::new(lo, hi);
+        let (cell, dims) = (slabs.cell, slabs.dims);
         // Each wedge goes into the cells its frustum meets: per slab of cells in depth, those
         // under the hull of its sections at the slab's two depths (sections are linear in
         // depth), which for a slanted wedge is far fewer than its bounding box's.
         let frusta: Vec<Option<WedgeFrustum>> =
             wedges.iter().map(|w| wedge_frustum(w, lo, hi)).collect();
-        let idx = |v: f64, a: usize| (((v - lo[a]) / cell[a]).max(0.0) as usize).min(dims[a] - 1);
         let n = dims[0] * dims[1] * dims[2];
         let flat = |x: usize, y: usize, z: usize| (z * dims[1] + y) * dims[0] + x;
         let each = |f: &WedgeFrustum, out: &mut dyn FnMut(usize)| {
-            let (z0, z1) = (idx(f.z.0, 2), idx(f.z.1, 2));
-            for z in z0..=z1 {
-                let za = (lo.z + z as f64 * cell.z).max(f.z.0);
-                let zb = (lo.z + (z + 1) as f64 * cell.z).min(f.z.1);
-                let (a, b) = (f.section(za), f.section(zb.max(za)));
-                let (rlo, rhi) = (a.0.min(b.0), a.1.max(b.1));
-                if !(rlo.x <= rhi.x && rlo.y <= rhi.y) {
-                    continue;
-                }
-                for y in idx(rlo.y, 1)..=idx(rhi.y, 1) {
-                    let (mut x0, mut x1) = (idx(rlo.x, 0), idx(rhi.x, 0) + 1);
+            slabs.each_slab(f, |z, [x0, x1], [y0, y1]| {
+                for y in y0..y1 {
+                    let (mut x0, mut x1) = (x0, x1);
                     if let Some(rows) = &rows {
                         let (r0, r1) = rows[z * dims[1] + y];
                         (x0, x1) = (x0.max(r0 as usize), x1.min(r1 as usize));
@@ -149,7 +159,7 @@ impl WedgeGrid {
                         out(flat(x, y, z));
                     }
                 }
-            }
+            });
         };
         let mut count = vec![0u32; n + 1];
         for f in frusta.iter().flatten() {
@@ -191,6 +201,45 @@ impl WedgeGrid {
         }
         let i = (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0];
         Some(&self.items[self.start[i] as usize..self.start[i + 1] as usize])
+    }
+}
+
+/// The grid's cells over `[lo, hi]`, walked a slab of cells in depth at a time.
+struct Slabs {
+    lo: DVec3,
+    cell: DVec3,
+    dims: [usize; 3],
+}
+
+impl Slabs {
+    fn new(lo: DVec3, hi: DVec3) -> Self {
+        let (cell, dims) = WedgeGrid::cells(lo, hi);
+        Slabs { lo, cell, dims }
+    }
+
+    /// The cell index on axis `a` of the coordinate `v`, clamped to the grid.
+    fn index(&self, v: f64, a: usize) -> usize {
+        (((v - self.lo[a]) / self.cell[a]).max(0.0) as usize).min(self.dims[a] - 1)
+    }
+
+    /// For each slab `z` the frustum `f` meets, the cells `x0..x1` by `y0..y1` under the hull
+    /// of its sections at the slab's two depths (sections are linear in depth).
+    fn each_slab(&self, f: &WedgeFrustum, mut out: impl FnMut(usize, [usize; 2], [usize; 2])) {
+        let (lo, cell) = (self.lo, self.cell);
+        for z in self.index(f.z.0, 2)..=self.index(f.z.1, 2) {
+            let za = (lo.z + z as f64 * cell.z).max(f.z.0);
+            let zb = (lo.z + (z + 1) as f64 * cell.z).min(f.z.1);
+            let (a, b) = (f.section(za), f.section(zb.max(za)));
+            let (rlo, rhi) = (a.0.min(b.0), a.1.max(b.1));
+            if !(rlo.x <= rhi.x && rlo.y <= rhi.y) {
+                continue;
+            }
+            out(
+                z,
+                [self.index(rlo.x, 0), self.index(rhi.x, 0) + 1],
+                [self.index(rlo.y, 1), self.index(rhi.y, 1) + 1],
+            );
+        }
     }
 }
 
@@ -482,6 +531,45 @@ mod tests {
             }
         }
         assert!(filled > 0 && empty > 0, "{filled} {empty}");
+    }
+
+    #[test]
+    fn entries_counts_what_the_whole_grid_holds() {
+        let mut rng = Rng::new(0xe27);
+        let (lo, hi) = (DVec3::new(-6.0, -5.0, 0.5), DVec3::new(7.0, 6.0, 9.0));
+        // Short and long edges, near the light and near the receivers' far depth, and some
+        // beyond it (no wedge reaches a receiver).
+        let wedges: Vec<Wedge> = (0..400)
+            .map(|i| {
+                let z = |rng: &mut Rng| rng.range(0.1, if i % 5 == 0 { 12.0 } else { 8.0 });
+                let from = DVec3::new(rng.range(-4.0, 4.0), rng.range(-4.0, 4.0), z(&mut rng));
+                let reach = if i % 2 == 0 { 0.2 } else { 3.0 };
+                let to = from
+                    + DVec3::new(
+                        rng.range(-reach, reach),
+                        rng.range(-reach, reach),
+                        rng.range(-reach, reach),
+                    );
+                Wedge {
+                    from,
+                    to: to.with_z(to.z.max(0.05)),
+                    multiplicity: 1,
+                    occluder: 0,
+                    silhouette_loop: 0,
+                    unit: 0,
+                    caster: None,
+                }
+            })
+            .collect();
+        for n in [1, 17, 400] {
+            let grid = WedgeGrid::build(&wedges[..n], lo, hi);
+            let entries = WedgeGrid::entries(&wedges[..n], lo, hi);
+            assert_eq!(entries, grid.items.len() as u64, "{n} wedges");
+            assert!(
+                n < 17 || entries > 10 * n as u64,
+                "{entries} entries of {n} wedges"
+            );
+        }
     }
 
     #[test]
