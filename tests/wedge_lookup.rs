@@ -7,11 +7,11 @@
 use glam::{DMat4, DVec2, DVec3};
 use penumbra::Technique;
 use penumbra::geom::{Camera, RectLight, Scene, SceneMesh, TriangleMesh};
-use penumbra::volumes::{CpuRenderer, ReceiverCells, receiver_box};
+use penumbra::volumes::{CpuRenderer, ReceiverCells, WedgeGrid, receiver_box};
 
 /// The ground, the light tilted so that its plane cuts the ground a few units from the sphere,
-/// and a sphere of `stacks` x `slices` over the ground, seen by a camera of 48 x 36 pixels.
-fn wide_ground(stacks: u32, slices: u32) -> Scene {
+/// and a sphere of `stacks` x `slices` over the ground, seen by a camera of `width` x `height`.
+fn wide_ground(stacks: u32, slices: u32, (width, height): (u32, u32)) -> Scene {
     let h = 200.0;
     let ground = TriangleMesh::from_raw(
         "ground",
@@ -33,8 +33,8 @@ fn wide_ground(stacks: u32, slices: u32) -> Scene {
             DVec3::new(1.0, 0.0, 0.0),
             DVec3::Y,
             45.0,
-            48,
-            36,
+            width,
+            height,
         )
         .unwrap(),
         light: RectLight::new(
@@ -64,11 +64,11 @@ fn wide_ground(stacks: u32, slices: u32) -> Scene {
 
 #[test]
 fn an_image_whose_grid_covers_only_its_pixels_equals_the_lookup_over_every_receiver() {
-    // Few wedges for the pixels (13: the whole grid unless a glance at the pixels finds the
-    // camera looking at a small part of the receivers), and many (165: the grid of the pixels'
-    // cells).
-    for (stacks, slices) in [(6, 8), (48, 160)] {
-        let scene = wide_ground(stacks, slices);
+    // A whole grid of few entries for the pixels (13 wedges, 160 x 120: filled but for a glance
+    // at the pixels, which finds the camera looking at a small part of the receivers), and one
+    // of many (165 wedges, 48 x 36: the pixels' cells at once).
+    for (stacks, slices, size, few) in [(6, 8, (160, 120), true), (48, 160, (48, 36), false)] {
+        let scene = wide_ground(stacks, slices, size);
         let r = CpuRenderer::new(&scene);
         let cam = &scene.camera;
         let light = &r.tracer.light;
@@ -92,6 +92,14 @@ fn an_image_whose_grid_covers_only_its_pixels_equals_the_lookup_over_every_recei
             "the pixels' box {tlo} {thi} against the receivers' {lo} {hi}"
         );
         let wedges = r.volumes.wedges.len();
+        // 32 entries per pixel: where the renderer stops filling the whole grid.
+        let entries = WedgeGrid::entries(&r.volumes.wedges, lo, hi);
+        assert_eq!(
+            entries < 32 * points.len() as u64,
+            few,
+            "{entries} entries for {} pixels",
+            points.len()
+        );
         for t in [Technique::Wedges, Technique::WedgesBlend] {
             let img = r.render(t, &|_| {});
             let (mut penumbra, mut differ) = (0, 0);
