@@ -10,8 +10,9 @@ use rayon::prelude::*;
 use crate::blend::{Part, VBuffer};
 use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
 use crate::volumes::Volumes;
-use crate::wedge_grid::{ReceiverCells, WedgeGrid, receiver_box};
+use crate::wedge_grid::{ReceiverCells, WedgeGrid};
 use crate::wedge_integral::EdgeIntegral;
+use crate::wedge_reach::receiver_box;
 
 /// Everything the CPU needs to render the volume techniques of one scene, and their renderer.
 ///

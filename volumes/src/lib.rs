@@ -28,6 +28,7 @@ mod volumes;
 mod wedge;
 mod wedge_grid;
 mod wedge_integral;
+mod wedge_reach;
 
 #[cfg(test)]
 mod depth_complexity_tests;
@@ -45,7 +46,6 @@ pub use silhouette::{Silhouette, SilhouetteEdge};
 pub use terminator::{front_share, outward_sign};
 pub use volumes::{GeometryCounts, Occluder, Volumes};
 pub use wedge::Wedge;
-pub use wedge_grid::{
-    ReceiverCells, WedgeFrustum, WedgeGrid, receiver_box, wedge_bounds, wedge_box, wedge_frustum,
-};
+pub use wedge_grid::{ReceiverCells, WedgeGrid};
 pub use wedge_integral::EdgeIntegral;
+pub use wedge_reach::{WedgeFrustum, receiver_box, wedge_bounds, wedge_box, wedge_frustum};
