@@ -261,15 +261,15 @@ impl CpuRenderer {
 
     /// The grid of the wedges over the whole receivers' box, for queries at any point
     /// ([`CpuRenderer::visibility`], [`CpuRenderer::wedges_containing`]), built on the first
-    /// call; its memory grows with the wedges' sizes ([`WedgeGrid::entries`], four bytes each:
-    /// 1 GB for thousands of wedges under a light larger than the scene). [`CpuRenderer::render`]
-    /// uses it where it holds few entries for the pixels, makes its own filled only where its
-    /// pixels' points lie otherwise ([`WedgeGrid::build_for`]), and uses none for the hard
-    /// shadow.
+    /// call, in coarser cells where the finest would hold more than 2^24 entries (64 MiB;
+    /// thousands of wedges under a light larger than the scene would fill 1 GB).
+    /// [`CpuRenderer::render`] uses it where it holds few entries for the pixels, makes its own
+    /// filled only where its pixels' points lie otherwise ([`WedgeGrid::build_for`]), and uses
+    /// none for the hard shadow.
     pub fn grid(&self) -> &WedgeGrid {
         self.grid.get_or_init(|| {
             let (lo, hi) = self.receivers;
-            WedgeGrid::build(&self.volumes.wedges, lo, hi)
+            WedgeGrid::build_within(&self.volumes.wedges, lo, hi, WHOLE_ENTRIES)
         })
     }
 

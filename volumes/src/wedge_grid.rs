@@ -20,8 +20,12 @@ pub struct WedgeGrid {
     rows: Option<Vec<(u32, u32)>>,
 }
 
-/// Upper bound on grid cells.
-const GRID_CELLS: f64 = 48.0 * 48.0 * 48.0;
+/// Upper bound on grid cells: this many cubed.
+const GRID_CELLS_PER_AXIS: f64 = 48.0;
+
+/// The cells per axis [`WedgeGrid::build_within`] tries, finest first, until the grid holds few
+/// enough entries: each halving of the cells per axis divides the entries by about four.
+const COARSER: [f64; 6] = [GRID_CELLS_PER_AXIS, 24.0, 12.0, 6.0, 3.0, 1.0];
 
 /// The cells of the grid over a receivers' box that hold given light-space points, kept per row
 /// of cells along `x` as the run from the first to the last: what [`WedgeGrid::build_for`]
@@ -45,7 +49,7 @@ const TIGHTER_FROM: f64 = 8.0;
 impl ReceiverCells {
     /// No cell yet, of the grid over the light-space box `[lo, hi]`.
     pub fn new(lo: DVec3, hi: DVec3) -> Self {
-        let (cell, dims) = WedgeGrid::cells(lo, hi);
+        let (cell, dims) = WedgeGrid::cells(lo, hi, GRID_CELLS_PER_AXIS);
         ReceiverCells {
             lo,
             hi,
@@ -93,7 +97,20 @@ impl ReceiverCells {
 impl WedgeGrid {
     /// Bins `wedges` (light space) over the light-space box `[lo, hi]` holding every receiver.
     pub fn build(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> Self {
-        Self::build_rows(wedges, lo, hi, None)
+        Self::build_rows(wedges, Slabs::new(lo, hi, GRID_CELLS_PER_AXIS), None)
+    }
+
+    /// [`WedgeGrid::build`] in coarser cells where it would hold more than `max_entries`
+    /// entries ([`WedgeGrid::entries`]): its memory stays near `4 max_entries` bytes however
+    /// large the wedges (a light larger than the scene), at the cost of more candidates per
+    /// point. At its coarsest, about one cell, it holds each wedge that reaches a receiver about
+    /// once.
+    pub fn build_within(wedges: &[Wedge], lo: DVec3, hi: DVec3, max_entries: u64) -> Self {
+        let per_axis = COARSER
+            .into_iter()
+            .find(|&n| Slabs::new(lo, hi, n).entries(wedges) <= max_entries)
+            .unwrap_or(1.0);
+        Self::build_rows(wedges, Slabs::new(lo, hi, per_axis), None)
     }
 
     /// [`WedgeGrid::build`] filling only, in each row of cells along `x`, the run from the
@@ -102,13 +119,15 @@ impl WedgeGrid {
     /// order, at those points; every wedge elsewhere. Filling every cell spent most of the time
     /// and memory on cells no pixel reads.
     pub fn build_for(wedges: &[Wedge], cells: ReceiverCells) -> Self {
-        Self::build_rows(wedges, cells.lo, cells.hi, Some(cells.rows))
+        let slabs = Slabs::new(cells.lo, cells.hi, GRID_CELLS_PER_AXIS);
+        Self::build_rows(wedges, slabs, Some(cells.rows))
     }
 
-    /// The cell size and the cells per axis of the grid over `[lo, hi]`.
-    fn cells(lo: DVec3, hi: DVec3) -> (DVec3, [usize; 3]) {
+    /// The cell size and the cells per axis of the grid over `[lo, hi]` of at most about
+    /// `per_axis` cubed cells.
+    fn cells(lo: DVec3, hi: DVec3, per_axis: f64) -> (DVec3, [usize; 3]) {
         let ext = (hi - lo).max(DVec3::splat(1e-9));
-        let k = (GRID_CELLS / (ext.x * ext.y * ext.z)).cbrt();
+        let k = (per_axis.powi(3) / (ext.x * ext.y * ext.z)).cbrt();
         let dims = [0, 1, 2].map(|a| ((ext[a] * k).ceil() as usize).clamp(1, 256));
         let cell = DVec3::new(
             ext.x / dims[0] as f64,
@@ -122,22 +141,11 @@ impl WedgeGrid {
     /// by slab without filling any: what its time and memory grow with (large lights give
     /// large wedges, each in many cells).
     pub fn entries(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> u64 {
-        let slabs = Slabs::new(lo, hi);
-        wedges
-            .iter()
-            .filter_map(|w| wedge_frustum(w, lo, hi))
-            .map(|f| {
-                let mut n = 0u64;
-                slabs.each_slab(&f, |_, [x0, x1], [y0, y1]| {
-                    n += ((x1 - x0) * (y1 - y0)) as u64
-                });
-                n
-            })
-            .sum()
+        Slabs::new(lo, hi, GRID_CELLS_PER_AXIS).entries(wedges)
     }
 
-    fn build_rows(wedges: &[Wedge], lo: DVec3, hi: DVec3, rows: Option<Vec<(u32, u32)>>) -> Self {
-        let slabs = Slabs::new(lo, hi);
+    fn build_rows(wedges: &[Wedge], slabs: Slabs, rows: Option<Vec<(u32, u32)>>) -> Self {
+        let (lo, hi) = (slabs.lo, slabs.hi);
         let (cell, dims) = (slabs.cell, slabs.dims);
         // Each wedge goes into the cells its frustum meets: per slab of cells in depth, those
         // under the hull of its sections at the slab's two depths (sections are linear in
@@ -206,14 +214,30 @@ impl WedgeGrid {
 /// The grid's cells over `[lo, hi]`, walked a slab of cells in depth at a time.
 struct Slabs {
     lo: DVec3,
+    hi: DVec3,
     cell: DVec3,
     dims: [usize; 3],
 }
 
 impl Slabs {
-    fn new(lo: DVec3, hi: DVec3) -> Self {
-        let (cell, dims) = WedgeGrid::cells(lo, hi);
-        Slabs { lo, cell, dims }
+    fn new(lo: DVec3, hi: DVec3, per_axis: f64) -> Self {
+        let (cell, dims) = WedgeGrid::cells(lo, hi, per_axis);
+        Slabs { lo, hi, cell, dims }
+    }
+
+    /// How many (wedge, cell) entries binning `wedges` into these cells makes.
+    fn entries(&self, wedges: &[Wedge]) -> u64 {
+        wedges
+            .iter()
+            .filter_map(|w| wedge_frustum(w, self.lo, self.hi))
+            .map(|f| {
+                let mut n = 0u64;
+                self.each_slab(&f, |_, [x0, x1], [y0, y1]| {
+                    n += ((x1 - x0) * (y1 - y0)) as u64
+                });
+                n
+            })
+            .sum()
     }
 
     /// The cell index on axis `a` of the coordinate `v`, clamped to the grid.
@@ -398,6 +422,62 @@ mod tests {
                 n < 17 || entries > 10 * n as u64,
                 "{entries} entries of {n} wedges"
             );
+        }
+    }
+
+    #[test]
+    fn a_grid_within_a_budget_is_coarser_and_still_lists_every_wedge_holding_a_point() {
+        let mut rng = Rng::new(0xb0d6e7);
+        let (lo, hi) = (DVec3::new(-6.0, -5.0, 0.5), DVec3::new(7.0, 6.0, 9.0));
+        let point = |rng: &mut Rng, z: f64| {
+            DVec3::new(
+                rng.range(-4.0, 4.0),
+                rng.range(-4.0, 4.0),
+                rng.range(0.2, z),
+            )
+        };
+        let wedges: Vec<Wedge> = (0..300)
+            .map(|_| Wedge {
+                from: point(&mut rng, 4.0),
+                to: point(&mut rng, 4.0),
+                multiplicity: 1,
+                occluder: 0,
+                silhouette_loop: 0,
+                unit: 0,
+                caster: None,
+            })
+            .collect();
+        let finest = WedgeGrid::entries(&wedges, lo, hi);
+        let mut last = u64::MAX;
+        for max in [u64::MAX, finest / 5, finest / 50, 0] {
+            let grid = WedgeGrid::build_within(&wedges, lo, hi, max);
+            let held = grid.items.len() as u64;
+            // Within the budget, or in the coarsest cells (a few) when none fits it.
+            assert!(
+                held <= max || grid.start.len() <= 9,
+                "{held} entries for {max}"
+            );
+            assert!(
+                held <= last && (max < finest || held == finest),
+                "{held} {last}"
+            );
+            last = held;
+            for _ in 0..500 {
+                let p = DVec3::new(
+                    rng.range(-6.0, 7.0),
+                    rng.range(-5.0, 6.0),
+                    rng.range(0.5, 9.0),
+                );
+                let listed = grid.candidates(p).expect("inside the grid");
+                for (wi, w) in wedges.iter().enumerate() {
+                    if w.contains(p) {
+                        assert!(
+                            listed.contains(&(wi as u32)),
+                            "wedge {wi} at {p}, budget {max}"
+                        );
+                    }
+                }
+            }
         }
     }
 
