@@ -286,6 +286,19 @@ mod tests {
     use crate::wedge_reach::*;
     use penumbra_geom::Rng;
 
+    /// The wedge of the edge `from -> to` of a mesh in front of the light.
+    fn wedge(from: DVec3, to: DVec3) -> Wedge {
+        Wedge {
+            from,
+            to,
+            multiplicity: 1,
+            occluder: 0,
+            silhouette_loop: 0,
+            unit: 0,
+            caster: None,
+        }
+    }
+
     #[test]
     fn wedge_frustum_holds_every_point_of_its_wedge_in_the_receivers_box() {
         let mut rng = Rng::new(0x9e3779b97f4a7c15);
@@ -295,15 +308,7 @@ mod tests {
         for _ in 0..300 {
             let mut point = || DVec3::new(8.0 * r() - 4.0, 8.0 * r() - 4.0, 0.2 + 9.5 * r());
             let (from, to) = (point(), point());
-            let w = Wedge {
-                from,
-                to,
-                multiplicity: 1,
-                occluder: 0,
-                silhouette_loop: 0,
-                unit: 0,
-                caster: None,
-            };
+            let w = wedge(from, to);
             let Some(f) = wedge_frustum(&w, lo, hi) else {
                 continue;
             };
@@ -335,15 +340,7 @@ mod tests {
         let wedges: Vec<Wedge> = (0..400)
             .map(|_| {
                 let mut point = || DVec3::new(8.0 * r() - 4.0, 8.0 * r() - 4.0, 0.2 + 9.5 * r());
-                Wedge {
-                    from: point(),
-                    to: point(),
-                    multiplicity: 1,
-                    occluder: 0,
-                    silhouette_loop: 0,
-                    unit: 0,
-                    caster: None,
-                }
+                wedge(point(), point())
             })
             .collect();
         // Receivers on a slanted plane, as a ground seen from a light is.
@@ -403,15 +400,7 @@ mod tests {
                         rng.range(-reach, reach),
                         rng.range(-reach, reach),
                     );
-                Wedge {
-                    from,
-                    to: to.with_z(to.z.max(0.05)),
-                    multiplicity: 1,
-                    occluder: 0,
-                    silhouette_loop: 0,
-                    unit: 0,
-                    caster: None,
-                }
+                wedge(from, to.with_z(to.z.max(0.05)))
             })
             .collect();
         for n in [1, 17, 400] {
@@ -437,15 +426,7 @@ mod tests {
             )
         };
         let wedges: Vec<Wedge> = (0..300)
-            .map(|_| Wedge {
-                from: point(&mut rng, 4.0),
-                to: point(&mut rng, 4.0),
-                multiplicity: 1,
-                occluder: 0,
-                silhouette_loop: 0,
-                unit: 0,
-                caster: None,
-            })
+            .map(|_| wedge(point(&mut rng, 4.0), point(&mut rng, 4.0)))
             .collect();
         let finest = WedgeGrid::entries(&wedges, lo, hi);
         let mut last = u64::MAX;
