@@ -428,7 +428,11 @@ impl CpuRenderer {
             let mut cells = ReceiverCells::new(self.receivers.0, self.receivers.1);
             for j in 0..GLANCE {
                 for i in 0..GLANCE {
-                    let at = |k: u32, n: u32| ((2 * k + 1) * n / (2 * GLANCE)).min(n - 1);
+                    // In `u64`: the product overflows `u32` for images over 138 M pixels wide.
+                    let at = |k: u32, n: u32| {
+                        let i = u64::from(2 * k + 1) * u64::from(n) / u64::from(2 * GLANCE);
+                        i.min(u64::from(n) - 1) as u32
+                    };
                     if let Some(p) = surface(at(i, cam.width), at(j, cam.height)) {
                         cells.add(light.to_light_space(p.position));
                     }
@@ -439,7 +443,11 @@ impl CpuRenderer {
         let whole = technique != Technique::Hard && {
             let (lo, hi) = self.receivers;
             let entries = WedgeGrid::entries(&self.volumes.wedges, lo, hi);
-            entries < (WHOLE_ENTRIES_PER_PIXEL * pixels).min(WHOLE_ENTRIES) && !sees_little()
+            entries
+                < WHOLE_ENTRIES_PER_PIXEL
+                    .saturating_mul(pixels)
+                    .min(WHOLE_ENTRIES)
+                && !sees_little()
         };
         if whole {
             // Built here rather than by the first row while the others wait.
