@@ -426,13 +426,14 @@ impl CpuRenderer {
         let pixels = u64::from(cam.width) * u64::from(cam.height);
         let sees_little = || {
             let mut cells = ReceiverCells::new(self.receivers.0, self.receivers.1);
+            // The middle of the `k`-th of `GLANCE` spans of `n` pixels; in `u64`, as the product
+            // overflows `u32` for images over 138 M pixels wide.
+            let at = |k: u32, n: u32| {
+                let i = u64::from(2 * k + 1) * u64::from(n) / u64::from(2 * GLANCE);
+                i.min(u64::from(n) - 1) as u32
+            };
             for j in 0..GLANCE {
                 for i in 0..GLANCE {
-                    // In `u64`: the product overflows `u32` for images over 138 M pixels wide.
-                    let at = |k: u32, n: u32| {
-                        let i = u64::from(2 * k + 1) * u64::from(n) / u64::from(2 * GLANCE);
-                        i.min(u64::from(n) - 1) as u32
-                    };
                     if let Some(p) = surface(at(i, cam.width), at(j, cam.height)) {
                         cells.add(light.to_light_space(p.position));
                     }

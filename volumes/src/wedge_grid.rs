@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use crate::wedge::Wedge;
-use crate::wedge_reach::{WedgeFrustum, wedge_frustum};
+use crate::wedge_reach::{WedgeFrustum, padded, wedge_frustum};
 
 /// A uniform grid over the scene's bounding box listing, per cell, the wedges whose bounding
 /// box meets it: in every cell, or ([`WedgeGrid::build_for`]) only in the runs of cells that
@@ -78,17 +78,17 @@ impl ReceiverCells {
         self
     }
 
-    /// The box of the points added, padded as [`receiver_box`](crate::receiver_box) pads, when it is far smaller than
-    /// the grid's (the camera sees a small part of the receivers: a ground reaching far beyond
-    /// the view, or behind the light); `None` otherwise, or without a point. A grid over it
-    /// gives every one of those points fewer candidates, in finer cells.
+    /// The box of the points added, padded as [`receiver_box`](crate::receiver_box) pads, when
+    /// it is far smaller than the grid's (the camera sees a small part of the receivers: a
+    /// ground reaching far beyond the view, or behind the light); `None` otherwise, or without a
+    /// point. A grid over it gives every one of those points fewer candidates, in finer cells.
     pub fn tighter(&self) -> Option<(DVec3, DVec3)> {
         let (lo, hi) = self.seen;
         if !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
             return None;
         }
-        let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
-        let (lo, hi) = ((lo - pad).max(self.lo), (hi + pad).min(self.hi));
+        let (lo, hi) = padded(lo, hi);
+        let (lo, hi) = (lo.max(self.lo), hi.min(self.hi));
         let volume = |d: DVec3| d.x * d.y * d.z;
         (volume(hi - lo) * TIGHTER_FROM < volume(self.hi - self.lo)).then_some((lo, hi))
     }

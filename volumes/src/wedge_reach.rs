@@ -45,6 +45,12 @@ pub fn receiver_box(light: &RectLight, triangles: &[[DVec3; 3]]) -> (DVec3, DVec
         lo = DVec3::ZERO;
         hi = DVec3::ONE;
     }
+    padded(lo, hi)
+}
+
+/// The box `[lo, hi]` grown by a thousandth of its extent (of `1e-6` on a flat axis), so that
+/// points on its faces lie inside despite rounding.
+pub(crate) fn padded(lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
     let pad = (hi - lo).max(DVec3::splat(1e-6)) * 1e-3;
     (lo - pad, hi + pad)
 }
