@@ -130,17 +130,22 @@ impl Iterator for Candidates<'_> {
 /// them. A search of the accumulators for each wedge's unit took a fifth of the time under a
 /// light larger than the scene, where a point lies in the wedges of hundreds of units.
 struct Scratch {
-    acc: Vec<Accum>,
-    /// Index in `acc` of each unit's accumulator; `u32::MAX` for units with none, as every
+    /// The accumulators, those of a point first; the rest are kept, reset in place when taken
+    /// again, as pushing each anew copied it (328 bytes) through `memmove`.
+    all: Vec<Accum>,
+    /// Index in `all` of each unit's accumulator; `u32::MAX` for units with none, as every
     /// entry is again once a point is done.
     slot: Vec<u32>,
+    /// The accumulators' indices in their units' order, for blending.
+    order: Vec<u32>,
 }
 
 impl Scratch {
     fn new(units: u32) -> Self {
         Scratch {
-            acc: Vec::new(),
+            all: Vec::new(),
             slot: vec![u32::MAX; units as usize],
+            order: Vec::new(),
         }
     }
 }
@@ -157,6 +162,24 @@ struct Accum {
 }
 
 impl Accum {
+    /// Takes the accumulator `all[*used]` for `unit`, reset in place, or a new one; returns
+    /// its index and counts it in `used`.
+    fn open(all: &mut Vec<Accum>, used: &mut usize, unit: u32) -> u32 {
+        match all.get_mut(*used) {
+            Some(a) => {
+                a.occluder = unit;
+                a.hard = 0;
+                a.area = [0.0; 4];
+                a.rect = [Rect::EMPTY; 4];
+                a.inner_rect = [Rect::EMPTY; 4];
+                a.inner_cover = [0.0; 4];
+            }
+            None => all.push(Accum::new(unit)),
+        }
+        *used += 1;
+        (*used - 1) as u32
+    }
+
     fn new(occluder: u32) -> Self {
         Accum {
             occluder,
@@ -346,14 +369,11 @@ impl CpuRenderer {
             return if hard.is_empty() { 1.0 } else { 0.0 };
         }
         let pl = light.to_light_space(p.position);
-        let Scratch { acc, slot } = scratch;
-        acc.clear();
+        let Scratch { all, slot, order } = scratch;
+        let mut used = 0;
         for &(o, n) in &hard {
-            slot[o as usize] = acc.len() as u32;
-            acc.push(Accum {
-                hard: n,
-                ..Accum::new(o)
-            });
+            slot[o as usize] = Accum::open(all, &mut used, o);
+            all[used - 1].hard = n;
         }
         let mut int = EdgeIntegral::NONE;
         let grid = grid.unwrap_or_else(|| self.grid());
@@ -365,10 +385,9 @@ impl CpuRenderer {
             }
             let at = &mut slot[w.unit as usize];
             if *at == u32::MAX {
-                *at = acc.len() as u32;
-                acc.push(Accum::new(w.unit));
+                *at = Accum::open(all, &mut used, w.unit);
             }
-            let a = &mut acc[*at as usize];
+            let a = &mut all[*at as usize];
             // The parts not written add nothing but, to an inner half-wedge whose centre lies
             // on the near side, the centre to their near rectangles.
             if int.sign < 0.0 && parts.centre_near {
@@ -388,7 +407,8 @@ impl CpuRenderer {
                 }
             }
         }
-        for a in acc.iter() {
+        let acc = &all[..used];
+        for a in acc {
             slot[a.occluder as usize] = u32::MAX;
         }
         let occlusion = match technique {
@@ -399,10 +419,14 @@ impl CpuRenderer {
                 ((base + sum) / (4.0 * PART_AREA)).clamp(0.0, 1.0)
             }
             Technique::WedgesBlend => {
-                acc.sort_by_key(|a| a.occluder);
+                // In the units' order, each unit once; sorted as indices, as moving the
+                // accumulators themselves cost as much as blending them.
+                order.clear();
+                order.extend(0..acc.len() as u32);
+                order.sort_unstable_by_key(|&i| acc[i as usize].occluder);
                 let mut fin = VBuffer::default();
-                for a in acc.iter() {
-                    fin.blend(&a.buffer());
+                for &i in order.iter() {
+                    fin.blend(&acc[i as usize].buffer());
                 }
                 fin.occlusion()
             }
