@@ -54,7 +54,7 @@ pub use output::{output_target, remove_temporaries_in_progress, write_atomically
 pub use range::{
     MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, RangeError, UNIT_TOLERANCE, within_coordinates,
 };
-pub use raycast::{Hit, SceneBvh, WatertightRay};
+pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{
     LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,
 };

@@ -97,6 +97,20 @@ impl WatertightRay {
     }
 }
 
+/// How many rays a [`SceneBvh`] is built to answer, which decides how much its build refines
+/// it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rays {
+    /// Many per pixel (the references, depth-complexity sampling's cast tiles): refined by
+    /// obvhs' reinsertion optimizer, and the wide nodes' children ordered by cost, which takes
+    /// longer and pays back only over many rays (docs/benchmarks.md, "Set-up").
+    Many,
+    /// A few per pixel (the camera's, the light centre's): neither refinement, whose time the
+    /// rays would not win back. The hits are the same: the closest distance, the triangles
+    /// crossed (among coincident triangles, either build may name any at the closest).
+    Few,
+}
+
 /// A BVH over a triangle soup, answering closest-hit and occlusion queries.
 pub struct SceneBvh {
     bvh: Option<CwBvh>,
@@ -111,11 +125,16 @@ pub struct SceneBvh {
 }
 
 impl SceneBvh {
-    /// Builds the hierarchy: a binned-SAH binary BVH (`bvh_build.rs`, O(N log N) even on
-    /// coincident or fan-sliver triangles, where obvhs' PLOC builder is quadratic), refined by
-    /// obvhs' reinsertion optimizer and converted to its compressed wide BVH, with the
-    /// parameters of obvhs' medium-quality build.
+    /// Builds the hierarchy for many rays ([`Rays::Many`]).
     pub fn build(triangles: &[[DVec3; 3]]) -> Self {
+        Self::build_for(triangles, Rays::Many)
+    }
+
+    /// Builds the hierarchy: a binned-SAH binary BVH (`bvh_build.rs`, O(N log N) even on
+    /// coincident or fan-sliver triangles, where obvhs' PLOC builder is quadratic), for
+    /// [`Rays::Many`] refined by obvhs' reinsertion optimizer, and converted to its compressed
+    /// wide BVH, with the parameters of obvhs' medium-quality build.
+    pub fn build_for(triangles: &[[DVec3; 3]], rays: Rays) -> Self {
         if triangles.is_empty() {
             return SceneBvh {
                 bvh: None,
@@ -146,8 +165,11 @@ impl SceneBvh {
             .collect();
         let params = BvhBuildParams::medium_build();
         let mut bvh2 = build_bvh2(soup.iter().map(Boundable::aabb));
-        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
-        let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+        let many = rays == Rays::Many;
+        if many {
+            ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        }
+        let bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), many, false);
         let ids = bvh.primitive_indices.clone();
         let tris = ids
             .iter()
@@ -321,7 +343,14 @@ mod tests {
     #[test]
     fn coincident_faces_and_fans_hit_as_brute_force_does() {
         let tris = degenerate_soup(3000, 3000);
-        let bvh = SceneBvh::build(&tris);
+        for rays in [Rays::Many, Rays::Few] {
+            hits_as_brute_force_does(&SceneBvh::build_for(&tris, rays));
+        }
+    }
+
+    /// Casts rays through [`degenerate_soup`] against `bvh` and over every triangle: the same
+    /// closest distance, a triangle at it, and the same triangles crossed.
+    fn hits_as_brute_force_does(bvh: &SceneBvh) {
         let mut rng = crate::Rng::new(7);
         let mut hits = 0;
         for k in 0..300 {

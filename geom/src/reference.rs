@@ -26,7 +26,7 @@ use crate::camera::Camera;
 use crate::exact::exact_visibility;
 use crate::image::VisibilityImage;
 use crate::light::RectLight;
-use crate::raycast::SceneBvh;
+use crate::raycast::{Rays, SceneBvh};
 use crate::rng::Rng;
 use crate::scene::Scene;
 
@@ -72,10 +72,15 @@ pub struct Tracer {
 }
 
 impl Tracer {
-    /// Builds the BVH of a scene.
+    /// Builds the BVH of a scene for many rays ([`Rays::Many`]).
     pub fn new(scene: &Scene) -> Self {
+        Self::new_for(scene, Rays::Many)
+    }
+
+    /// Builds the BVH of a scene for `rays` rays.
+    pub fn new_for(scene: &Scene, rays: Rays) -> Self {
         let triangles = scene.triangles();
-        let bvh = SceneBvh::build(&triangles);
+        let bvh = SceneBvh::build_for(&triangles, rays);
         // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
         // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
         // between an occluder and its receiver, and the shadow was lost.

@@ -22,6 +22,7 @@ use crate::channels::VisibilityChannels;
 use crate::distant::Light;
 use crate::image::{ImageError, io_err};
 use crate::image_files::{PngColor, write_png_bytes};
+use crate::raycast::Rays;
 use crate::reference::Tracer;
 use crate::scene::Scene;
 
@@ -108,7 +109,7 @@ impl ShadedImage {
                 ),
             ));
         }
-        let tracer = Tracer::new(scene);
+        let tracer = Tracer::new_for(scene, Rays::Few);
         let mut rgb = vec![SHADED_BACKGROUND; w as usize * h as usize];
         rgb.par_chunks_mut(w.max(1) as usize)
             .enumerate()

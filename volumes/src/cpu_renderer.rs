@@ -4,7 +4,7 @@
 use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::{Camera, Scene, SurfacePoint, Technique, Tracer, VisibilityImage};
+use penumbra_geom::{Camera, Rays, Scene, SurfacePoint, Technique, Tracer, VisibilityImage};
 use rayon::prelude::*;
 
 use crate::blend::{Part, VBuffer};
@@ -221,7 +221,8 @@ impl Accum {
 impl CpuRenderer {
     /// Builds the BVH, the volumes and the wedge grid of `scene`, and keeps its camera.
     pub fn new(scene: &Scene) -> Self {
-        let tracer = Tracer::new(scene);
+        // Its rays: two per pixel from the camera, one to the light's centre.
+        let tracer = Tracer::new_for(scene, Rays::Few);
         let volumes = Volumes::build(scene);
         let light = scene.light;
         let receivers = receiver_box(&light, &tracer.triangles);

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use penumbra::geom::{REFERENCE_SEED, Rng, Tracer};
+use penumbra::geom::{REFERENCE_SEED, Rays, Rng, Tracer};
 use penumbra::volumes::{DepthComplexity, SamplePattern};
 use penumbra::{RenderOptions, Scene};
 
@@ -72,7 +72,7 @@ fn probe_light(
     if let Some(h) = header {
         println!("{h}");
     }
-    let tracer = Tracer::new(scene);
+    let tracer = Tracer::new_for(scene, Rays::Few);
     let dir = scene.camera.ray_dir(x, y);
     match tracer.surface_point(scene.camera.eye, dir) {
         None => println!("{indent}pixel {x},{y}: the ray hits nothing; V = 1"),
