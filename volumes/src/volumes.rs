@@ -2,6 +2,8 @@
 //! half-edges, silhouette from the light's centre and shadow volume ([`Occluder`]), and the
 //! penumbra wedges of every silhouette edge ([`Volumes`]).
 
+use std::collections::HashMap;
+
 use glam::DVec3;
 use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
 
@@ -145,8 +147,10 @@ impl Volumes {
                 o
             })
             .collect();
-        // Each unit's wedges together (a stable sort keeps the loops' order within a unit).
+        // Each unit's wedges together (a stable sort keeps the loops' order within a unit),
+        // each run of them along its outline.
         wedges.sort_by_key(|w| w.unit);
+        let wedges = along_outlines(wedges);
         Volumes {
             light: *light,
             occluders,
@@ -222,6 +226,93 @@ impl GeometryCounts {
                 .iter()
                 .map(|o| o.shadow_volume(v.light.center).triangles.len())
                 .sum(),
+        }
+    }
+}
+
+/// `wedges` (each unit's together) with each unit's in runs that follow its outline: after
+/// each wedge, the unit's first wedge not yet taken that starts where it ends, else its first
+/// not yet taken. A silhouette loop lists its edges as a set; along the outline, the wedges a
+/// receiver point meets one after another project next to one another, so that the renderer's
+/// tests and closed forms take the same branches in turn (docs/benchmarks.md).
+fn along_outlines(wedges: Vec<Wedge>) -> Vec<Wedge> {
+    let key = |unit: u32, p: DVec3| (unit, p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
+    // The wedges starting at each (unit, point), in their order, and how many of them are
+    // known to be taken (each is taken once: a vertex shared by many edges costs no more).
+    let mut starting: HashMap<_, (Vec<u32>, usize)> = HashMap::new();
+    for (i, w) in wedges.iter().enumerate() {
+        starting
+            .entry(key(w.unit, w.from))
+            .or_default()
+            .0
+            .push(i as u32);
+    }
+    let mut taken = vec![false; wedges.len()];
+    let mut out = Vec::with_capacity(wedges.len());
+    for first in 0..wedges.len() {
+        let mut at = first;
+        while !taken[at] {
+            taken[at] = true;
+            let w = wedges[at];
+            out.push(w);
+            let Some((run, skip)) = starting.get_mut(&key(w.unit, w.to)) else {
+                break;
+            };
+            while *skip < run.len() && taken[run[*skip] as usize] {
+                *skip += 1;
+            }
+            match run.get(*skip) {
+                Some(&next) => at = next as usize,
+                None => break,
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wedge(unit: u32, from: [f64; 2], to: [f64; 2]) -> Wedge {
+        Wedge {
+            from: DVec3::new(from[0], from[1], 1.0),
+            to: DVec3::new(to[0], to[1], 1.0),
+            multiplicity: 1,
+            occluder: 0,
+            silhouette_loop: 0,
+            unit,
+            caster: None,
+        }
+    }
+
+    #[test]
+    fn each_unit_s_wedges_follow_its_outline() {
+        // Unit 0: a square listed out of order; unit 1: two triangles sharing the corner
+        // (0, 0), one of them listed backwards from the middle.
+        let wedges = vec![
+            wedge(0, [1., 1.], [0., 1.]),
+            wedge(0, [0., 0.], [1., 0.]),
+            wedge(0, [0., 1.], [0., 0.]),
+            wedge(0, [1., 0.], [1., 1.]),
+            wedge(1, [2., 0.], [0., 0.]),
+            wedge(1, [0., 0.], [-1., 0.]),
+            wedge(1, [0., 0.], [2., 1.]),
+            wedge(1, [-1., -1.], [0., 0.]),
+            wedge(1, [2., 1.], [2., 0.]),
+            wedge(1, [-1., 0.], [-1., -1.]),
+        ];
+        let ordered = along_outlines(wedges.clone());
+        // The same wedges, each unit's together.
+        assert_eq!(ordered.len(), wedges.len());
+        for w in &wedges {
+            let n = |v: &[Wedge]| v.iter().filter(|x| *x == w).count();
+            assert_eq!(n(&ordered), n(&wedges), "{w:?}");
+        }
+        assert!(ordered.windows(2).all(|p| p[0].unit <= p[1].unit));
+        // Each wedge but a unit's last starts where the one before it ends.
+        for p in ordered.windows(2).filter(|p| p[0].unit == p[1].unit) {
+            assert_eq!(p[0].to, p[1].from, "{ordered:?}");
         }
     }
 }
