@@ -492,12 +492,10 @@ impl CpuRenderer {
         };
         let whole = technique != Technique::Hard && {
             let (lo, hi) = self.receivers;
-            let entries = WedgeGrid::entries(&self.volumes.wedges, lo, hi);
-            entries
-                < WHOLE_ENTRIES_PER_PIXEL
-                    .saturating_mul(pixels)
-                    .min(WHOLE_ENTRIES)
-                && !sees_little()
+            let limit = WHOLE_ENTRIES_PER_PIXEL
+                .saturating_mul(pixels)
+                .min(WHOLE_ENTRIES);
+            WedgeGrid::entries_up_to(&self.volumes.wedges, lo, hi, limit) < limit && !sees_little()
         };
         if whole {
             // Built here rather than by the first row while the others wait.

@@ -108,7 +108,9 @@ impl WedgeGrid {
     pub fn build_within(wedges: &[Wedge], lo: DVec3, hi: DVec3, max_entries: u64) -> Self {
         let per_axis = COARSER
             .into_iter()
-            .find(|&n| Slabs::new(lo, hi, n).entries(wedges) <= max_entries)
+            .find(|&n| {
+                Slabs::new(lo, hi, n).entries(wedges, max_entries.saturating_add(1)) <= max_entries
+            })
             .unwrap_or(1.0);
         Self::build_rows(wedges, Slabs::new(lo, hi, per_axis), None)
     }
@@ -141,7 +143,13 @@ impl WedgeGrid {
     /// by slab without filling any: what its time and memory grow with (large lights give
     /// large wedges, each in many cells).
     pub fn entries(wedges: &[Wedge], lo: DVec3, hi: DVec3) -> u64 {
-        Slabs::new(lo, hi, GRID_CELLS_PER_AXIS).entries(wedges)
+        Self::entries_up_to(wedges, lo, hi, u64::MAX)
+    }
+
+    /// [`WedgeGrid::entries`] counted up to `cap`, which it returns once there are that many:
+    /// whether a grid is small enough is told without counting a large one through.
+    pub fn entries_up_to(wedges: &[Wedge], lo: DVec3, hi: DVec3, cap: u64) -> u64 {
+        Slabs::new(lo, hi, GRID_CELLS_PER_AXIS).entries(wedges, cap)
     }
 
     fn build_rows(wedges: &[Wedge], slabs: Slabs, rows: Option<Vec<(u32, u32)>>) -> Self {
@@ -225,19 +233,22 @@ impl Slabs {
         Slabs { lo, hi, cell, dims }
     }
 
-    /// How many (wedge, cell) entries binning `wedges` into these cells makes.
-    fn entries(&self, wedges: &[Wedge]) -> u64 {
-        wedges
+    /// How many (wedge, cell) entries binning `wedges` into these cells makes, counted up to
+    /// `cap`: once there are that many, the rest are not looked at and `cap` is returned.
+    fn entries(&self, wedges: &[Wedge], cap: u64) -> u64 {
+        let mut n = 0u64;
+        for f in wedges
             .iter()
             .filter_map(|w| wedge_frustum(w, self.lo, self.hi))
-            .map(|f| {
-                let mut n = 0u64;
-                self.each_slab(&f, |_, [x0, x1], [y0, y1]| {
-                    n += ((x1 - x0) * (y1 - y0)) as u64
-                });
-                n
-            })
-            .sum()
+        {
+            self.each_slab(&f, |_, [x0, x1], [y0, y1]| {
+                n += ((x1 - x0) * (y1 - y0)) as u64
+            });
+            if n >= cap {
+                return cap;
+            }
+        }
+        n
     }
 
     /// The cell index on axis `a` of the coordinate `v`, clamped to the grid.
@@ -407,6 +418,11 @@ mod tests {
             let grid = WedgeGrid::build(&wedges[..n], lo, hi);
             let entries = WedgeGrid::entries(&wedges[..n], lo, hi);
             assert_eq!(entries, grid.items.len() as u64, "{n} wedges");
+            // Counted up to a cap: the cap once reached, else the whole count.
+            for cap in [1, entries / 2, entries, entries + 1] {
+                let capped = WedgeGrid::entries_up_to(&wedges[..n], lo, hi, cap);
+                assert_eq!(capped, entries.min(cap), "{n} wedges up to {cap}");
+            }
             assert!(
                 n < 17 || entries > 10 * n as u64,
                 "{entries} entries of {n} wedges"
