@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::blend::{Part, VBuffer};
 use crate::clip::{PART_AREA, RADIAL_PARTS, Rect};
-use crate::volumes::Volumes;
+use crate::volumes::{Volumes, along_outlines};
 use crate::wedge_grid::{ReceiverCells, WedgeGrid};
 use crate::wedge_integral::EdgeIntegral;
 use crate::wedge_reach::receiver_box;
@@ -64,7 +64,8 @@ use crate::wedge_reach::receiver_box;
 pub struct CpuRenderer {
     /// Ray casting and references.
     pub tracer: Tracer,
-    /// Silhouettes, volumes, wedges.
+    /// Silhouettes, volumes, wedges; each unit's wedges numbered along its outline, unlike
+    /// [`Volumes::build`]'s.
     pub volumes: Volumes,
     /// Wedge lookup for queries at any point, built on the first ([`CpuRenderer::grid`]).
     grid: OnceLock<WedgeGrid>,
@@ -223,7 +224,8 @@ impl CpuRenderer {
     pub fn new(scene: &Scene) -> Self {
         // Its rays: two per pixel from the camera, one to the light's centre.
         let tracer = Tracer::new_for(scene, Rays::Few);
-        let volumes = Volumes::build(scene);
+        let mut volumes = Volumes::build(scene);
+        volumes.wedges = along_outlines(std::mem::take(&mut volumes.wedges));
         let light = scene.light;
         let receivers = receiver_box(&light, &tracer.triangles);
         let mut triangle_occluder = Vec::with_capacity(tracer.triangles.len());

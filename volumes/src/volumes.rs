@@ -147,10 +147,8 @@ impl Volumes {
                 o
             })
             .collect();
-        // Each unit's wedges together (a stable sort keeps the loops' order within a unit),
-        // each run of them along its outline.
+        // Each unit's wedges together (a stable sort keeps the loops' order within a unit).
         wedges.sort_by_key(|w| w.unit);
-        let wedges = along_outlines(wedges);
         Volumes {
             light: *light,
             occluders,
@@ -233,9 +231,11 @@ impl GeometryCounts {
 /// `wedges` (each unit's together) with each unit's in runs that follow its outline: after
 /// each wedge, the unit's first wedge not yet taken that starts where it ends, else its first
 /// not yet taken. A silhouette loop lists its edges as a set; along the outline, the wedges a
-/// receiver point meets one after another project next to one another, so that the renderer's
-/// tests and closed forms take the same branches in turn (docs/benchmarks.md).
-fn along_outlines(wedges: Vec<Wedge>) -> Vec<Wedge> {
+/// receiver point meets one after another project next to one another, so that the CPU
+/// renderer's tests and closed forms take the same branches in turn (docs/benchmarks.md). The
+/// GPU keeps the order of [`Volumes::build`]: in this one its `wedges-blend` image of
+/// `spheres-9x9` moved by up to 0.037 in 0.5% of the penumbra's pixels (mean 6e-7).
+pub(crate) fn along_outlines(wedges: Vec<Wedge>) -> Vec<Wedge> {
     let key = |unit: u32, p: DVec3| (unit, p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
     // The wedges starting at each (unit, point), in their order, and how many of them are
     // known to be taken (each is taken once: a vertex shared by many edges costs no more).
