@@ -103,7 +103,8 @@ impl WatertightRay {
 pub enum Rays {
     /// Many per pixel (the references, depth-complexity sampling's cast tiles): refined by
     /// obvhs' reinsertion optimizer, and the wide nodes' children ordered by cost, which takes
-    /// longer and pays back only over many rays (docs/benchmarks.md, "Set-up").
+    /// longer and pays back only over many rays (docs/benchmarks.md, "CPU techniques against
+    /// the reference").
     Many,
     /// A few per pixel (the camera's, the light centre's): neither refinement, whose time the
     /// rays would not win back. The hits are the same: the closest distance, the triangles

@@ -128,8 +128,8 @@ impl Iterator for Candidates<'_> {
 
 /// What [`CpuRenderer::visibility_in`] keeps from one point to the next on a thread: the
 /// accumulators of the blending units that touch the point, and where each unit's lies among
-/// them. A search of the accumulators for each wedge's unit took a fifth of the time under a
-/// light larger than the scene, where a point lies in the wedges of hundreds of units.
+/// them. A search of the accumulators for each wedge's unit took about a tenth of the time under
+/// a light larger than the scene, where a point lies in the wedges of hundreds of units.
 struct Scratch {
     /// The accumulators, those of a point first; the rest are kept, reset in place when taken
     /// again, as pushing each anew copied it (328 bytes) through `memmove`.
@@ -164,7 +164,9 @@ struct Accum {
 
 impl Accum {
     /// Takes the accumulator `all[*used]` for `unit`, reset in place, or a new one; returns
-    /// its index and counts it in `used`.
+    /// its index and counts it in `used`. The reset sets each field as [`Accum::new`] does:
+    /// assigning a whole new value copied its 328 bytes through `memmove` again (1.01 to 1.015
+    /// times the time).
     fn open(all: &mut Vec<Accum>, used: &mut usize, unit: u32) -> u32 {
         match all.get_mut(*used) {
             Some(a) => {
