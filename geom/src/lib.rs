@@ -22,6 +22,7 @@ mod lights;
 mod memory;
 mod mesh;
 mod metrics;
+mod obj;
 mod output;
 mod range;
 mod raycast;
