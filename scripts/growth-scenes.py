@@ -21,6 +21,9 @@ larger lights.
                                  receivers reaching beyond the view and behind the light
   wide-ground.toml               the 200k scene on a ground 20 times as wide, 400 x 400 (a
                                  user's ground often reaches far beyond the view)
+  lights-3.toml                  the 200k scene under three lights (`[[light]]`): the scale
+                                 scene's, a 2 x 3 fill light beside the group and a 3 x 1 rim
+                                 light behind it, each rendered alone into its channel
 
 The ground quad stays two triangles. The meshes the scenes name are written next to them
 (originals copied byte for byte). Prints the triangles of each scene (the faces of its OBJ files,
@@ -65,6 +68,14 @@ LIGHT_SIDE = 5.0
 # light-low.toml's light: (centre, normal, tangent along its long side, size).
 LOW_LIGHT = ((-7.0, 2.5, 3.0), (0.8740445360226472, -0.21226795874835716, -0.4370222680113236),
              (0.447213595499958, 0.0, 0.894427190999916), (10.0, 2.5))
+
+# lights-3.toml's lights: (name, centre, normal, tangent, size).
+THREE_LIGHTS = [
+    ("key", LIGHT_CENTER, LIGHT_NORMAL, LIGHT_TANGENT, (LIGHT_SIDE, LIGHT_SIDE)),
+    ("fill", (4.0, 5.0, 1.0), (-0.6, -0.8, 0.0), (0.0, 0.0, 1.0), (2.0, 3.0)),
+    ("rim", (0.0, 4.0, -6.0), (0.0, -0.5547001962252291, 0.8320502943378437), (1.0, 0.0, 0.0),
+     (3.0, 1.0)),
+]
 
 # (obj, scale, rotate_axis_angle or None, translate): the scale scene's [[mesh]] entries after
 # the ground, in its order.
@@ -235,14 +246,20 @@ def fmt(v):
     return "[" + ", ".join(repr(float(x)) for x in v) + "]"
 
 
-def scene_text(what, mesh_file, side, light=None, ground=20.0):
+def scene_text(what, mesh_file, side, light=None, ground=20.0, lights=None):
     """The scene under the scale scene's light with sides `side`, or under `light` (centre,
-    normal, tangent, size), on the unit quad scaled by `ground`."""
+    normal, tangent, size), or under the named `lights` (name, centre, normal, tangent, size),
+    on the unit quad scaled by `ground`."""
     centre, normal, tangent, size = light or (LIGHT_CENTER, LIGHT_NORMAL, LIGHT_TANGENT,
                                               (side, side))
     text = HEADER.format(what=what) + "\n" + CAMERA + "\n"
-    text += ("[light]\ncenter = %s\nnormal = %s\ntangent = %s\nsize = [%r, %r]\n"
-             % (fmt(centre), fmt(normal), fmt(tangent), size[0], size[1]))
+    if lights is None:
+        text += ("[light]\ncenter = %s\nnormal = %s\ntangent = %s\nsize = [%r, %r]\n"
+                 % (fmt(centre), fmt(normal), fmt(tangent), size[0], size[1]))
+    for k, (name, centre, normal, tangent, size) in enumerate(lights or []):
+        text += ("%s[[light]]\nname = \"%s\"\ncenter = %s\nnormal = %s\ntangent = %s\n"
+                 "size = [%r, %r]\n" % ("\n" if k else "", name, fmt(centre), fmt(normal),
+                                        fmt(tangent), size[0], size[1]))
     text += '\n[[mesh]]\nobj = "quad.obj"\nscale = %r\ntranslate = [0.0, 0.0, 0.0]\n' % ground
     for name, scale, rot, tr in PLACEMENTS:
         text += '\n[[mesh]]\nobj = "%s"\nscale = %r\n' % (mesh_file[name], scale)
@@ -348,6 +365,11 @@ def main(out):
         "The scale scene (%s triangles) on a ground 20 times as wide, 400 x 400."
         % format(original, ","), same, LIGHT_SIDE, ground=400.0))
     report("wide-ground.toml", {n: len(meshes[n][1]) for n in names}, "ground 400 x 400")
+    write_atomic(os.path.join(out, "lights-3.toml"), scene_text(
+        "The scale scene (%s triangles) under three lights: its own, a 2 x 3 fill light beside "
+        "the group and a 3 x 1 rim light behind it." % format(original, ","), same, LIGHT_SIDE,
+        lights=THREE_LIGHTS))
+    report("lights-3.toml", {n: len(meshes[n][1]) for n in names}, "three lights")
 
     # The light's plane against the meshes (the same plane for every scene but light-low, whose
     # plane crosses the ground, as printed last): the format allows a

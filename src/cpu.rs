@@ -2,17 +2,19 @@
 //! CPU renderers.
 
 use penumbra_geom::{LightSamples, Reference};
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{Scene, Technique, TracerGeometry};
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
 use crate::frame::Frame;
 
-/// Renders a technique that runs on the CPU.
+/// Renders a technique that runs on the CPU, taking the ray-casting hierarchy from `kept`
+/// where it serves the scene and keeping the one it builds there otherwise.
 pub(crate) fn render(
     scene: &Scene,
     technique: Technique,
     pattern: SamplePattern,
     progress: &(dyn Fn(u64) + Sync),
+    kept: &mut Option<TracerGeometry>,
 ) -> Frame {
     let (image, detail) = match technique {
         Technique::Reference | Technique::HardReference => {
@@ -25,10 +27,13 @@ pub(crate) fn render(
                 ),
                 _ => (LightSamples::Centre, "cpu".to_string()),
             };
-            (Reference::new(scene).render(samples, progress), detail)
+            (
+                Reference::new_reusing(scene, kept).render(samples, progress),
+                detail,
+            )
         }
         Technique::DepthComplexity => {
-            let r = DepthComplexity::new(scene);
+            let r = DepthComplexity::new_reusing(scene, kept);
             let image = r.render(pattern, progress);
             let mut detail = format!(
                 "cpu, {} {} samples, {} potential silhouette edges of {}",
@@ -48,7 +53,7 @@ pub(crate) fn render(
             (image, detail)
         }
         _ => {
-            let r = CpuRenderer::new(scene);
+            let r = CpuRenderer::new_reusing(scene, kept);
             let detail = format!("cpu, {} wedges", r.volumes.wedges.len());
             (r.render(technique, progress), detail)
         }

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use penumbra_geom::{Channel, VisibilityChannels, VisibilityImage};
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{Scene, Technique, TracerGeometry};
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
 
@@ -90,6 +90,11 @@ impl Machine for Offers<'_> {
 /// Renders scenes with any [`Technique`], keeping its GPU context and GPU renderers from one
 /// render to the next. The GPU is looked for the first time a technique could use it.
 ///
+/// On the CPU it keeps the last render's ray-casting hierarchy, which depends on the triangles
+/// alone: the next render of the same triangles (another light of the scene, another camera,
+/// another technique casting as many rays) takes it instead of building it again, with the
+/// same image. Until then it holds that hierarchy's memory.
+///
 /// ```
 /// use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
 ///
@@ -110,6 +115,8 @@ pub struct Renderer {
     volumes: Option<GpuRenderer>,
     shadow_maps: Vec<ShadowMapRenderer>,
     counters: bool,
+    /// The last CPU render's ray-casting hierarchy, for the next one over the same triangles.
+    kept: Option<TracerGeometry>,
 }
 
 impl Renderer {
@@ -121,6 +128,7 @@ impl Renderer {
             volumes: None,
             shadow_maps: Vec::new(),
             counters: false,
+            kept: None,
         }
     }
 
@@ -251,7 +259,8 @@ impl Renderer {
                 self.render_gpu(scene, &request, volumes)?
             }
             Placement::Cpu => {
-                let mut frame = crate::cpu::render(scene, technique, pattern, progress);
+                let mut frame =
+                    crate::cpu::render(scene, technique, pattern, progress, &mut self.kept);
                 if let Reason::WideTriangle { .. } = choice.reason {
                     frame.detail = format!("{}; {}", frame.detail, choice.reason);
                 }

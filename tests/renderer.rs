@@ -256,3 +256,59 @@ fn random_similarity_transforms_leave_every_image_unchanged() {
         }
     }
 }
+
+#[test]
+fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
+    // The renderer keeps the last CPU render's ray-casting hierarchy for the next render of the
+    // same triangles. A scene whose sphere moved, the same scene under another camera, and the
+    // same scene again after another: each image is that of a renderer of its own, bit for bit,
+    // whatever was rendered before it and whichever kind of hierarchy that took.
+    let mut scene = load("sphere-over-plane");
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    let moved = {
+        let mut s = scene.clone();
+        let by = glam::DMat4::from_translation(glam::DVec3::new(0.3, 0.0, 0.0));
+        s.meshes[1].mesh = s.meshes[1].mesh.transformed(&by);
+        s.meshes[1].transform = by * s.meshes[1].transform;
+        s
+    };
+    let turned = {
+        let mut s = scene.clone();
+        s.camera.eye += glam::DVec3::new(0.5, 0.0, 0.0);
+        s
+    };
+    assert_eq!(scene.meshes.len(), 2);
+    let options = RenderOptions {
+        samples: 16,
+        jitter: false,
+    };
+    let mut kept = Renderer::new(Backend::Cpu);
+    for (s, t) in [
+        (&scene, Technique::WedgesBlend),
+        (&moved, Technique::WedgesBlend),
+        (&scene, Technique::Reference),
+        (&turned, Technique::DepthComplexity),
+        (&moved, Technique::Hard),
+        (&scene, Technique::WedgesBlend),
+        (&moved, Technique::Reference),
+    ] {
+        let got = kept.render(s, t, &options).unwrap();
+        let fresh = Renderer::new(Backend::Cpu).render(s, t, &options).unwrap();
+        let differ = got
+            .data
+            .iter()
+            .zip(&fresh.data)
+            .filter(|(a, b)| a.to_bits() != b.to_bits())
+            .count();
+        assert_eq!(differ, 0, "{t}: {differ} pixels differ");
+    }
+    // The moved sphere's shadow is elsewhere: the images a stale hierarchy would give differ.
+    let [a, b] = [&scene, &moved].map(|s| {
+        Renderer::new(Backend::Cpu)
+            .render(s, Technique::Hard, &options)
+            .unwrap()
+            .data
+    });
+    assert!(a.iter().zip(&b).filter(|(x, y)| x != y).count() > 20);
+}

@@ -58,6 +58,7 @@ pub use range::{
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{
     LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,
+    TracerGeometry,
 };
 pub use rng::Rng;
 pub use scene::{DistantView, Scene, SceneMesh};

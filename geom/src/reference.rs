@@ -18,6 +18,8 @@
 //! The hard reference uses the single point `L = light centre`: the hard shadow of a point light
 //! there, which shadow volumes must reproduce.
 
+use std::sync::Arc;
+
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -54,9 +56,9 @@ pub struct SurfacePoint {
 /// A scene ready for visibility queries: its triangles, their BVH and its scale.
 pub struct Tracer {
     /// World-space triangles.
-    pub triangles: Vec<[DVec3; 3]>,
+    pub triangles: Arc<[[DVec3; 3]]>,
     /// Their hierarchy.
-    pub bvh: SceneBvh,
+    pub bvh: Arc<SceneBvh>,
     /// The light.
     pub light: RectLight,
     /// Shadow-ray start offset in world units.
@@ -64,11 +66,65 @@ pub struct Tracer {
     /// [`TOUCH_EPSILON`] in world units.
     pub touch: f64,
     /// The triangles' bounding boxes, to find those near a point.
-    near: BoxTree,
+    near: Arc<BoxTree>,
     /// Per triangle, whether it has a vertex strictly in front of the light's plane. The others
     /// can meet a segment from P to a light point only at its end, on the light: a touch, not
     /// a crossing, whichever way `f32` rounds it (a box whose top face is the light's plane).
     in_front: Vec<bool>,
+}
+
+/// What a [`Tracer`] builds from a scene's triangles alone: the triangles, their ray-casting
+/// hierarchy for some [`Rays`], the boxes that find the triangles near a point, and their
+/// bounds. It depends on neither the light nor the camera, so a scene with the same triangles
+/// under another light or seen by another camera can take it as it is
+/// ([`Tracer::new_reusing`]); cloning it shares it.
+#[derive(Clone)]
+pub struct TracerGeometry {
+    triangles: Arc<[[DVec3; 3]]>,
+    bvh: Arc<SceneBvh>,
+    near: Arc<BoxTree>,
+    rays: Rays,
+    /// The triangles' bounding box.
+    bounds: (DVec3, DVec3),
+}
+
+impl TracerGeometry {
+    /// Builds the hierarchies of `triangles` for `rays`.
+    pub fn build(triangles: Vec<[DVec3; 3]>, rays: Rays) -> Self {
+        let bvh = SceneBvh::build_for(&triangles, rays);
+        let bounds = triangles
+            .iter()
+            .flatten()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        let boxes: Vec<(DVec3, DVec3)> = triangles
+            .iter()
+            .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
+            .collect();
+        TracerGeometry {
+            triangles: triangles.into(),
+            bvh: Arc::new(bvh),
+            near: Arc::new(BoxTree::build(&boxes)),
+            rays,
+            bounds,
+        }
+    }
+
+    /// Whether it is what [`TracerGeometry::build`] makes of `triangles` for `rays`: the same
+    /// triangles, bit for bit (a `-0.0` is not a `0.0`: rays round them alike, but the hierarchy
+    /// and the images must not depend on what was rendered before), and the same `rays`, as
+    /// the two builds may name different triangles among coincident ones.
+    pub fn serves(&self, triangles: &[[DVec3; 3]], rays: Rays) -> bool {
+        let bits = |t: &[DVec3; 3]| t.map(|v| v.to_array().map(f64::to_bits));
+        self.rays == rays
+            && self.triangles.len() == triangles.len()
+            && self
+                .triangles
+                .iter()
+                .zip(triangles)
+                .all(|(a, b)| bits(a) == bits(b))
+    }
 }
 
 impl Tracer {
@@ -79,36 +135,41 @@ impl Tracer {
 
     /// Builds the BVH of a scene for `rays` rays.
     pub fn new_for(scene: &Scene, rays: Rays) -> Self {
+        Self::new_reusing(scene, rays, &mut None)
+    }
+
+    /// [`Tracer::new_for`], taking `kept`'s hierarchies where it serves the scene's triangles
+    /// for `rays` ([`TracerGeometry::serves`]), and otherwise building them and keeping them in
+    /// `kept` for the next scene: the same image either way, without building the hierarchies
+    /// again for another light or camera over the same triangles.
+    pub fn new_reusing(scene: &Scene, rays: Rays, kept: &mut Option<TracerGeometry>) -> Self {
         let triangles = scene.triangles();
-        let bvh = SceneBvh::build_for(&triangles, rays);
+        // One that does not serve is dropped before the new one is built, so that the two
+        // are never held at once.
+        let geometry = match kept.take().filter(|g| g.serves(&triangles, rays)) {
+            Some(g) => g,
+            None => TracerGeometry::build(triangles, rays),
+        };
+        *kept = Some(geometry.clone());
         // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
         // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
         // between an occluder and its receiver, and the shadow was lost.
-        let mut lo = scene.camera.eye;
-        let mut hi = scene.camera.eye;
-        for t in &triangles {
-            for v in t {
-                lo = lo.min(*v);
-                hi = hi.max(*v);
-            }
-        }
+        let eye = scene.camera.eye;
+        let (lo, hi) = (geometry.bounds.0.min(eye), geometry.bounds.1.max(eye));
         let extent = (hi - lo).length().max(1e-30);
-        let boxes: Vec<(DVec3, DVec3)> = triangles
-            .iter()
-            .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
-            .collect();
-        let in_front = triangles
+        let in_front = geometry
+            .triangles
             .iter()
             .map(|t| t.iter().any(|&v| scene.light.signed_distance(v) > 0.0))
             .collect();
         Tracer {
             in_front,
-            bvh,
+            bvh: geometry.bvh.clone(),
             light: scene.light,
             epsilon: SHADOW_EPSILON * extent,
             touch: TOUCH_EPSILON * extent,
-            near: BoxTree::build(&boxes),
-            triangles,
+            near: geometry.near.clone(),
+            triangles: geometry.triangles,
         }
     }
 
@@ -279,8 +340,14 @@ pub struct Reference {
 impl Reference {
     /// Builds the BVH of `scene` and keeps its camera.
     pub fn new(scene: &Scene) -> Self {
+        Self::new_reusing(scene, &mut None)
+    }
+
+    /// [`Reference::new`], taking the BVH from `kept` where it serves the scene, and keeping
+    /// the one built in `kept` otherwise ([`Tracer::new_reusing`]).
+    pub fn new_reusing(scene: &Scene, kept: &mut Option<TracerGeometry>) -> Self {
         Reference {
-            tracer: Tracer::new(scene),
+            tracer: Tracer::new_reusing(scene, Rays::Many, kept),
             camera: scene.camera,
         }
     }
@@ -318,5 +385,87 @@ impl Reference {
                 progress(n);
             });
         img
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use glam::{DMat4, DVec2, DVec3};
+
+    use super::{Tracer, TracerGeometry};
+    use crate::camera::Camera;
+    use crate::light::RectLight;
+    use crate::mesh::TriangleMesh;
+    use crate::raycast::Rays;
+    use crate::scene::Scene;
+
+    /// A sphere over a ground, lit from above, the sphere moved by `x`.
+    fn scene(x: f64) -> Scene {
+        let camera =
+            Camera::look_at(DVec3::new(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 8, 6).unwrap();
+        let light = RectLight::new(DVec3::new(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
+        let ground = TriangleMesh::from_raw(
+            "ground",
+            &[
+                DVec3::new(-3., 0., -3.),
+                DVec3::new(3., 0., -3.),
+                DVec3::new(3., 0., 3.),
+                DVec3::new(-3., 0., 3.),
+            ],
+            &[[0, 2, 1], [0, 3, 2]],
+        )
+        .unwrap();
+        Scene::new(camera, light)
+            .with_mesh("ground", &ground, DMat4::IDENTITY)
+            .with_mesh(
+                "sphere",
+                &TriangleMesh::uv_sphere(6, 8),
+                DMat4::from_translation(DVec3::new(x, 1.0, 0.0)),
+            )
+    }
+
+    /// The hierarchies are taken again for the same triangles under another light and camera,
+    /// and built again for other triangles (moved, or a `-0.0` where there was a `0.0`) or
+    /// another kind of rays; what is kept is the last one built.
+    #[test]
+    fn the_hierarchies_are_kept_for_the_same_triangles_and_rays_only() {
+        let mut kept = None;
+        let first = Tracer::new_reusing(&scene(0.0), Rays::Many, &mut kept);
+        let mut other_light = scene(0.0);
+        other_light.light = RectLight::new(
+            DVec3::new(1., 1.5, 0.),
+            -DVec3::Y,
+            DVec3::Z,
+            DVec2::ONE * 2.0,
+        );
+        other_light.camera.eye = DVec3::new(0., 2., 5.);
+        let again = Tracer::new_reusing(&other_light, Rays::Many, &mut kept);
+        assert!(Arc::ptr_eq(&first.bvh, &again.bvh));
+        assert!(Arc::ptr_eq(&first.triangles, &again.triangles));
+        // What depends on the light and the camera is the scene's own.
+        let fresh = Tracer::new(&other_light);
+        assert_eq!(again.in_front, fresh.in_front);
+        assert_ne!(again.in_front, first.in_front);
+        assert_eq!((again.epsilon, again.touch), (fresh.epsilon, fresh.touch));
+        assert_ne!(again.epsilon, first.epsilon);
+        for (moved, rays) in [(scene(0.5), Rays::Many), (scene(0.0), Rays::Few)] {
+            let before = kept.clone().unwrap();
+            let t = Tracer::new_reusing(&moved, rays, &mut kept);
+            assert!(!Arc::ptr_eq(&before.bvh, &t.bvh));
+            assert!(Arc::ptr_eq(&kept.as_ref().unwrap().bvh, &t.bvh));
+            assert_eq!(*t.triangles, *moved.triangles());
+        }
+        let triangles = scene(0.0).triangles();
+        let built = TracerGeometry::build(triangles.clone(), Rays::Few);
+        assert!(built.serves(&triangles, Rays::Few));
+        assert!(!built.serves(&triangles, Rays::Many));
+        assert!(!built.serves(&triangles[1..], Rays::Few));
+        // The ground lies at y = 0.
+        let mut signed = triangles.clone();
+        assert_eq!(signed[0][0].y.to_bits(), 0);
+        signed[0][0].y = -0.0;
+        assert!(!built.serves(&signed, Rays::Few));
     }
 }

@@ -4,7 +4,9 @@
 use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::{Camera, Rays, Scene, SurfacePoint, Technique, Tracer, VisibilityImage};
+use penumbra_geom::{
+    Camera, Rays, Scene, SurfacePoint, Technique, Tracer, TracerGeometry, VisibilityImage,
+};
 use rayon::prelude::*;
 
 use crate::blend::{Part, VBuffer};
@@ -224,8 +226,14 @@ impl Accum {
 impl CpuRenderer {
     /// Builds the BVH, the volumes and the wedge grid of `scene`, and keeps its camera.
     pub fn new(scene: &Scene) -> Self {
+        Self::new_reusing(scene, &mut None)
+    }
+
+    /// [`CpuRenderer::new`], taking the BVH from `kept` where it serves the scene, and keeping
+    /// the one built in `kept` otherwise ([`Tracer::new_reusing`]).
+    pub fn new_reusing(scene: &Scene, kept: &mut Option<TracerGeometry>) -> Self {
         // Its rays: two per pixel from the camera, one to the light's centre.
-        let tracer = Tracer::new_for(scene, Rays::Few);
+        let tracer = Tracer::new_reusing(scene, Rays::Few, kept);
         let mut volumes = Volumes::build(scene);
         volumes.wedges = along_outlines(std::mem::take(&mut volumes.wedges));
         let light = scene.light;
