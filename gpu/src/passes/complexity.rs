@@ -14,8 +14,8 @@ use penumbra_volumes::PotentialEdges;
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
 
 /// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), its sample
-/// pattern (`count_pattern.wgsl`), its receiver (`count_receiver.wgsl`), then the pass
-/// (`count.wgsl`), one shader in four files.
+/// pattern (`count_pattern.wgsl`), its receiver and the side tests made from its corners
+/// (`count_receiver.wgsl`), then the pass (`count.wgsl`), one shader in four files.
 pub const COUNT_WGSL: &str = concat!(
     include_str!("../shaders/count_regions.wgsl"),
     include_str!("../shaders/count_pattern.wgsl"),
