@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use penumbra_geom::{Channel, VisibilityChannels, VisibilityImage};
+use penumbra_geom::{Channel, ImageError, ShadedImage, VisibilityChannels, VisibilityImage};
 use penumbra_geom::{Scene, Technique, TracerGeometry};
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
@@ -145,6 +145,18 @@ impl Renderer {
             gpu: GpuState::Ready(Box::new(ctx)),
             ..Renderer::new(Backend::Gpu)
         }
+    }
+
+    /// The shaded preview of `scene` from its lights' visibility images
+    /// ([`ShadedImage::render`]), taking the ray-casting hierarchy the last CPU render kept where
+    /// it serves (the same triangles, cast for few rays: a volume technique's), and keeping the
+    /// one it builds otherwise.
+    pub fn shaded(
+        &mut self,
+        scene: &Scene,
+        images: &VisibilityChannels,
+    ) -> Result<ShadedImage, ImageError> {
+        ShadedImage::render_reusing(scene, images, &mut self.kept)
     }
 
     /// The GPU's description, once one has been opened.

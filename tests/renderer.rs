@@ -312,3 +312,30 @@ fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
     });
     assert!(a.iter().zip(&b).filter(|(x, y)| x != y).count() > 20);
 }
+
+#[test]
+fn the_renderer_s_shaded_preview_is_the_preview_of_its_own() {
+    // The preview takes the hierarchy a volume technique's render kept, builds its own after a
+    // reference's (a hierarchy for many rays), and is the same preview either way.
+    let mut scene = load("sphere-over-plane");
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    let options = RenderOptions {
+        samples: 16,
+        jitter: false,
+    };
+    let mut renderer = Renderer::new(Backend::Cpu);
+    for t in [
+        Technique::WedgesBlend,
+        Technique::Reference,
+        Technique::Hard,
+    ] {
+        let v = penumbra::geom::VisibilityChannels::single(
+            renderer.render(&scene, t, &options).unwrap(),
+        );
+        let got = renderer.shaded(&scene, &v).unwrap();
+        let own = penumbra::geom::ShadedImage::render(&scene, &v).unwrap();
+        assert_eq!(got, own, "{t}");
+        assert!(got.rgb.iter().any(|&p| p != got.rgb[0]), "{t}");
+    }
+}

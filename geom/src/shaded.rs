@@ -23,7 +23,7 @@ use crate::distant::Light;
 use crate::image::{ImageError, io_err};
 use crate::image_files::{PngColor, write_png_bytes};
 use crate::raycast::Rays;
-use crate::reference::Tracer;
+use crate::reference::{Tracer, TracerGeometry};
 use crate::scene::Scene;
 
 /// The ambient term `A` of the shaded preview: the linear value of a surface no light reaches.
@@ -81,6 +81,17 @@ impl ShadedImage {
     /// light, in the order of [`Scene::channel_names`], of the camera's size), by the formula
     /// of this module. Refused when `images` does not fit the scene.
     pub fn render(scene: &Scene, images: &VisibilityChannels) -> Result<ShadedImage, ImageError> {
+        Self::render_reusing(scene, images, &mut None)
+    }
+
+    /// [`ShadedImage::render`], taking the ray-casting hierarchy from `kept` where it serves
+    /// the scene's triangles, and keeping the one it builds there otherwise
+    /// ([`Tracer::new_reusing`]).
+    pub fn render_reusing(
+        scene: &Scene,
+        images: &VisibilityChannels,
+        kept: &mut Option<TracerGeometry>,
+    ) -> Result<ShadedImage, ImageError> {
         // The world's geometry: a scene under a distant light renders a warped one.
         let lights = scene.world_lights();
         let scene = scene.world();
@@ -109,7 +120,7 @@ impl ShadedImage {
                 ),
             ));
         }
-        let tracer = Tracer::new_for(scene, Rays::Few);
+        let tracer = Tracer::new_reusing(scene, Rays::Few, kept);
         let mut rgb = vec![SHADED_BACKGROUND; w as usize * h as usize];
         rgb.par_chunks_mut(w.max(1) as usize)
             .enumerate()

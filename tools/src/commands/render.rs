@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra::geom::ShadedImage;
 use penumbra::{Backend, Channel, RenderOptions, Renderer, Scene, Technique, VisibilityChannels};
 
 use crate::cli::ParamArgs;
@@ -247,7 +246,9 @@ fn draw(
         }
     }
     if let Some(path) = shaded {
-        let written = ShadedImage::render(scene, &images).and_then(|img| img.write_png(path));
+        let written = renderer
+            .shaded(scene, &images)
+            .and_then(|img| img.write_png(path));
         if let Err(e) = written {
             let _ = std::fs::remove_file(out);
             for written in pngs {
