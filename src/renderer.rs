@@ -93,7 +93,7 @@ impl Machine for Offers<'_> {
 /// On the CPU it keeps the last render's ray-casting hierarchy, which depends on the triangles
 /// alone: the next render of the same triangles (another light of the scene, another camera,
 /// another technique casting as many rays) takes it instead of building it again, with the
-/// same image. Until then it holds that hierarchy's memory.
+/// same image. Until then it holds that hierarchy's memory ([`Renderer::release_kept`]).
 ///
 /// ```
 /// use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
@@ -145,6 +145,12 @@ impl Renderer {
             gpu: GpuState::Ready(Box::new(ctx)),
             ..Renderer::new(Backend::Gpu)
         }
+    }
+
+    /// Drops the ray-casting hierarchy kept from the last CPU render, and its memory: the next
+    /// CPU render builds its own, and costs what a render of a renderer of its own does.
+    pub fn release_kept(&mut self) {
+        self.kept = None;
     }
 
     /// The shaded preview of `scene` from its lights' visibility images
@@ -350,5 +356,37 @@ impl Renderer {
         let volumes = volumes.expect("built above for a volume technique on the GPU");
         let rendered = r.render_timed(scene, volumes, technique)?;
         Ok(frame(rendered, format!("gpu: {}", ctx.describe())))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::RenderOptions;
+
+    /// A CPU render keeps its hierarchy, a GPU-only technique's render leaves it, and
+    /// [`Renderer::release_kept`] drops it.
+    #[test]
+    fn a_cpu_render_keeps_its_hierarchy_until_released() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/fixtures/scenes/quad-over-plane.toml"
+        );
+        let mut scene = Scene::load(std::path::Path::new(path)).unwrap();
+        scene.camera.width = 16;
+        scene.camera.height = 12;
+        let options = RenderOptions {
+            samples: 4,
+            jitter: false,
+        };
+        let mut r = Renderer::new(Backend::Cpu);
+        assert!(r.kept.is_none());
+        r.render(&scene, Technique::Hard, &options).unwrap();
+        let kept = r.kept.clone().expect("kept after a CPU render");
+        assert!(kept.serves(&scene.triangles(), penumbra_geom::Rays::Few));
+        assert!(r.render(&scene, Technique::Pcf, &options).is_err());
+        assert!(r.kept.is_some());
+        r.release_kept();
+        assert!(r.kept.is_none());
     }
 }

@@ -114,12 +114,15 @@ fn accuracy_rows(
             samples: sampling.samples,
             jitter: sampling.jitter && t.takes_samples(),
         };
-        let start = std::time::Instant::now();
         let r = if Runs::of(t) == Runs::CpuOnly {
             &mut *cpu
         } else {
             &mut *renderer
         };
+        // Each technique's time with its whole set-up, as a render of its own takes it: not
+        // with the ray-casting hierarchy of the truth's render or of the technique before.
+        r.release_kept();
+        let start = std::time::Instant::now();
         let img = r
             .render_frame(scene, t, &options, Some(&volumes), &|_| {})
             .map_err(|e| render_error(e, "--technique-samples"))?
