@@ -1,8 +1,20 @@
 //! The front door: one renderer for every technique, the back end chosen per technique.
 
-use penumbra::{Backend, RenderError, RenderOptions, Renderer, Runs, Technique};
+use penumbra::{Backend, RenderError, RenderOptions, Renderer, Runs, Scene, Technique};
 
 use crate::common::load;
+
+/// Fixture `name` at 64x48, and 16 samples.
+fn small(name: &str) -> (Scene, RenderOptions) {
+    let mut scene = load(name);
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    let options = RenderOptions {
+        samples: 16,
+        jitter: false,
+    };
+    (scene, options)
+}
 
 #[test]
 fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
@@ -155,13 +167,7 @@ fn scenes_far_from_the_origin_render_as_at_it() {
     // The ray caster takes triangles and rays relative to the scene's centre before rounding
     // them to f32: at 1e8 from the origin an f32 coordinate is 8 units apart, and a scene there
     // lost its triangles.
-    let mut scene = load("quad-over-plane");
-    scene.camera.width = 64;
-    scene.camera.height = 48;
-    let options = RenderOptions {
-        samples: 16,
-        jitter: false,
-    };
+    let (scene, options) = small("quad-over-plane");
     let techniques = [
         Technique::HardReference,
         Technique::Reference,
@@ -263,9 +269,7 @@ fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
     // same triangles. A scene whose sphere moved, the same scene under another camera, and the
     // same scene again after another: each image is that of a renderer of its own, bit for bit,
     // whatever was rendered before it and whichever kind of hierarchy that took.
-    let mut scene = load("sphere-over-plane");
-    scene.camera.width = 64;
-    scene.camera.height = 48;
+    let (scene, options) = small("sphere-over-plane");
     let moved = {
         let mut s = scene.clone();
         let by = glam::DMat4::from_translation(glam::DVec3::new(0.3, 0.0, 0.0));
@@ -279,10 +283,6 @@ fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
         s
     };
     assert_eq!(scene.meshes.len(), 2);
-    let options = RenderOptions {
-        samples: 16,
-        jitter: false,
-    };
     let mut kept = Renderer::new(Backend::Cpu);
     for (s, t) in [
         (&scene, Technique::WedgesBlend),
@@ -317,13 +317,7 @@ fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
 fn the_renderer_s_shaded_preview_is_the_preview_of_its_own() {
     // The preview takes the hierarchy a volume technique's render kept, builds its own after a
     // reference's (a hierarchy for many rays), and is the same preview either way.
-    let mut scene = load("sphere-over-plane");
-    scene.camera.width = 64;
-    scene.camera.height = 48;
-    let options = RenderOptions {
-        samples: 16,
-        jitter: false,
-    };
+    let (scene, options) = small("sphere-over-plane");
     let mut renderer = Renderer::new(Backend::Cpu);
     for t in [
         Technique::WedgesBlend,

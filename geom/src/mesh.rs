@@ -254,17 +254,9 @@ impl TriangleMesh {
 mod tests {
     use super::*;
 
+    /// The welded mesh of an OBJ text (reading files is `obj.rs`'s, and tested there).
     fn load_str(text: &str) -> Result<TriangleMesh, MeshError> {
-        let dir = std::env::temp_dir().join(format!("penumbra-mesh-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(format!(
-            "{:x}.obj",
-            text.len() * 31 + text.bytes().map(|b| b as usize).sum::<usize>()
-        ));
-        std::fs::write(&p, text).unwrap();
-        let r = TriangleMesh::load_obj(&p);
-        let _ = std::fs::remove_file(&p);
-        r
+        TriangleMesh::parse_obj(Path::new("mem.obj"), text)
     }
 
     #[test]
