@@ -37,3 +37,12 @@ pub fn fixture_names() -> Vec<String> {
     );
     names
 }
+
+/// How many pixels of two images of one size differ, bit for bit.
+pub fn differing_pixels(a: &[f32], b: &[f32]) -> usize {
+    assert_eq!(a.len(), b.len(), "images of different sizes");
+    a.iter()
+        .zip(b)
+        .filter(|(x, y)| x.to_bits() != y.to_bits())
+        .count()
+}

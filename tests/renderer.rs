@@ -2,7 +2,7 @@
 
 use penumbra::{Backend, RenderError, RenderOptions, Renderer, Runs, Scene, Technique};
 
-use crate::common::load;
+use crate::common::{differing_pixels, load};
 
 /// Fixture `name` at 64x48, and 16 samples.
 fn small(name: &str) -> (Scene, RenderOptions) {
@@ -295,12 +295,7 @@ fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
     ] {
         let got = kept.render(s, t, &options).unwrap();
         let fresh = Renderer::new(Backend::Cpu).render(s, t, &options).unwrap();
-        let differ = got
-            .data
-            .iter()
-            .zip(&fresh.data)
-            .filter(|(a, b)| a.to_bits() != b.to_bits())
-            .count();
+        let differ = differing_pixels(&got.data, &fresh.data);
         assert_eq!(differ, 0, "{t}: {differ} pixels differ");
     }
     // The moved sphere's shadow is elsewhere: the images a stale hierarchy would give differ.

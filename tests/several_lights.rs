@@ -6,7 +6,7 @@ use std::path::Path;
 
 use penumbra::{Backend, RenderOptions, Renderer, Runs, Scene, Technique};
 
-use crate::common::scene_path;
+use crate::common::{differing_pixels, scene_path};
 
 /// The text of a scene file of several lights (`[[light]]`) with its light `k` alone, written
 /// as a single `[light]` (its `name` dropped).
@@ -85,13 +85,7 @@ fn assert_channels_are_lights_alone(backend: Backend, techniques: &[Technique], 
         for (k, (c, alone)) in channels.channels().iter().zip(&singles).enumerate().rev() {
             let image = Renderer::new(backend).render(alone, t, &options).unwrap();
             assert_eq!(c.image.data.len(), 160 * 120, "{t}");
-            let differ = c
-                .image
-                .data
-                .iter()
-                .zip(&image.data)
-                .filter(|(a, b)| a.to_bits() != b.to_bits())
-                .count();
+            let differ = differing_pixels(&c.image.data, &image.data);
             assert_eq!(differ, 0, "{t}: light {k}: {differ} pixels differ");
         }
         // The two lights cast different shadows, both in view.
