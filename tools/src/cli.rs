@@ -230,9 +230,10 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 1024)]
         samples: usize,
         /// Light samples per pixel of the sampled techniques measured (`reference`,
-        /// `depth-complexity`): a perfect square up to 65536.
-        #[arg(long, default_value_t = 256)]
-        technique_samples: usize,
+        /// `depth-complexity`): a perfect square up to 65536, or a comma-separated list of them,
+        /// a row for each (the truth rendered once).
+        #[arg(long, value_delimiter = ',', default_value = "256")]
+        technique_samples: Vec<usize>,
         /// `depth-complexity`: jitter its samples as the reference does.
         #[arg(long)]
         jitter: bool,

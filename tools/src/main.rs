@@ -162,10 +162,7 @@ fn run(cli: Cli) -> Result<()> {
         } => accuracy::accuracy(
             &scenes,
             samples,
-            RenderOptions {
-                samples: technique_samples,
-                jitter,
-            },
+            (&technique_samples, jitter),
             &techniques,
             backend,
             &params,

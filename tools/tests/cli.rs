@@ -4,7 +4,7 @@
 mod common;
 use common::{
     GOOD_OBJ, GOOD_SCENE, assert_refused, assert_refused_with, files_in, fixtures, penumbra,
-    render_case, render_case_with, scratch,
+    render_case, render_case_with, scratch, stdout_of,
 };
 
 #[test]
@@ -419,5 +419,81 @@ fn a_mesh_around_the_light_centre_is_warned_of_on_stderr() {
     }
     let err = render("depth-complexity");
     assert!(!err.contains("warning"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn accuracy_measures_each_sample_count_against_one_truth() {
+    let d = scratch("accuracy-counts");
+    std::fs::write(d.join("s.toml"), GOOD_SCENE).unwrap();
+    std::fs::write(d.join("m.obj"), GOOD_OBJ).unwrap();
+    let run = |counts: &str| {
+        let mut c = penumbra();
+        c.args([
+            "accuracy",
+            "--samples",
+            "1024",
+            "--technique-samples",
+            counts,
+        ])
+        .args([
+            "--backend",
+            "cpu",
+            "--techniques",
+            "reference,depth-complexity,hard",
+        ])
+        .arg("--scenes")
+        .arg(&d);
+        stdout_of(&c.output().unwrap())
+    };
+    // A row's cells but the time, by its technique's label.
+    let row = |table: &str, label: &str| -> Vec<String> {
+        let rows: Vec<Vec<String>> = table
+            .lines()
+            .map(|l| l.split('|').map(|c| c.trim().to_string()).collect())
+            .filter(|c: &Vec<String>| c.len() > 3 && c[2] == label)
+            .collect();
+        assert_eq!(rows.len(), 1, "one row {label:?} in {table}");
+        rows[0][..rows[0].len() - 2].to_vec()
+    };
+    let penumbra_mae = |table: &str, label: &str| row(table, label)[7].parse::<f64>().unwrap();
+    let out = run("4,64");
+    // Two counts of the reference: a second table, each other row against the reference of
+    // its penumbra error.
+    let (both, equal) = out
+        .split_once("Against the reference of the same penumbra MAE")
+        .unwrap_or_else(|| panic!("a table of equal errors: {out}"));
+    assert!(both.contains("with 4 and 64 samples"), "{both}");
+    let equal_rows: Vec<&str> = equal.lines().filter(|l| l.starts_with("| s |")).collect();
+    assert_eq!(equal_rows.len(), 3, "{equal}");
+    for (r, t) in equal_rows.iter().zip([
+        "depth-complexity --samples 4",
+        "depth-complexity --samples 64",
+        "hard",
+    ]) {
+        assert!(r.starts_with(&format!("| s | {t} |")), "{equal}");
+    }
+    // `hard`'s error is beyond the 4-sample reference's.
+    assert!(equal_rows[2].contains("fewer than 4"), "{equal}");
+    for t in ["reference", "depth-complexity"] {
+        let (few, many) = (format!("{t} --samples 4"), format!("{t} --samples 64"));
+        assert!(
+            penumbra_mae(&both, &many) < penumbra_mae(&both, &few),
+            "{both}"
+        );
+    }
+    // The techniques without samples once; a single count names none.
+    row(&both, "hard");
+    let one = run("64");
+    assert!(
+        one.contains("with 64 samples") && !one.contains("--samples") && !one.contains("Against"),
+        "{one}"
+    );
+    for t in ["reference", "depth-complexity"] {
+        assert_eq!(
+            row(&one, t)[3..],
+            row(&both, &format!("{t} --samples 64"))[3..]
+        );
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
