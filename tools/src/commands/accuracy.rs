@@ -173,7 +173,8 @@ enum Beyond {
 fn equal_error(curve: &[(f64, f64, f64)], e: f64) -> Result<(f64, f64), Beyond> {
     for w in curve.windows(2) {
         let ((n0, e0, t0), (n1, e1, t1)) = (w[0], w[1]);
-        if (e1..=e0).contains(&e) {
+        // A count given twice spans no samples.
+        if n1 > n0 && (e1..=e0).contains(&e) {
             let f = if e0 > e1 && e > 0.0 && e1 > 0.0 {
                 (e0 / e).ln() / (e0 / e1).ln()
             } else {
@@ -300,5 +301,8 @@ mod tests {
         assert_eq!(equal_error(&curve, 0.05), Err(Beyond::Fewer));
         assert_eq!(equal_error(&curve, 0.005), Err(Beyond::More));
         assert_eq!(equal_error(&curve, 0.0), Err(Beyond::More));
+        // A count given twice.
+        let twice = [(16.0, 0.04, 1.0), (16.0, 0.04, 1.1), (64.0, 0.02, 2.0)];
+        near(equal_error(&twice, 0.04).unwrap(), (16.0, 1.1));
     }
 }
