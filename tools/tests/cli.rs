@@ -478,12 +478,12 @@ fn accuracy_measures_each_sample_count_against_one_truth() {
     for t in ["reference", "depth-complexity"] {
         let (few, many) = (format!("{t} --samples 4"), format!("{t} --samples 64"));
         assert!(
-            penumbra_mae(&both, &many) < penumbra_mae(&both, &few),
+            penumbra_mae(both, &many) < penumbra_mae(both, &few),
             "{both}"
         );
     }
     // The techniques without samples once; a single count names none.
-    row(&both, "hard");
+    row(both, "hard");
     let one = run("64");
     assert!(
         one.contains("with 64 samples") && !one.contains("--samples") && !one.contains("Against"),
@@ -492,7 +492,7 @@ fn accuracy_measures_each_sample_count_against_one_truth() {
     for t in ["reference", "depth-complexity"] {
         assert_eq!(
             row(&one, t)[3..],
-            row(&both, &format!("{t} --samples 64"))[3..]
+            row(both, &format!("{t} --samples 64"))[3..]
         );
     }
     let _ = std::fs::remove_dir_all(&d);
