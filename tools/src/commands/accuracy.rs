@@ -121,8 +121,8 @@ struct Measured {
 /// interpolated: the error's logarithm as a line in the samples' logarithm, the time as a line
 /// in the samples).
 fn print_equal_errors(measures: &[(String, Vec<Measured>)]) {
-    let curve = |rows: &[Measured]| -> Vec<(f64, f64, f64)> {
-        let mut c: Vec<(f64, f64, f64)> = rows
+    let curve = |rows: &[Measured]| -> Vec<ReferencePoint> {
+        let mut c: Vec<ReferencePoint> = rows
             .iter()
             .filter(|m| m.technique == Technique::Reference)
             .filter_map(|m| Some((m.samples? as f64, m.penumbra_mae?, m.secs)))
@@ -130,7 +130,13 @@ fn print_equal_errors(measures: &[(String, Vec<Measured>)]) {
         c.sort_by(|a, b| a.0.total_cmp(&b.0));
         c
     };
-    if measures.iter().all(|(_, rows)| curve(rows).len() < 2) {
+    // Each scene's reference rows, where there are two or more.
+    let scenes: Vec<(&String, &Vec<Measured>, Vec<ReferencePoint>)> = measures
+        .iter()
+        .map(|(name, rows)| (name, rows, curve(rows)))
+        .filter(|(_, _, curve)| curve.len() >= 2)
+        .collect();
+    if scenes.is_empty() {
         return;
     }
     println!("\nAgainst the reference of the same penumbra MAE (interpolated between its rows):\n");
@@ -138,25 +144,22 @@ fn print_equal_errors(measures: &[(String, Vec<Measured>)]) {
         "| scene | technique | penumbra MAE | reference samples of that MAE | their time (s) | time / theirs |"
     );
     println!("| --- | --- | --- | --- | --- | --- |");
-    for (name, rows) in measures {
-        let curve = curve(rows);
-        if curve.len() < 2 {
-            continue;
-        }
+    for (name, rows, curve) in scenes {
         for m in rows.iter().filter(|m| m.technique != Technique::Reference) {
             let Some(e) = m.penumbra_mae else { continue };
-            let (n, secs) = match equal_error(&curve, e) {
-                Ok((n, t)) => (format!("{n:.0}"), format!("{t:.2} | {:.2}", m.secs / t)),
-                Err(Beyond::Fewer) => (format!("fewer than {}", curve[0].0), "|".to_string()),
-                Err(Beyond::More) => (
-                    format!("more than {}", curve[curve.len() - 1].0),
-                    "|".to_string(),
-                ),
+            // The last three cells.
+            let cells = match equal_error(&curve, e) {
+                Ok((n, t)) => format!("{n:.0} | {t:.2} | {:.2}", m.secs / t),
+                Err(Beyond::Fewer) => format!("fewer than {} | |", curve[0].0),
+                Err(Beyond::More) => format!("more than {} | |", curve[curve.len() - 1].0),
             };
-            println!("| {name} | {} | {e:.5} | {n} | {secs} |", m.label);
+            println!("| {name} | {} | {e:.5} | {cells} |", m.label);
         }
     }
 }
+
+/// A reference row as [`equal_error`] reads it: samples, penumbra MAE, seconds.
+type ReferencePoint = (f64, f64, f64);
 
 /// Which way an error lies outside the reference's measured ones.
 #[derive(Debug, PartialEq)]
@@ -170,7 +173,7 @@ enum Beyond {
 /// The samples and time of the reference whose penumbra MAE is `e`, from `curve`'s `(samples,
 /// penumbra MAE, seconds)` sorted by samples: between the first two neighbours whose errors
 /// bracket `e`, `log e` linear in `log samples` and the time linear in the samples.
-fn equal_error(curve: &[(f64, f64, f64)], e: f64) -> Result<(f64, f64), Beyond> {
+fn equal_error(curve: &[ReferencePoint], e: f64) -> Result<(f64, f64), Beyond> {
     for w in curve.windows(2) {
         let ((n0, e0, t0), (n1, e1, t1)) = (w[0], w[1]);
         // A count given twice spans no samples.
