@@ -84,10 +84,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let towards = p(a.cos(), 0.0, a.sin());
             let direction = towards * elevation.cos() + DVec3::Y * elevation.sin();
             let tangent = p(-a.sin(), 0.0, a.cos());
-            DistantLight::new(direction, tangent, DVec2::splat(0.53)).into()
+            DistantLight::new(direction, tangent, DVec2::splat(0.53))
+                .unwrap()
+                .into()
         } else {
             let centre = p(2.5 * a.cos(), 6.0, 2.5 * a.sin());
-            RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).into()
+            RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5))
+                .unwrap()
+                .into()
         }
     };
     let mut scene = GpuScene::new(

@@ -22,7 +22,7 @@
 
 use std::fmt;
 
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{LitScene, Technique};
 
 use crate::error::{MissingGpu, RenderError};
 use crate::options::RenderOptions;
@@ -83,7 +83,7 @@ pub const MAX_GPU_EXTENT_RATIO: f64 = 5e4;
 /// assert!((extent_ratio(&scene) - 28.28 / 7.28).abs() < 0.01);
 /// # Ok::<(), penumbra::SceneError>(())
 /// ```
-pub fn extent_ratio(scene: &Scene) -> f64 {
+pub fn extent_ratio(scene: &LitScene) -> f64 {
     let widest = scene
         .meshes
         .iter()

@@ -2,7 +2,7 @@
 //! CPU renderers.
 
 use penumbra_geom::{LightSamples, Reference};
-use penumbra_geom::{Scene, Technique, TracerGeometry};
+use penumbra_geom::{LitScene, Technique, TracerGeometry};
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
 use crate::frame::Frame;
@@ -10,7 +10,7 @@ use crate::frame::Frame;
 /// Renders a technique that runs on the CPU, taking the ray-casting hierarchy from `kept`
 /// where it serves the scene and keeping the one it builds there otherwise.
 pub(crate) fn render(
-    scene: &Scene,
+    scene: &LitScene,
     technique: Technique,
     pattern: SamplePattern,
     progress: &(dyn Fn(u64) + Sync),

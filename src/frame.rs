@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use penumbra_geom::{Scene, Technique, VisibilityImage};
+use penumbra_geom::{LitScene, Technique, VisibilityImage};
 use penumbra_gpu::{PassCounters, PassTimes};
 
 use crate::backend::Placement;
@@ -77,7 +77,7 @@ impl fmt::Display for Warning {
 /// centre (hard, wedges, shadow maps); on the GPU, a triangle wider than its floats hold
 /// (`extent`, the scene's [`crate::backend::extent_ratio`] where already measured).
 pub(crate) fn warnings(
-    scene: &Scene,
+    scene: &LitScene,
     technique: Technique,
     placement: Placement,
     extent: Option<f64>,

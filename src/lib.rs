@@ -36,7 +36,7 @@
 //! use penumbra::{Backend, Camera, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh};
 //!
 //! let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
-//! let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(1.0));
+//! let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(1.0)).unwrap();
 //! let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
 //! let ground = TriangleMesh::from_raw(
 //!     "ground",
@@ -44,7 +44,7 @@
 //!     &[[0, 1, 2], [0, 2, 3]],
 //! )?;
 //! let ball = DMat4::from_translation(DVec3::new(0.0, 1.0, 0.0)) * DMat4::from_scale(DVec3::splat(0.5));
-//! let scene = Scene::new(camera, light)
+//! let scene = Scene::new(camera).with_light(light)
 //!     .with_mesh("ground", &ground, DMat4::IDENTITY)
 //!     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), ball);
 //! let v = Renderer::new(Backend::Cpu).render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
@@ -80,8 +80,8 @@ pub use penumbra_geom::ImageError;
 pub use penumbra_geom::MeshError;
 pub use penumbra_geom::RangeError;
 pub use penumbra_geom::{
-    Camera, Channel, DistantLight, Light, NamedLight, RectLight, Scene, SceneError, Technique,
-    TriangleMesh, VisibilityChannels, VisibilityImage,
+    Camera, Channel, DistantLight, Light, LightError, LitScene, NamedLight, RectLight, Scene,
+    SceneError, Technique, TriangleMesh, VisibilityChannels, VisibilityImage,
 };
 pub use penumbra_geom::{Comparison, compare};
 pub use penumbra_gpu as gpu;

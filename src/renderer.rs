@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use penumbra_geom::{Channel, ImageError, ShadedImage, VisibilityChannels, VisibilityImage};
-use penumbra_geom::{Scene, Technique, TracerGeometry};
+use penumbra_geom::{LitScene, RangeError, Scene, Technique, TracerGeometry};
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
 
@@ -55,7 +55,7 @@ impl GpuState {
 /// first ask and kept for the frame's warnings), the memory.
 struct Offers<'a> {
     gpu: &'a mut GpuState,
-    scene: &'a Scene,
+    scene: &'a LitScene,
     volumes: Option<&'a Volumes>,
     built: &'a mut Option<Volumes>,
     extent: &'a mut Option<f64>,
@@ -182,11 +182,26 @@ impl Renderer {
         Ok(placement == Placement::Gpu)
     }
 
-    /// The visibility image of `scene` by `technique`: under [`Scene::light`], the first light
-    /// of a scene of several ([`Renderer::render_lights`] renders each).
+    /// The visibility image of `scene` by `technique` under its first light
+    /// ([`Renderer::render_lights`] renders each); refused for a scene without a light.
     pub fn render(
         &mut self,
         scene: &Scene,
+        technique: Technique,
+        options: &RenderOptions,
+    ) -> Result<VisibilityImage, RenderError> {
+        if scene.lights.is_empty() {
+            return Err(RenderError::OutOfRange {
+                problem: RangeError::NoLights,
+            });
+        }
+        self.render_lit(&scene.lit(0), technique, options)
+    }
+
+    /// The visibility image of one light's view of a scene ([`Scene::lit`]) by `technique`.
+    pub fn render_lit(
+        &mut self,
+        scene: &LitScene,
         technique: Technique,
         options: &RenderOptions,
     ) -> Result<VisibilityImage, RenderError> {
@@ -219,28 +234,28 @@ impl Renderer {
         options: &RenderOptions,
     ) -> Result<VisibilityChannels, RenderError> {
         if scene.lights.is_empty() {
-            return Ok(VisibilityChannels::single(
-                self.render(scene, technique, options)?,
-            ));
+            return Err(RenderError::OutOfRange {
+                problem: RangeError::NoLights,
+            });
         }
         penumbra_geom::check_light_names(&scene.lights)
             .map_err(|error| RenderError::BadLights { error })?;
         let mut channels = Vec::with_capacity(scene.lights.len());
         for (k, name) in scene.channel_names().into_iter().enumerate() {
-            let image = self.render(&scene.for_light(k), technique, options)?;
+            let image = self.render_lit(&scene.lit(k), technique, options)?;
             channels.push(Channel { name, image });
         }
         Ok(VisibilityChannels::new(channels)
             .expect("valid, unique light names and one camera make valid channels"))
     }
 
-    /// [`Renderer::render`] with the GPU pass times and a description of the run. A volume
+    /// [`Renderer::render_lit`] with the GPU pass times and a description of the run. A volume
     /// technique on the GPU takes the scene's silhouettes, volumes and wedges from `volumes`
     /// when given (so that several frames build them once), and builds them otherwise. The CPU
     /// renderers call `progress` with the number of image rows finished so far.
     pub fn render_frame(
         &mut self,
-        scene: &Scene,
+        scene: &LitScene,
         technique: Technique,
         options: &RenderOptions,
         volumes: Option<&Volumes>,
@@ -292,7 +307,7 @@ impl Renderer {
     /// Renders on the GPU the policy placed it on.
     fn render_gpu(
         &mut self,
-        scene: &Scene,
+        scene: &LitScene,
         request: &Request,
         volumes: Option<&Volumes>,
     ) -> Result<Frame, RenderError> {

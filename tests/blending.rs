@@ -14,7 +14,7 @@ use crate::common::load;
 /// points seen by the camera.
 fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
     let scene = load(name);
-    let r = CpuRenderer::new(&scene);
+    let r = CpuRenderer::new(&scene.lit(0));
     let cam = scene.camera;
     let mut rng = Rng::new(31);
     let mut candidates = Vec::new();
@@ -81,9 +81,9 @@ fn wedges_blend_on_real_meshes_is_within_0_6_of_blending_per_mesh() {
         let mut scene = load(name);
         scene.camera.width /= 2;
         scene.camera.height /= 2;
-        let truth =
-            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-        let img = CpuRenderer::new(&scene).render(Technique::WedgesBlend, &|_| {});
+        let truth = Reference::new(&scene.lit(0))
+            .render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let img = CpuRenderer::new(&scene.lit(0)).render(Technique::WedgesBlend, &|_| {});
         let c = compare(&img, &truth).unwrap();
         println!(
             "{name:>12}: wedges-blend penumbra MAE {:.4} over {} pixels, per mesh {before}: {:.2}x",

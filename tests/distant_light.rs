@@ -18,7 +18,7 @@ use crate::common::load;
 fn sun() -> DistantLight {
     let d = DVec3::new(0.3, 1.0, 0.2).normalize();
     let t = d.cross(DVec3::Z).normalize();
-    DistantLight::new(d, t, DVec2::new(14.0, 8.0))
+    DistantLight::new(d, t, DVec2::new(14.0, 8.0)).unwrap()
 }
 
 /// A quad over a ground, 96 x 64 pixels, its light left to the caller.
@@ -32,8 +32,7 @@ fn world() -> Scene {
         64,
     )
     .unwrap();
-    let unused = RectLight::new(DVec3::Y * 5.0, -DVec3::Y, DVec3::X, DVec2::ONE);
-    Scene::new(camera, unused)
+    Scene::new(camera)
         .with_mesh("ground", &square(0.0, 2.0), DMat4::IDENTITY)
         .with_mesh("quad", &square(1.0, 0.5), DMat4::IDENTITY)
 }
@@ -47,6 +46,7 @@ fn far_rectangle(distance: f64) -> RectLight {
         l.tangent,
         l.half_tangents() * (2.0 * distance),
     )
+    .unwrap()
 }
 
 fn mean_difference(a: &VisibilityImage, b: &VisibilityImage) -> f64 {
@@ -61,8 +61,8 @@ fn mean_difference(a: &VisibilityImage, b: &VisibilityImage) -> f64 {
 #[test]
 fn a_distant_light_is_the_limit_of_ever_farther_rectangles() {
     let samples = LightSamples::Stratified { per_axis: 16 };
-    let distant = world().with_distant_light(sun());
-    let truth = Reference::new(&distant).render(samples, &|_| {});
+    let distant = world().with_light(sun());
+    let truth = Reference::new(&distant.lit(0)).render(samples, &|_| {});
     let umbra = truth.data.iter().filter(|&&v| v == 0.0).count();
     let penumbra = truth.data.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
     println!("umbra {umbra} px, penumbra {penumbra} px");
@@ -73,9 +73,8 @@ fn a_distant_light_is_the_limit_of_ever_farther_rectangles() {
     let errors: Vec<f64> = [4e2, 4e3, 4e4]
         .iter()
         .map(|&d| {
-            let mut s = world();
-            s.light = far_rectangle(d);
-            let far = Reference::new(&s).render(samples, &|_| {});
+            let s = world().with_light(far_rectangle(d));
+            let far = Reference::new(&s.lit(0)).render(samples, &|_| {});
             mean_difference(&far, &truth)
         })
         .collect();
@@ -92,8 +91,8 @@ fn a_distant_light_is_the_limit_of_ever_farther_rectangles() {
 
 #[test]
 fn the_distant_reference_agrees_with_the_exact_evaluator() {
-    let scene = world().with_distant_light(sun());
-    let tracer = Tracer::new(&scene);
+    let scene = world().with_light(sun());
+    let tracer = Tracer::new(&scene.lit(0));
     let cam = &scene.camera;
     let mut checked = 0;
     for j in (0..cam.height).step_by(2) {
@@ -123,8 +122,9 @@ fn the_distant_reference_agrees_with_the_exact_evaluator() {
 /// `depth-complexity --jitter` against the reference, `hard` against `hard-reference` and
 /// `wedges-blend`'s penumbra MAE against the 256-sample reference, on `scene`.
 fn check_techniques(name: &str, scene: &Scene, blend_bound: f64) {
-    let truth = Reference::new(scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-    let dc = DepthComplexity::new(scene).render(
+    let truth =
+        Reference::new(&scene.lit(0)).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+    let dc = DepthComplexity::new(&scene.lit(0)).render(
         SamplePattern {
             per_axis: 16,
             jitter: true,
@@ -143,8 +143,8 @@ fn check_techniques(name: &str, scene: &Scene, blend_bound: f64) {
             && differ.iter().all(|&d| d <= 2.0 / 256.0 + 1e-6),
         "{name}: depth-complexity differs from the reference on {differ:?}"
     );
-    let cpu = CpuRenderer::new(scene);
-    let hard_truth = Reference::new(scene).render(LightSamples::Centre, &|_| {});
+    let cpu = CpuRenderer::new(&scene.lit(0));
+    let hard_truth = Reference::new(&scene.lit(0)).render(LightSamples::Centre, &|_| {});
     assert_eq!(
         cpu.render(Technique::Hard, &|_| {}),
         hard_truth,
@@ -166,10 +166,10 @@ fn check_techniques(name: &str, scene: &Scene, blend_bound: f64) {
 
 #[test]
 fn the_cpu_techniques_render_a_distant_light() {
-    check_techniques("quad", &world().with_distant_light(sun()), 0.05);
+    check_techniques("quad", &world().with_light(sun()), 0.05);
     // The sun fixture at half size: a real mesh at a low sun, the sun's own angle.
     let mut scene = load("sun");
-    assert!(scene.distant.is_some());
+    assert!(scene.lit(0).distant.is_some());
     scene.camera.width /= 2;
     scene.camera.height /= 2;
     check_techniques("sun", &scene, 0.05);

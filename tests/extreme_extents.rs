@@ -22,6 +22,7 @@ fn light() -> RectLight {
         DVec3::X,
         DVec2::splat(2.0),
     )
+    .unwrap()
 }
 
 fn differing(a: &VisibilityImage, b: &VisibilityImage) -> usize {
@@ -50,7 +51,8 @@ fn eye_on_the_ground(height: f64) -> Scene {
         48,
     )
     .unwrap();
-    Scene::new(camera, light())
+    Scene::new(camera)
+        .with_light(light())
         .with_mesh("ground", &square(0.0, 20.0), DMat4::IDENTITY)
         .with_mesh("square", &square(1.5, 1.0), DMat4::IDENTITY)
 }
@@ -93,7 +95,8 @@ fn over_a_huge_triangle(width: f64) -> Scene {
         ],
         &[[0, 1, 2]],
     );
-    Scene::new(camera, light())
+    Scene::new(camera)
+        .with_light(light())
         .with_mesh("ground", &square(0.0, 10.0), DMat4::IDENTITY)
         .with_mesh("square", &square(1.0, 1.0), DMat4::IDENTITY)
         .with_mesh("huge", &huge, DMat4::IDENTITY)
@@ -143,13 +146,13 @@ fn a_triangle_too_wide_for_the_gpu_goes_to_the_cpu_or_is_warned_of() {
     let options = RenderOptions::default();
     let hard_truth = render(Backend::Cpu, &scene, Technique::HardReference);
     let auto = Renderer::new(Backend::Auto)
-        .render_frame(&scene, Technique::Hard, &options, None, &|_| {})
+        .render_frame(&scene.lit(0), Technique::Hard, &options, None, &|_| {})
         .unwrap();
     assert!(auto.detail.starts_with("cpu"), "{}", auto.detail);
     assert!(auto.warnings.is_empty(), "{:?}", auto.warnings);
     assert_eq!(differing(&auto.image, &hard_truth), 0);
     let gpu = Renderer::new(Backend::Gpu)
-        .render_frame(&scene, Technique::Hard, &options, None, &|_| {})
+        .render_frame(&scene.lit(0), Technique::Hard, &options, None, &|_| {})
         .unwrap();
     assert!(
         matches!(gpu.warnings[..], [Warning::GpuExtent { ratio, .. }] if ratio > 1e7),
@@ -159,7 +162,7 @@ fn a_triangle_too_wide_for_the_gpu_goes_to_the_cpu_or_is_warned_of() {
     // The triangle 1e5 wide is within what the GPU holds: no warning.
     let fine = Renderer::new(Backend::Gpu)
         .render_frame(
-            &over_a_huge_triangle(1e5),
+            &(over_a_huge_triangle(1e5)).lit(0),
             Technique::Hard,
             &options,
             None,

@@ -28,8 +28,10 @@ fn scene(distance: f64) -> Scene {
         -DVec3::Y,
         DVec3::X,
         DVec2::splat(distance / 4.0),
-    );
-    Scene::new(camera, light)
+    )
+    .unwrap();
+    Scene::new(camera)
+        .with_light(light)
         .with_mesh("ground", &square(0.0, 2.0), DMat4::IDENTITY)
         .with_mesh("quad", &square(1.0, 0.5), DMat4::IDENTITY)
 }
@@ -42,14 +44,15 @@ fn differing(a: &VisibilityImage, b: &VisibilityImage) -> usize {
 fn a_far_light_keeps_its_shadow_and_penumbra_on_the_cpu() {
     for distance in [1e5, 1e9] {
         let s = scene(distance);
-        let truth = Reference::new(&s).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-        let hard_truth = Reference::new(&s).render(LightSamples::Centre, &|_| {});
+        let truth =
+            Reference::new(&s.lit(0)).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let hard_truth = Reference::new(&s.lit(0)).render(LightSamples::Centre, &|_| {});
         let umbra = truth.data.iter().filter(|&&v| v == 0.0).count();
         assert!(
             umbra > 20,
             "{distance}: the reference has {umbra} umbra pixels"
         );
-        let cpu = CpuRenderer::new(&s);
+        let cpu = CpuRenderer::new(&s.lit(0));
         let hard = cpu.render(Technique::Hard, &|_| {});
         assert_eq!(
             differing(&hard, &hard_truth),
@@ -60,7 +63,7 @@ fn a_far_light_keeps_its_shadow_and_penumbra_on_the_cpu() {
             per_axis: 16,
             jitter: true,
         };
-        let exact = DepthComplexity::new(&s).render(pattern, &|_| {});
+        let exact = DepthComplexity::new(&s.lit(0)).render(pattern, &|_| {});
         assert_eq!(
             exact, truth,
             "{distance}: depth-complexity --jitter against the reference"

@@ -163,7 +163,7 @@ fn render_small(scene: &Scene) {
         return;
     }
     // Each light of a scene of several alone, every one a channel, or refused as out of range.
-    if !s.lights.is_empty() {
+    if !s.single_channel() {
         let all = Renderer::new(Backend::Cpu).render_lights(
             &s,
             Technique::Hard,
@@ -192,7 +192,7 @@ fn render_small(scene: &Scene) {
         assert!(front.is_err(), "out of range, and rendered");
         return;
     }
-    let r = CpuRenderer::new(&s);
+    let r = CpuRenderer::new(&s.lit(0));
     for t in [Technique::Hard, Technique::WedgesBlend] {
         let img = r.render(t, &|_| {});
         assert!(
@@ -200,7 +200,7 @@ fn render_small(scene: &Scene) {
             "{t}: V out of [0, 1]"
         );
     }
-    let dc = DepthComplexity::new(&s);
+    let dc = DepthComplexity::new(&s.lit(0));
     let img = dc.render(
         SamplePattern {
             per_axis: 2,
@@ -377,10 +377,14 @@ fn fuzz_the_obj_loader() {
         DVec3::NEG_Y,
         DVec3::X,
         DVec2::new(1.0, 1.0),
-    );
+    )
+    .unwrap();
     fuzz("obj", "obj", 0x0b1, |text| {
         if let Ok(mesh) = TriangleMesh::parse_obj(Path::new("fuzz.obj"), text) {
-            let scene = Scene::new(camera, light).with_mesh("fuzz", &mesh, DMat4::IDENTITY);
+            let scene =
+                Scene::new(camera)
+                    .with_light(light)
+                    .with_mesh("fuzz", &mesh, DMat4::IDENTITY);
             // What a renderer refuses (`Renderer::render` asks the same) is not rendered.
             if scene.out_of_range().is_none() {
                 render_small(&scene);

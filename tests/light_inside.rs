@@ -23,8 +23,9 @@ fn scene(occluder: &TriangleMesh) -> Scene {
     )
     .unwrap();
     let camera = Camera::look_at(c(0.0, 6.0, 8.0), c(0.0, 0.5, 0.0), DVec3::Y, 45.0, 16, 12);
-    let light = RectLight::new(c(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
-    Scene::new(camera.unwrap(), light)
+    let light = RectLight::new(c(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE).unwrap();
+    Scene::new(camera.unwrap())
+        .with_light(light)
         .with_mesh("ground", &ground, DMat4::IDENTITY)
         .with_mesh(
             "occluder",
@@ -42,7 +43,13 @@ fn sphere(x: f64) -> TriangleMesh {
 
 fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
     Renderer::new(Backend::Cpu)
-        .render_frame(scene, technique, &RenderOptions::default(), None, &|_| {})
+        .render_frame(
+            &scene.lit(0),
+            technique,
+            &RenderOptions::default(),
+            None,
+            &|_| {},
+        )
         .unwrap()
         .warnings
         .iter()
@@ -53,7 +60,7 @@ fn warnings(scene: &Scene, technique: Technique) -> Vec<String> {
 #[test]
 fn a_closed_mesh_around_the_light_centre_is_warned_of() {
     let around = scene(&sphere(0.3));
-    assert_eq!(Volumes::build(&around).enclosing_light_centre(), [1]);
+    assert_eq!(Volumes::build(&around.lit(0)).enclosing_light_centre(), [1]);
     for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
         let w = warnings(&around, t);
         assert_eq!(w.len(), 1, "{t}: {w:?}");
@@ -71,7 +78,11 @@ fn a_closed_mesh_around_the_light_centre_is_warned_of() {
     }
     // Cut by the plane, but beside the centre; and the same sphere wound inwards.
     let beside = scene(&sphere(0.9));
-    assert!(Volumes::build(&beside).enclosing_light_centre().is_empty());
+    assert!(
+        Volumes::build(&beside.lit(0))
+            .enclosing_light_centre()
+            .is_empty()
+    );
     assert!(warnings(&beside, Technique::WedgesBlend).is_empty());
     let inward = scene(&sphere(-0.3).flipped());
     assert_eq!(warnings(&inward, Technique::Wedges).len(), 1);
@@ -86,7 +97,7 @@ fn an_open_mesh_whose_cut_surrounds_the_light_centre_is_warned_of() {
     let keep: Vec<[u32; 3]> = s.triangles.iter().filter(|t| !cap(t)).copied().collect();
     let open = TriangleMesh::from_raw("bowl", &s.positions, &keep).unwrap();
     let around = scene(&open);
-    assert_eq!(Volumes::build(&around).enclosing_light_centre(), [1]);
+    assert_eq!(Volumes::build(&around.lit(0)).enclosing_light_centre(), [1]);
     assert_eq!(warnings(&around, Technique::WedgesBlend).len(), 1);
     // Half of it (x > 0.2): its cut a half circle that does not go round the centre.
     let half: Vec<[u32; 3]> = keep
@@ -101,6 +112,10 @@ fn an_open_mesh_whose_cut_surrounds_the_light_centre_is_warned_of() {
 #[test]
 fn the_box_through_the_light_plane_beside_its_centre_is_not_warned_of() {
     let scene = penumbra_testkit::through_the_light();
-    assert!(Volumes::build(&scene).enclosing_light_centre().is_empty());
+    assert!(
+        Volumes::build(&scene.lit(0))
+            .enclosing_light_centre()
+            .is_empty()
+    );
     assert!(warnings(&scene, Technique::WedgesBlend).is_empty());
 }

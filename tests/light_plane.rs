@@ -24,7 +24,7 @@ fn planar_occluders_through_the_light_plane_stay_exact() {
             let at = DVec3::new(rng.range(-0.5, 0.5), 5.0 + rng.range(-0.2, 0.2), 0.0);
             let moved: Vec<DVec3> = pts.iter().map(|&p| rot * p + at).collect();
             let scene = single_occluder_scene(&moved, &tris);
-            let r = CpuRenderer::new(&scene);
+            let r = CpuRenderer::new(&scene.lit(0));
             cut += r
                 .volumes
                 .wedges
@@ -56,14 +56,14 @@ fn planar_occluders_through_the_light_plane_stay_exact() {
 #[test]
 fn a_box_and_a_quad_through_the_light_plane() {
     let scene = penumbra_testkit::through_the_light();
-    let r = CpuRenderer::new(&scene);
+    let r = CpuRenderer::new(&scene.lit(0));
     assert!(
         r.volumes.wedges.iter().any(|w| w.caster.is_some()),
         "the light's plane should cut the box and the quad"
     );
     // The hard shadow is the centre's count, exact whatever crosses the plane.
     let hard = r.render(Technique::Hard, &|_| {});
-    let want = Reference::new(&scene).render(LightSamples::Centre, &|_| {});
+    let want = Reference::new(&scene.lit(0)).render(LightSamples::Centre, &|_| {});
     let differ = hard
         .data
         .iter()
@@ -76,7 +76,8 @@ fn a_box_and_a_quad_through_the_light_plane() {
     );
     // The soft ones: the silhouette from the light's centre is a poor guess of the box's from
     // the rest of a light it touches, but nothing behind the light's plane hides any light.
-    let truth = Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+    let truth =
+        Reference::new(&scene.lit(0)).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
     for (t, bound) in [(Technique::Wedges, 0.16), (Technique::WedgesBlend, 0.09)] {
         let img = r.render(t, &|_| {});
         assert!(img.data.iter().all(|v| (0.0..=1.0).contains(v)));
@@ -138,7 +139,7 @@ fn faces_and_rings_on_the_light_plane() {
     // The fixture sphere has a ring of vertices on its equator: centred on the light's plane.
     let sphere = TriangleMesh::uv_sphere(20, 20);
     let camera = Camera::look_at(c(0., 3., 6.), DVec3::ZERO, DVec3::Y, 60.0, 40, 30).unwrap();
-    let light = RectLight::new(c(0., 2., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
+    let light = RectLight::new(c(0., 2., 0.), -DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
     let pattern = SamplePattern {
         per_axis: 16,
         jitter: true,
@@ -160,12 +161,13 @@ fn faces_and_rings_on_the_light_plane() {
             ),
         ),
     ] {
-        let scene = Scene::new(camera, light)
+        let scene = Scene::new(camera)
+            .with_light(light)
             .with_mesh("ground", &ground, DMat4::IDENTITY)
             .with_mesh(name, occluder, at);
-        let truth =
-            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-        let exact = DepthComplexity::new(&scene).render(pattern, &|_| {});
+        let truth = Reference::new(&scene.lit(0))
+            .render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let exact = DepthComplexity::new(&scene.lit(0)).render(pattern, &|_| {});
         let differ = exact
             .data
             .iter()

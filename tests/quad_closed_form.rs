@@ -17,7 +17,7 @@ const QUAD_Y: f64 = 1.0;
 
 /// Closed-form V at `p` for the `quad-over-plane` fixture (receivers below the quad).
 fn closed_form(scene: &Scene, p: DVec3) -> f64 {
-    let l = &scene.light;
+    let l = &scene.lit(0).light;
     let big_h = l.center.y;
     let s = (big_h - p.y) / (QUAD_Y - p.y);
     let proj = |c: f64, pc: f64| pc + (c - pc) * s;
@@ -31,7 +31,7 @@ fn closed_form(scene: &Scene, p: DVec3) -> f64 {
 }
 
 fn check_fixture_is_what_the_closed_form_assumes(scene: &Scene) {
-    let l = &scene.light;
+    let l = &scene.lit(0).light;
     assert_eq!(l.normal, DVec3::NEG_Y);
     assert_eq!((l.center.x, l.center.z), (0.0, 0.0));
     let quad = &scene.meshes[1].mesh;
@@ -65,7 +65,7 @@ fn exact_evaluator_matches_the_closed_form_at_1000_points() {
             (0..2).find(|&i| inside(&tris[i])).unwrap()
         });
         let want = closed_form(&scene, p);
-        let got = exact_visibility(p, &scene.light, &tris, exclude).visibility;
+        let got = exact_visibility(p, &scene.lit(0).light, &tris, exclude).visibility;
         if want > 0.0 && want < 1.0 {
             penumbra += 1;
         }
@@ -88,7 +88,7 @@ fn exact_evaluator_matches_the_closed_form_at_1000_points() {
 fn reference_1024_is_within_2e_3_of_the_closed_form() {
     let scene = load("quad-over-plane");
     check_fixture_is_what_the_closed_form_assumes(&scene);
-    let reference = Reference::new(&scene);
+    let reference = Reference::new(&scene.lit(0));
     let tracer = &reference.tracer;
     let img = reference.render(LightSamples::Stratified { per_axis: 32 }, &|_| {});
     let cam = &scene.camera;

@@ -26,7 +26,7 @@ fn exact_and_4096_sample_reference_agree_on_every_fixture() {
     let n = (N_PER_AXIS * N_PER_AXIS) as f64;
     for name in fixture_names() {
         let scene = load(&name);
-        let tracer = Tracer::new(&scene);
+        let tracer = Tracer::new(&scene.lit(0));
         let cam = scene.camera;
         // 200 random pixels whose ray hits the scene (a miss is V = 1 by definition for both).
         let mut rng = Rng::new(0xF1A7 ^ name.len() as u64);

@@ -72,7 +72,7 @@ fn each_technique_runs_where_it_can_and_says_why_where_it_cannot() {
     // pass on every device measured.
     if auto.gpu_description().is_some() {
         let frame = |r: &mut Renderer, o: &RenderOptions| {
-            r.render_frame(&scene, Technique::DepthComplexity, o, None, &|_| {})
+            r.render_frame(&scene.lit(0), Technique::DepthComplexity, o, None, &|_| {})
         };
         let by_auto = frame(&mut auto, &small).unwrap();
         assert!(by_auto.detail.starts_with("cpu"), "{}", by_auto.detail);
@@ -123,8 +123,9 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
         &[[0, 1, 2]],
     )
     .unwrap();
-    let scene =
-        penumbra::Scene::new(base.camera, base.light).with_mesh("far", &far, DMat4::IDENTITY);
+    let scene = penumbra::Scene::new(base.camera)
+        .with_light(base.lit(0).light)
+        .with_mesh("far", &far, DMat4::IDENTITY);
     for t in [
         Technique::Hard,
         Technique::WedgesBlend,
@@ -146,12 +147,11 @@ fn scenes_made_in_code_outside_the_supported_range_are_refused() {
     // A light the scene file would refuse (its normal not unit length) is refused here too,
     // where wedges-blend drew a hard-edged, broken shadow.
     let mut tilted = base.clone();
-    tilted.light = penumbra::geom::RectLight::new(
-        base.light.center,
-        DVec3::new(0.0, -1.0, 0.5),
-        DVec3::X,
-        base.light.size,
-    );
+    // The constructors refuse such a light: it is set field by field.
+    match &mut tilted.lights[0].light {
+        penumbra::Light::Rect(l) => l.normal = DVec3::new(0.0, -1.0, 0.5),
+        penumbra::Light::Distant(_) => unreachable!("the base scene's light is a rectangle"),
+    }
     let err = Renderer::new(Backend::Cpu)
         .render(&tilted, Technique::WedgesBlend, &RenderOptions::default())
         .unwrap_err();
@@ -273,8 +273,9 @@ fn a_hierarchy_kept_from_one_cpu_render_never_reaches_another_scene_s_image() {
     let moved = {
         let mut s = scene.clone();
         let by = glam::DMat4::from_translation(glam::DVec3::new(0.3, 0.0, 0.0));
-        s.meshes[1].mesh = s.meshes[1].mesh.transformed(&by);
-        s.meshes[1].transform = by * s.meshes[1].transform;
+        let meshes = std::sync::Arc::make_mut(&mut s.meshes);
+        meshes[1].mesh = meshes[1].mesh.transformed(&by);
+        meshes[1].transform = by * meshes[1].transform;
         s
     };
     let turned = {

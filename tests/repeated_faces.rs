@@ -36,16 +36,17 @@ fn repeated_faces_cast_one_shadow() {
     // only at its outline, where each edge folds by half a turn.
     let other_diagonal = [[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]];
     let camera = Camera::look_at(c(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 48, 32).unwrap();
-    let light = RectLight::new(c(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
+    let light = RectLight::new(c(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
     let scene = |faces: &[[u32; 3]]| {
         let quad = TriangleMesh::from_raw("quad", &corners, faces).unwrap();
-        Scene::new(camera, light)
+        Scene::new(camera)
+            .with_light(light)
             .with_mesh("ground", &ground, DMat4::IDENTITY)
             .with_mesh("quad", &quad, DMat4::IDENTITY)
     };
     let single = scene(&once);
     let want: Vec<_> = [Technique::Wedges, Technique::WedgesBlend]
-        .map(|t| CpuRenderer::new(&single).render(t, &|_| {}))
+        .map(|t| CpuRenderer::new(&single.lit(0)).render(t, &|_| {}))
         .into();
     for (what, faces, dropped) in [
         ("twice", &twice[..], 2),
@@ -55,12 +56,13 @@ fn repeated_faces_cast_one_shadow() {
         let s = scene(faces);
         assert_eq!(s.meshes[1].mesh.dropped_duplicate, dropped, "{what}");
         assert_eq!(s.meshes[1].mesh.triangles.len(), 4 - dropped, "{what}");
-        let truth = Reference::new(&s).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let truth =
+            Reference::new(&s.lit(0)).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
         for (i, t) in [Technique::Wedges, Technique::WedgesBlend]
             .into_iter()
             .enumerate()
         {
-            let img = CpuRenderer::new(&s).render(t, &|_| {});
+            let img = CpuRenderer::new(&s.lit(0)).render(t, &|_| {});
             if dropped > 0 {
                 assert_eq!(
                     img, want[i],

@@ -58,8 +58,8 @@ fn scene_and_singles(sun: bool) -> (Scene, Vec<Scene>) {
     let singles = (0..scene.light_count())
         .map(|k| {
             let alone = Scene::from_toml(&with_light_alone(&text, k), &path).unwrap();
-            assert!(alone.lights.is_empty());
-            assert_eq!(scene.lights[k].light, alone.world_lights()[0]);
+            assert!(alone.lights.len() == 1 && !alone.named_channels);
+            assert_eq!(scene.lights[k].light, alone.lights[0].light);
             alone
         })
         .collect();
@@ -134,7 +134,7 @@ fn each_light_s_channel_is_that_light_alone_on_the_gpu() {
     for &t in &techniques {
         let frame = gpu
             .render_frame(
-                &scene_and_singles(false).1[0],
+                &(scene_and_singles(false).1[0]).lit(0),
                 t,
                 &RenderOptions {
                     samples: 16,

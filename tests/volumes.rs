@@ -32,12 +32,12 @@ fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
 fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
     for name in fixture_names() {
         let scene = load(&name);
-        let r = CpuRenderer::new(&scene);
+        let r = CpuRenderer::new(&scene.lit(0));
         let volumes: Vec<_> = r
             .volumes
             .occluders
             .iter()
-            .map(|o| o.shadow_volume(scene.light.center))
+            .map(|o| o.shadow_volume(scene.lit(0).light.center))
             .collect();
         for (oi, v) in volumes.iter().enumerate() {
             v.check_closed()
@@ -47,7 +47,7 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
         // infinity) along the view ray must equal the per-occluder centre-ray count used by the
         // renderer, away from volume boundaries.
         let cam = scene.camera;
-        let c = scene.light.center;
+        let c = scene.lit(0).light.center;
         let mut rng = Rng::new(99);
         let (mut checked, mut shadowed) = (0, 0);
         while checked < 150 {
@@ -59,7 +59,7 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
             let Some(p) = r.tracer.surface_point(cam.eye, dir) else {
                 continue;
             };
-            if !scene.light.is_lit_side(p.position) {
+            if !scene.lit(0).light.is_lit_side(p.position) {
                 continue;
             }
             let hard = r.stencil_counts(&p);
@@ -102,7 +102,7 @@ fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
 fn wedges_cover_every_penumbra_point_of_the_planar_fixtures() {
     for (name, y_max) in [("quad-over-plane", 0.95), ("overlapping-quads", 0.95)] {
         let scene = load(name);
-        let r = CpuRenderer::new(&scene);
+        let r = CpuRenderer::new(&scene.lit(0));
         let mut rng = Rng::new(2000);
         let (mut found, mut tries) = (0, 0);
         while found < 2000 {
@@ -131,19 +131,25 @@ pub fn single_occluder_scene(polygon: &[DVec3], tris: &[[u32; 3]]) -> Scene {
     Scene {
         path: "memory".into(),
         camera: Camera::look_at(DVec3::new(0., 5., 5.), DVec3::ZERO, DVec3::Y, 45., 8, 8).unwrap(),
-        light: penumbra::geom::RectLight::new(
-            DVec3::new(0.0, 5.0, 0.0),
-            DVec3::NEG_Y,
-            DVec3::X,
-            DVec2::new(2.5, 1.5),
-        ),
-        lights: Vec::new(),
-        distant: None,
-        meshes: vec![SceneMesh {
+        lights: vec![
+            penumbra::NamedLight::new(
+                "light0",
+                penumbra::geom::RectLight::new(
+                    DVec3::new(0.0, 5.0, 0.0),
+                    DVec3::NEG_Y,
+                    DVec3::X,
+                    DVec2::new(2.5, 1.5),
+                )
+                .unwrap(),
+            )
+            .unwrap(),
+        ],
+        named_channels: false,
+        meshes: std::sync::Arc::new(vec![SceneMesh {
             source: "occluder".into(),
             transform: DMat4::IDENTITY,
             mesh,
-        }],
+        }]),
         params: Default::default(),
     }
 }
@@ -226,7 +232,7 @@ fn wedges_are_exact_for_single_planar_occluders_at_any_tilt() {
                 .collect();
             let scene = single_occluder_scene(&moved, &tris);
             let lowest = moved.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-            let r = CpuRenderer::new(&scene);
+            let r = CpuRenderer::new(&scene.lit(0));
             let (w, n) = exact_in_the_air(
                 &r,
                 &mut rng,
@@ -253,7 +259,10 @@ fn a_rigid_motion_of_scene_and_light_changes_no_pixel() {
             DVec3::new(3.0, -2.0, 5.5),
         );
         let moved = scene.transformed(&m);
-        let (a, b) = (CpuRenderer::new(&scene), CpuRenderer::new(&moved));
+        let (a, b) = (
+            CpuRenderer::new(&scene.lit(0)),
+            CpuRenderer::new(&moved.lit(0)),
+        );
         let cam = scene.camera;
         let mut rng = Rng::new(17);
         let mut worst: f64 = 0.0;
@@ -351,8 +360,8 @@ fn degenerate_geometry_never_panics_or_gives_nan() {
     let mut rng = Rng::new(5);
     for (name, pts, tris) in cases {
         let scene = single_occluder_scene(&pts, &tris);
-        assert_eq!(scene.light.center, c);
-        let r = CpuRenderer::new(&scene);
+        assert_eq!(scene.lit(0).light.center, c);
+        let r = CpuRenderer::new(&scene.lit(0));
         for o in &r.volumes.occluders {
             o.shadow_volume(c)
                 .check_closed()
@@ -396,7 +405,7 @@ fn share_of_penumbra_points_outside_every_wedge() {
     // in docs/accuracy.md. The planar fixtures must have none.
     for name in fixture_names() {
         let scene = load(&name);
-        let r = CpuRenderer::new(&scene);
+        let r = CpuRenderer::new(&scene.lit(0));
         let cam = scene.camera;
         let mut rng = Rng::new(8);
         let (mut pen, mut outside, mut tries) = (0, 0, 0);
@@ -435,7 +444,7 @@ fn share_of_penumbra_points_outside_every_wedge() {
 #[test]
 fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
     let scene = load("spheres-9x9");
-    let r = CpuRenderer::new(&scene);
+    let r = CpuRenderer::new(&scene.lit(0));
     let mut rng = Rng::new(77);
     let mut inside = 0;
     for (wi, w) in r.volumes.wedges.iter().enumerate().step_by(7) {
@@ -484,8 +493,8 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
 
 /// The pixels where CPU `hard` differs from the hard reference.
 fn pixels_where_hard_differs(scene: &Scene) -> usize {
-    let hard = CpuRenderer::new(scene).render(Technique::Hard, &|_| {});
-    let want = Reference::new(scene).render(LightSamples::Centre, &|_| {});
+    let hard = CpuRenderer::new(&scene.lit(0)).render(Technique::Hard, &|_| {});
+    let want = Reference::new(&scene.lit(0)).render(LightSamples::Centre, &|_| {});
     hard.data
         .iter()
         .zip(&want.data)
@@ -499,7 +508,7 @@ fn closed_meshes_wound_inwards_or_mirrored_cast_the_same_hard_shadow() {
         let scene = load(name);
         // Every mesh wound inwards, as an OBJ authored that way: closed ones turn inside out.
         let mut inward = scene.clone();
-        for m in &mut inward.meshes {
+        for m in std::sync::Arc::make_mut(&mut inward.meshes) {
             m.mesh = m.mesh.flipped();
         }
         // The whole scene mirrored (a negative scale): positions only, windings unchanged.

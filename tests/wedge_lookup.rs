@@ -37,15 +37,21 @@ fn wide_ground(stacks: u32, slices: u32, (width, height): (u32, u32)) -> Scene {
             height,
         )
         .unwrap(),
-        light: RectLight::new(
-            DVec3::new(0.0, 1.5, 0.0),
-            normal,
-            DVec3::Z,
-            DVec2::new(1.0, 1.5),
-        ),
-        lights: Vec::new(),
-        distant: None,
-        meshes: vec![
+        lights: vec![
+            penumbra::NamedLight::new(
+                "light0",
+                RectLight::new(
+                    DVec3::new(0.0, 1.5, 0.0),
+                    normal,
+                    DVec3::Z,
+                    DVec2::new(1.0, 1.5),
+                )
+                .unwrap(),
+            )
+            .unwrap(),
+        ],
+        named_channels: false,
+        meshes: std::sync::Arc::new(vec![
             SceneMesh {
                 source: "ground".into(),
                 transform: DMat4::IDENTITY,
@@ -57,7 +63,7 @@ fn wide_ground(stacks: u32, slices: u32, (width, height): (u32, u32)) -> Scene {
                     * DMat4::from_scale(DVec3::splat(0.4)),
                 mesh: sphere,
             },
-        ],
+        ]),
         params: Default::default(),
     }
 }
@@ -69,7 +75,7 @@ fn an_image_whose_grid_covers_only_its_pixels_equals_the_lookup_over_every_recei
     // of many (165 wedges, 48 x 36: the pixels' cells at once).
     for (stacks, slices, size, few) in [(6, 8, (160, 120), true), (48, 160, (48, 36), false)] {
         let scene = wide_ground(stacks, slices, size);
-        let r = CpuRenderer::new(&scene);
+        let r = CpuRenderer::new(&scene.lit(0));
         let cam = &scene.camera;
         let light = &r.tracer.light;
         // The premise: the pixels' points fill a far smaller box than the receivers'.

@@ -22,7 +22,7 @@ fn setup() -> (Tracer, Scene, Vec<ShadowRay>) {
     let path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/spheres-9x9.toml");
     let scene = Scene::load(&path).expect("fixture scene");
-    let tracer = Tracer::new(&scene);
+    let tracer = Tracer::new(&scene.lit(0));
     let cam = scene.camera;
     let mut rng = Rng::new(1);
     let mut rays = Vec::new();
@@ -31,7 +31,7 @@ fn setup() -> (Tracer, Scene, Vec<ShadowRay>) {
             let Some(p) = tracer.surface_point(cam.eye, cam.ray_dir(i, j)) else {
                 continue;
             };
-            if !scene.light.is_lit_side(p.position) {
+            if !scene.lit(0).light.is_lit_side(p.position) {
                 continue;
             }
             for s in 0..16 {
@@ -39,7 +39,7 @@ fn setup() -> (Tracer, Scene, Vec<ShadowRay>) {
                     -1.0 + ((s % 4) as f64 + rng.next_f64()) * 0.5,
                     -1.0 + ((s / 4) as f64 + rng.next_f64()) * 0.5,
                 );
-                let d = scene.light.point(uv) - p.position;
+                let d = scene.lit(0).light.point(uv) - p.position;
                 let len = d.length();
                 rays.push(ShadowRay {
                     origin: p.position,

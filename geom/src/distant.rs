@@ -24,6 +24,7 @@ use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
 use crate::camera::Camera;
 use crate::light::RectLight;
+use crate::light_error::{self as checks, LightError};
 
 /// A distant light: a rectangle of directions around `direction`, seen by every point of the
 /// scene alike (the sun is `angular_size = [0.53, 0.53]` degrees).
@@ -40,9 +41,9 @@ pub struct DistantLight {
 }
 
 impl DistantLight {
-    /// The distant light of unit `direction`, unit `tangent` orthogonal to it and full angles
-    /// `angular_size_deg` (degrees). The scene loader checks these conditions and reports
-    /// violations; here they are the caller's contract.
+    /// The distant light of unit `direction` (from the scene towards the light's centre), unit
+    /// `tangent` orthogonal to it and full angles `angular_size_deg` (degrees, each in
+    /// `(0, 90]`). Checked as [`RectLight::new`] checks its frame: the error names the field.
     ///
     /// ```
     /// use penumbra::glam::{DVec2, DVec3};
@@ -50,13 +51,104 @@ impl DistantLight {
     ///
     /// // The sun 30 degrees above the horizon, in the x-y plane.
     /// let up = 30f64.to_radians();
-    /// let sun = DistantLight::new(DVec3::new(up.cos(), up.sin(), 0.0), DVec3::Z, DVec2::splat(0.53));
+    /// let sun = DistantLight::new(DVec3::new(up.cos(), up.sin(), 0.0), DVec3::Z, DVec2::splat(0.53))?;
     /// // The centre direction and a corner's.
     /// assert!((sun.direction_at(DVec2::ZERO) - sun.direction).length() < 1e-15);
     /// let corner = sun.direction_at(DVec2::ONE);
     /// assert!((corner.angle_between(sun.direction).to_degrees() - 0.53 / 2f64.sqrt()).abs() < 1e-3);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn new(direction: DVec3, tangent: DVec3, angular_size_deg: DVec2) -> Self {
+    pub fn new(
+        direction: DVec3,
+        tangent: DVec3,
+        angular_size_deg: DVec2,
+    ) -> Result<DistantLight, LightError> {
+        let direction = checks::unit("direction", direction)?;
+        let tangent = checks::tangent(tangent, "direction", direction)?;
+        Ok(DistantLight::from_frame(
+            direction,
+            tangent,
+            checks::angular_size(angular_size_deg)?,
+        ))
+    }
+
+    /// The sun (or any distant light) at `azimuth_deg` clockwise from north and
+    /// `elevation_deg` above the horizon, a square of `angular_size_deg` on a side (the sun is
+    /// 0.53), in the scene file's frame: north `-z`, east `+x`, up `+y`
+    /// ([`DistantLight::sun_in`] takes another). Its direction is
+    /// `cos(e) (cos(a) N + sin(a) E) + sin(e) U` with `E = N x U`; its tangent is horizontal,
+    /// `normalize(U x direction)`, or east for a sun at the zenith or the nadir.
+    ///
+    /// ```
+    /// use penumbra::glam::DVec3;
+    /// use penumbra::geom::DistantLight;
+    ///
+    /// // In the south-east, 30 degrees up.
+    /// let sun = DistantLight::sun(135.0, 30.0, 0.53)?;
+    /// let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    /// let expected = DVec3::new(c * 0.5f64.sqrt(), s, c * 0.5f64.sqrt());
+    /// assert!((sun.direction - expected).length() < 1e-12);
+    /// assert!(sun.tangent.y.abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn sun(
+        azimuth_deg: f64,
+        elevation_deg: f64,
+        angular_size_deg: f64,
+    ) -> Result<DistantLight, LightError> {
+        DistantLight::sun_in(
+            DVec3::NEG_Z,
+            DVec3::Y,
+            azimuth_deg,
+            elevation_deg,
+            DVec2::splat(angular_size_deg),
+        )
+    }
+
+    /// [`DistantLight::sun`] in the frame of `north` and `up` (two orthogonal directions, of
+    /// any length), and with the full angles `angular_size_deg` along the tangent and the
+    /// bitangent: for a scene modelled with `+z` up, `sun_in(DVec3::Y, DVec3::Z, ...)`.
+    pub fn sun_in(
+        north: DVec3,
+        up: DVec3,
+        azimuth_deg: f64,
+        elevation_deg: f64,
+        angular_size_deg: DVec2,
+    ) -> Result<DistantLight, LightError> {
+        let frame = LightError::SunFrame { north, up };
+        let (n, u) = match (north.try_normalize(), up.try_normalize()) {
+            (Some(n), Some(u)) if n.dot(u).abs() <= crate::range::UNIT_TOLERANCE => {
+                (n, (u - n * n.dot(u)).normalize())
+            }
+            _ => return Err(frame),
+        };
+        if !azimuth_deg.is_finite() {
+            return Err(LightError::Angle {
+                field: "azimuth_deg",
+                degrees: azimuth_deg,
+                range: "a finite angle in degrees",
+            });
+        }
+        if !(-90.0..=90.0).contains(&elevation_deg) {
+            return Err(LightError::Angle {
+                field: "elevation_deg",
+                degrees: elevation_deg,
+                range: "in [-90, 90] degrees",
+            });
+        }
+        let east = n.cross(u);
+        let (a, e) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+        let direction = ((n * a.cos() + east * a.sin()) * e.cos() + u * e.sin()).normalize();
+        let tangent = checks::horizontal_tangent(direction, u, east);
+        Ok(DistantLight::from_frame(
+            direction,
+            tangent,
+            checks::angular_size(angular_size_deg)?,
+        ))
+    }
+
+    /// The light of an exactly orthonormal frame, unchecked.
+    pub(crate) fn from_frame(direction: DVec3, tangent: DVec3, angular_size_deg: DVec2) -> Self {
         DistantLight {
             direction,
             tangent,
@@ -79,56 +171,6 @@ impl DistantLight {
     pub fn direction_at(&self, uv: DVec2) -> DVec3 {
         let h = self.half_tangents();
         (self.direction + self.tangent * (uv.x * h.x) + self.bitangent * (uv.y * h.y)).normalize()
-    }
-}
-
-/// A light of a scene: a rectangle at a finite distance, or a distant light.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Light {
-    /// A one-sided rectangular area light (`[light]` with `center`, `normal`, `tangent`,
-    /// `size`).
-    Rect(RectLight),
-    /// A distant light (`distant = true`, `direction`, `tangent`, `angular_size`).
-    Distant(DistantLight),
-}
-
-impl Light {
-    /// The rectangle light, if this is one.
-    pub fn as_rect(&self) -> Option<&RectLight> {
-        match self {
-            Light::Rect(l) => Some(l),
-            Light::Distant(_) => None,
-        }
-    }
-
-    /// The distant light, if this is one.
-    pub fn as_distant(&self) -> Option<&DistantLight> {
-        match self {
-            Light::Distant(l) => Some(l),
-            Light::Rect(_) => None,
-        }
-    }
-
-    /// The rectangle a scene is set up with before a distant light's warp gives it its own
-    /// ([`crate::Scene::with_distant_light`]): the light itself, or for a distant light a unit
-    /// square at the origin facing `-y`, which nothing renders.
-    pub fn rect_or_placeholder(&self) -> RectLight {
-        match self {
-            Light::Rect(l) => *l,
-            Light::Distant(_) => RectLight::new(DVec3::ZERO, DVec3::NEG_Y, DVec3::X, DVec2::ONE),
-        }
-    }
-}
-
-impl From<RectLight> for Light {
-    fn from(l: RectLight) -> Light {
-        Light::Rect(l)
-    }
-}
-
-impl From<DistantLight> for Light {
-    fn from(l: DistantLight) -> Light {
-        Light::Distant(l)
     }
 }
 
@@ -231,7 +273,7 @@ impl Warp {
     /// The rectangle light that is the image of `light`'s directions: centre `o + k D`, normal
     /// `-D`, tangent `T`, sides `2 k tan(a/2)` and `2 k tan(b/2)`.
     pub fn light(&self, light: &DistantLight) -> RectLight {
-        RectLight::new(
+        RectLight::from_frame(
             self.origin + self.direction * self.k,
             -light.direction,
             light.tangent,
@@ -261,7 +303,7 @@ mod tests {
     fn sun() -> DistantLight {
         let d = DVec3::new(0.6, 0.7, -0.3).normalize();
         let t = d.cross(DVec3::Y).normalize();
-        DistantLight::new(d, t, DVec2::new(4.0, 2.5))
+        DistantLight::new(d, t, DVec2::new(4.0, 2.5)).unwrap()
     }
 
     fn warp() -> Warp {

@@ -18,7 +18,9 @@ mod image;
 mod image_files;
 mod input;
 mod light;
+mod light_error;
 mod lights;
+mod lit_scene;
 mod memory;
 mod mesh;
 mod metrics;
@@ -29,8 +31,11 @@ mod raycast;
 mod reference;
 mod rng;
 mod scene;
+mod scene_error;
 mod scene_file;
 mod scene_file_lights;
+#[cfg(test)]
+mod scene_file_lights_tests;
 mod scene_values;
 mod shaded;
 mod technique;
@@ -38,16 +43,18 @@ mod technique;
 pub use boxtree::{BoxTree, Plane};
 pub use camera::{Camera, CameraError};
 pub use channels::{Channel, LIGHTS_ATTRIBUTE, VisibilityChannels, is_visibility_channel};
-pub use distant::{DistantLight, Light, Warp};
+pub use distant::{DistantLight, Warp};
 pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
 pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeList, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
 pub use image_files::{CHANNEL, PngColor, write_png_bytes};
 pub use light::RectLight;
+pub use light_error::LightError;
 pub use lights::{
-    LightNameError, MAX_LIGHT_NAME, NamedLight, check_light_name, check_light_names,
+    Light, LightNameError, MAX_LIGHT_NAME, NamedLight, check_light_name, check_light_names,
     default_light_name, light_channel,
 };
+pub use lit_scene::{DistantView, LitScene};
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};
@@ -61,7 +68,7 @@ pub use reference::{
     TracerGeometry,
 };
 pub use rng::Rng;
-pub use scene::{DistantView, Scene, SceneMesh};
-pub use scene_file::SceneError;
+pub use scene::{Scene, SceneMesh};
+pub use scene_error::SceneError;
 pub use shaded::{SHADED_AMBIENT, SHADED_BACKGROUND, ShadedImage, shaded_value, srgb_byte};
 pub use technique::{Technique, UnknownTechnique};

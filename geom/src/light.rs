@@ -7,6 +7,8 @@
 
 use glam::{DVec2, DVec3};
 
+use crate::light_error::{self as checks, LightError};
+
 /// A one-sided rectangular area light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RectLight {
@@ -23,10 +25,76 @@ pub struct RectLight {
 }
 
 impl RectLight {
-    /// Builds a light from a centre, a unit normal, a unit tangent orthogonal to it and the two
-    /// side lengths. The scene loader checks these conditions and reports violations; here they
-    /// are the caller's contract.
-    pub fn new(center: DVec3, normal: DVec3, tangent: DVec3, size: DVec2) -> Self {
+    /// The light of centre `center`, unit `normal` (it emits on that side), unit `tangent`
+    /// orthogonal to it (the first side's direction) and side lengths `size` (along the tangent,
+    /// then along `normal x tangent`).
+    ///
+    /// A normal or tangent within [`crate::UNIT_TOLERANCE`] of unit length and orthogonality is
+    /// made exactly so; beyond it, the error names the field and, where a vector is merely not
+    /// unit length, gives the normalised one.
+    ///
+    /// ```
+    /// use penumbra::glam::{DVec2, DVec3};
+    /// use penumbra::geom::{LightError, RectLight};
+    ///
+    /// let lamp = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::new(2.0, 1.0))?;
+    /// assert_eq!(lamp.bitangent, DVec3::Z);
+    /// let err = RectLight::new(DVec3::ZERO, DVec3::new(0.0, -2.0, 0.0), DVec3::X, DVec2::ONE).unwrap_err();
+    /// assert!(matches!(err, LightError::NotUnit { field: "normal", .. }));
+    /// assert!(err.to_string().contains("normalised it is [0, -1, 0]"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(
+        center: DVec3,
+        normal: DVec3,
+        tangent: DVec3,
+        size: DVec2,
+    ) -> Result<RectLight, LightError> {
+        let center = checks::point("center", center)?;
+        let normal = checks::unit("normal", normal)?;
+        let tangent = checks::tangent(tangent, "normal", normal)?;
+        Ok(RectLight::from_frame(
+            center,
+            normal,
+            tangent,
+            checks::size(size)?,
+        ))
+    }
+
+    /// The light of centre `center` facing `target` (its normal `normalize(target - center)`),
+    /// of sides `size`. Its tangent, the direction of the first side, is horizontal:
+    /// `normalize(Y x normal)` with `Y = +y` up, or `+x` where the light faces straight up or
+    /// down (a ceiling lamp's first side then runs along `x`).
+    ///
+    /// ```
+    /// use penumbra::glam::{DVec2, DVec3};
+    /// use penumbra::geom::RectLight;
+    ///
+    /// // A ceiling panel facing the floor, and a wall panel facing the origin.
+    /// let panel = RectLight::aimed(DVec3::new(0.0, 3.0, 0.0), DVec3::ZERO, DVec2::new(1.2, 0.6))?;
+    /// assert_eq!((panel.normal, panel.tangent), (DVec3::NEG_Y, DVec3::X));
+    /// let wall = RectLight::aimed(DVec3::new(0.0, 1.0, -4.0), DVec3::new(0.0, 1.0, 0.0), DVec2::ONE)?;
+    /// assert_eq!((wall.normal, wall.tangent), (DVec3::Z, DVec3::X));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn aimed(center: DVec3, target: DVec3, size: DVec2) -> Result<RectLight, LightError> {
+        let center = checks::point("center", center)?;
+        let target = checks::point("target", target)?;
+        let normal = (target - center)
+            .try_normalize()
+            .ok_or(LightError::TargetAtCenter { target })?;
+        let tangent = checks::horizontal_tangent(normal, DVec3::Y, DVec3::X);
+        Ok(RectLight::from_frame(
+            center,
+            normal,
+            tangent,
+            checks::size(size)?,
+        ))
+    }
+
+    /// The light of an exactly orthonormal frame, unchecked: for the lights the library derives
+    /// from checked ones.
+    pub(crate) fn from_frame(center: DVec3, normal: DVec3, tangent: DVec3, size: DVec2) -> Self {
         RectLight {
             center,
             normal,
@@ -125,7 +193,7 @@ mod tests {
     fn tilted() -> RectLight {
         let n = DVec3::new(0.3, -1.0, 0.2).normalize();
         let t = n.cross(DVec3::Z).normalize();
-        RectLight::new(DVec3::new(1.0, 4.0, -2.0), n, t, DVec2::new(2.0, 0.5))
+        RectLight::new(DVec3::new(1.0, 4.0, -2.0), n, t, DVec2::new(2.0, 0.5)).unwrap()
     }
 
     #[test]

@@ -1,9 +1,48 @@
 //! A scene's several lights (`[[light]]` in a scene file): each light's name, the name of its
 //! image channel (`<name>.V`), and the rules a name keeps.
 
-use crate::distant::Light;
-#[cfg(test)]
+use crate::distant::DistantLight;
 use crate::light::RectLight;
+
+/// A light of a scene: a rectangle at a finite distance, or a distant light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// A one-sided rectangular area light (`[light]` with `center`, `normal`, `tangent`,
+    /// `size`).
+    Rect(RectLight),
+    /// A distant light (`distant = true`, `direction`, `tangent`, `angular_size`).
+    Distant(DistantLight),
+}
+
+impl Light {
+    /// The rectangle light, if this is one.
+    pub fn as_rect(&self) -> Option<&RectLight> {
+        match self {
+            Light::Rect(l) => Some(l),
+            Light::Distant(_) => None,
+        }
+    }
+
+    /// The distant light, if this is one.
+    pub fn as_distant(&self) -> Option<&DistantLight> {
+        match self {
+            Light::Distant(l) => Some(l),
+            Light::Rect(_) => None,
+        }
+    }
+}
+
+impl From<RectLight> for Light {
+    fn from(l: RectLight) -> Light {
+        Light::Rect(l)
+    }
+}
+
+impl From<DistantLight> for Light {
+    fn from(l: DistantLight) -> Light {
+        Light::Distant(l)
+    }
+}
 
 /// The longest light name, in bytes: a name becomes part of file names (`OUT.<name>.png`).
 pub const MAX_LIGHT_NAME: usize = 64;
@@ -130,7 +169,7 @@ mod tests {
     use glam::{DVec2, DVec3};
 
     fn light() -> RectLight {
-        RectLight::new(DVec3::Y, DVec3::NEG_Y, DVec3::X, DVec2::ONE)
+        RectLight::new(DVec3::Y, DVec3::NEG_Y, DVec3::X, DVec2::ONE).unwrap()
     }
 
     #[test]

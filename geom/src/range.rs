@@ -3,8 +3,12 @@
 //! at its line).
 
 use glam::DVec3;
+use penumbra_params::TechniqueParams;
 
-use crate::scene::Scene;
+use crate::camera::Camera;
+use crate::lights::Light;
+use crate::lit_scene::LitScene;
+use crate::scene::{Scene, SceneMesh};
 
 /// Tolerance on the unit length and orthogonality of the light's normal and tangent (and of the
 /// camera's frame of a scene made in code).
@@ -122,6 +126,9 @@ pub enum RangeError {
         /// Its full angles in degrees.
         angular_size: glam::DVec2,
     },
+    /// A scene without a light.
+    #[error("the scene has no light: add one with Scene::with_light")]
+    NoLights,
     /// A field of view outside [[`MIN_FOV_DEG`], [`MAX_FOV_DEG`]].
     #[error(
         "a field of view of {degrees} degrees lies outside the supported range [{MIN_FOV_DEG}, {MAX_FOV_DEG}]"
@@ -149,75 +156,37 @@ impl Scene {
     /// ("Supported range"), or `None` when all are inside: the scene loader refuses such scenes
     /// with their line, and a renderer refuses a scene made in code the same way.
     ///
-    /// It also holds a scene made in code to what the loader checks of a file: a light whose
-    /// normal and tangent are unit and orthogonal (and its bitangent their cross product) with
-    /// two positive sides, a camera frame of unit orthogonal vectors and a non-empty image, and
-    /// shadow-map parameters within their ranges.
+    /// It also holds a scene made in code to what the loader checks of a file: one light at
+    /// least; lights whose frames are unit and orthogonal (a rectangle's bitangent its normal
+    /// times its tangent) with positive sides or angles, as the lights' constructors make them;
+    /// a camera frame of unit orthogonal vectors and a non-empty image; and shadow-map
+    /// parameters within their ranges.
     pub fn out_of_range(&self) -> Option<RangeError> {
-        if let Some(why) = self.invalid_frames() {
-            return Some(why);
+        if self.lights.is_empty() {
+            return Some(RangeError::NoLights);
         }
-        if let Err(error) = self.params.validate() {
-            return Some(RangeError::Param { error });
-        }
-        let coordinate = |v: DVec3| !within_coordinates(v);
-        let world = self.world();
-        if coordinate(world.camera.eye) {
-            return Some(RangeError::Eye {
-                eye: world.camera.eye,
-            });
-        }
-        if coordinate(self.light.center) || !(self.light.size.max_element() <= MAX_COORDINATE) {
-            return Some(RangeError::Light {
-                center: self.light.center,
-                size: self.light.size,
-            });
-        }
-        if !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&self.camera.fov_y_deg) {
-            return Some(RangeError::FieldOfView {
-                degrees: self.camera.fov_y_deg,
-            });
-        }
-        for (mesh, m) in world.meshes.iter().enumerate() {
-            if let Some(&at) = m.mesh.positions.iter().find(|v| coordinate(**v)) {
-                return Some(RangeError::Vertex {
-                    mesh,
-                    name: m.source.display().to_string(),
-                    at,
-                });
-            }
-        }
-        None
+        self.lights
+            .iter()
+            .find_map(|l| invalid_light(&l.light))
+            .or_else(|| out_of_range(&self.camera, &self.meshes, &self.params))
     }
+}
 
-    /// What the scene loader would refuse in the light's and the camera's frames.
-    fn invalid_frames(&self) -> Option<RangeError> {
-        let unit = |v: DVec3| (v.length() - 1.0).abs() <= UNIT_TOLERANCE;
-        let orthogonal = |a: DVec3, b: DVec3| a.dot(b).abs() <= UNIT_TOLERANCE;
-        let l = &self.light;
-        if !unit(l.normal) {
-            return Some(RangeError::LightNormal { normal: l.normal });
-        }
-        if !unit(l.tangent) {
-            return Some(RangeError::LightTangent { tangent: l.tangent });
-        }
-        if !orthogonal(l.normal, l.tangent) {
-            return Some(RangeError::LightNotOrthogonal {
-                tangent: l.tangent,
-                normal: l.normal,
-            });
-        }
-        if !((l.bitangent - l.normal.cross(l.tangent)).length() <= UNIT_TOLERANCE) {
-            return Some(RangeError::LightBitangent {
-                bitangent: l.bitangent,
-                expected: l.normal.cross(l.tangent),
-            });
-        }
-        if !(l.size.x > 0.0 && l.size.y > 0.0 && l.size.is_finite()) {
-            return Some(RangeError::LightSize { size: l.size });
-        }
-        if let Some(d) = &self.distant {
-            let l = &d.light;
+impl LitScene {
+    /// [`Scene::out_of_range`] of the scene of this one light.
+    pub fn out_of_range(&self) -> Option<RangeError> {
+        invalid_light(&self.world_light())
+            .or_else(|| out_of_range(self.world_camera(), self.world_meshes(), &self.params))
+    }
+}
+
+/// What the scene loader would refuse of `light`.
+fn invalid_light(light: &Light) -> Option<RangeError> {
+    let unit = |v: DVec3| (v.length() - 1.0).abs() <= UNIT_TOLERANCE;
+    let orthogonal = |a: DVec3, b: DVec3| a.dot(b).abs() <= UNIT_TOLERANCE;
+    let l = match light {
+        Light::Rect(l) => l,
+        Light::Distant(l) => {
             let a = l.angular_size_deg;
             if !(unit(l.direction)
                 && unit(l.tangent)
@@ -233,29 +202,87 @@ impl Scene {
                     angular_size: a,
                 });
             }
+            return None;
         }
-        // The world's camera: a scene under a distant light renders a warped one.
-        let c = &self.world().camera;
-        if c.width == 0 || c.height == 0 {
-            return Some(RangeError::EmptyImage {
-                width: c.width,
-                height: c.height,
-            });
-        }
-        let frame = [c.forward, c.right, c.true_up];
-        if !frame.iter().all(|&v| unit(v))
-            || !orthogonal(c.forward, c.right)
-            || !orthogonal(c.forward, c.true_up)
-            || !orthogonal(c.right, c.true_up)
-        {
-            return Some(RangeError::CameraFrame {
-                forward: c.forward,
-                right: c.right,
-                up: c.true_up,
-            });
-        }
-        None
+    };
+    if !unit(l.normal) {
+        return Some(RangeError::LightNormal { normal: l.normal });
     }
+    if !unit(l.tangent) {
+        return Some(RangeError::LightTangent { tangent: l.tangent });
+    }
+    if !orthogonal(l.normal, l.tangent) {
+        return Some(RangeError::LightNotOrthogonal {
+            tangent: l.tangent,
+            normal: l.normal,
+        });
+    }
+    if !((l.bitangent - l.normal.cross(l.tangent)).length() <= UNIT_TOLERANCE) {
+        return Some(RangeError::LightBitangent {
+            bitangent: l.bitangent,
+            expected: l.normal.cross(l.tangent),
+        });
+    }
+    if !(l.size.x > 0.0 && l.size.y > 0.0 && l.size.is_finite()) {
+        return Some(RangeError::LightSize { size: l.size });
+    }
+    if !within_coordinates(l.center) || !(l.size.max_element() <= MAX_COORDINATE) {
+        return Some(RangeError::Light {
+            center: l.center,
+            size: l.size,
+        });
+    }
+    None
+}
+
+/// What the scene loader would refuse of a world's camera, meshes and parameters.
+fn out_of_range(
+    camera: &Camera,
+    meshes: &[SceneMesh],
+    params: &TechniqueParams,
+) -> Option<RangeError> {
+    let unit = |v: DVec3| (v.length() - 1.0).abs() <= UNIT_TOLERANCE;
+    let orthogonal = |a: DVec3, b: DVec3| a.dot(b).abs() <= UNIT_TOLERANCE;
+    let c = camera;
+    if c.width == 0 || c.height == 0 {
+        return Some(RangeError::EmptyImage {
+            width: c.width,
+            height: c.height,
+        });
+    }
+    let frame = [c.forward, c.right, c.true_up];
+    if !frame.iter().all(|&v| unit(v))
+        || !orthogonal(c.forward, c.right)
+        || !orthogonal(c.forward, c.true_up)
+        || !orthogonal(c.right, c.true_up)
+    {
+        return Some(RangeError::CameraFrame {
+            forward: c.forward,
+            right: c.right,
+            up: c.true_up,
+        });
+    }
+    if let Err(error) = params.validate() {
+        return Some(RangeError::Param { error });
+    }
+    if !within_coordinates(c.eye) {
+        return Some(RangeError::Eye { eye: c.eye });
+    }
+    if !(MIN_FOV_DEG..=MAX_FOV_DEG).contains(&c.fov_y_deg) {
+        return Some(RangeError::FieldOfView {
+            degrees: c.fov_y_deg,
+        });
+    }
+    for (mesh, m) in meshes.iter().enumerate() {
+        if let Some(&at) = m.mesh.positions.iter().find(|v| !within_coordinates(**v)) {
+            return Some(RangeError::Vertex {
+                mesh,
+                name: m.source.display().to_string(),
+                at,
+            });
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -264,13 +291,15 @@ mod tests {
 
     use crate::camera::Camera;
     use crate::light::RectLight;
+    use crate::lights::Light;
     use crate::scene::Scene;
 
     fn good() -> Scene {
         let camera =
             Camera::look_at(DVec3::new(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 8, 6).unwrap();
-        let light = RectLight::new(DVec3::new(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
-        Scene::new(camera, light)
+        let light =
+            RectLight::new(DVec3::new(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
+        Scene::new(camera).with_light(light)
     }
 
     /// Every check the scene file's loader makes of the light and the camera, made of a scene
@@ -279,27 +308,22 @@ mod tests {
     fn a_scene_made_in_code_gets_the_checks_of_a_scene_file() {
         assert_eq!(good().out_of_range(), None);
         type Break = fn(&mut Scene);
-        let cases: [(&str, Break); 10] = [
-            ("normal", |s| {
-                s.light = RectLight::new(
-                    s.light.center,
-                    DVec3::new(0., -1., 0.5),
-                    DVec3::X,
-                    DVec2::ONE,
-                )
-            }),
-            ("tangent", |s| s.light.tangent *= 2.0),
+        fn rect(s: &mut Scene) -> &mut RectLight {
+            match &mut s.lights[0].light {
+                Light::Rect(r) => r,
+                Light::Distant(_) => unreachable!("a rectangle light"),
+            }
+        }
+        let cases: [(&str, Break); 11] = [
+            ("normal", |s| rect(s).normal = DVec3::new(0., -1., 0.5)),
+            ("tangent", |s| rect(s).tangent *= 2.0),
             ("not orthogonal", |s| {
-                s.light = RectLight::new(
-                    s.light.center,
-                    -DVec3::Y,
-                    DVec3::new(1., 1., 0.).normalize(),
-                    DVec2::ONE,
-                )
+                rect(s).tangent = DVec3::new(1., 1., 0.).normalize()
             }),
-            ("bitangent", |s| s.light.bitangent = -s.light.bitangent),
-            ("size", |s| s.light.size = DVec2::new(1.0, 0.0)),
-            ("size", |s| s.light.size = DVec2::new(f64::NAN, 1.0)),
+            ("bitangent", |s| rect(s).bitangent = -rect(s).bitangent),
+            ("size", |s| rect(s).size = DVec2::new(1.0, 0.0)),
+            ("size", |s| rect(s).size = DVec2::new(f64::NAN, 1.0)),
+            ("no light", |s| s.lights.clear()),
             ("empty", |s| s.camera.width = 0),
             ("frame", |s| s.camera.forward = DVec3::new(0., 0., -2.)),
             ("frame", |s| s.camera.right = s.camera.true_up),

@@ -28,9 +28,9 @@ use crate::camera::Camera;
 use crate::exact::exact_visibility;
 use crate::image::VisibilityImage;
 use crate::light::RectLight;
+use crate::lit_scene::LitScene;
 use crate::raycast::{Rays, SceneBvh};
 use crate::rng::Rng;
-use crate::scene::Scene;
 
 /// Seed of the reference's light samples.
 pub const REFERENCE_SEED: u64 = 0x005E_ED0F_5AD0;
@@ -88,7 +88,51 @@ pub struct TracerGeometry {
     bounds: (DVec3, DVec3),
 }
 
+/// The first surface point along the ray `origin + t dir` among `triangles`, by `bvh`: the hit
+/// projected onto its triangle's plane.
+fn surface_point(
+    bvh: &SceneBvh,
+    triangles: &[[DVec3; 3]],
+    origin: DVec3,
+    dir: DVec3,
+) -> Option<SurfacePoint> {
+    let hit = bvh.closest_hit(origin, dir, f64::MAX)?;
+    let p = origin + dir * hit.t;
+    let [a, b, c] = triangles[hit.triangle as usize];
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    Some(SurfacePoint {
+        position: p - n * (p - a).dot(n),
+        triangle: hit.triangle,
+    })
+}
+
 impl TracerGeometry {
+    /// The hierarchies of `triangles` for `rays`: `kept`'s where it serves them
+    /// ([`TracerGeometry::serves`]), else built (the one that does not serve dropped first, so
+    /// that the two are never held at once) and kept in `kept` for the next caller.
+    pub fn reusing(
+        triangles: Vec<[DVec3; 3]>,
+        rays: Rays,
+        kept: &mut Option<TracerGeometry>,
+    ) -> TracerGeometry {
+        let geometry = match kept.take().filter(|g| g.serves(&triangles, rays)) {
+            Some(g) => g,
+            None => TracerGeometry::build(triangles, rays),
+        };
+        *kept = Some(geometry.clone());
+        geometry
+    }
+
+    /// The surface point the ray `origin + t dir` meets first ([`Tracer::surface_point`]).
+    pub fn surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
+        surface_point(&self.bvh, &self.triangles, origin, dir)
+    }
+
+    /// The triangles.
+    pub fn triangles(&self) -> &[[DVec3; 3]] {
+        &self.triangles
+    }
+
     /// Builds the hierarchies of `triangles` for `rays`.
     pub fn build(triangles: Vec<[DVec3; 3]>, rays: Rays) -> Self {
         let bvh = SceneBvh::build_for(&triangles, rays);
@@ -129,12 +173,12 @@ impl TracerGeometry {
 
 impl Tracer {
     /// Builds the BVH of a scene for many rays ([`Rays::Many`]).
-    pub fn new(scene: &Scene) -> Self {
+    pub fn new(scene: &LitScene) -> Self {
         Self::new_for(scene, Rays::Many)
     }
 
     /// Builds the BVH of a scene for `rays` rays.
-    pub fn new_for(scene: &Scene, rays: Rays) -> Self {
+    pub fn new_for(scene: &LitScene, rays: Rays) -> Self {
         Self::new_reusing(scene, rays, &mut None)
     }
 
@@ -142,15 +186,8 @@ impl Tracer {
     /// for `rays` ([`TracerGeometry::serves`]), and otherwise building them and keeping them in
     /// `kept` for the next scene: the same image either way, without building the hierarchies
     /// again for another light or camera over the same triangles.
-    pub fn new_reusing(scene: &Scene, rays: Rays, kept: &mut Option<TracerGeometry>) -> Self {
-        let triangles = scene.triangles();
-        // One that does not serve is dropped before the new one is built, so that the two
-        // are never held at once.
-        let geometry = match kept.take().filter(|g| g.serves(&triangles, rays)) {
-            Some(g) => g,
-            None => TracerGeometry::build(triangles, rays),
-        };
-        *kept = Some(geometry.clone());
+    pub fn new_reusing(scene: &LitScene, rays: Rays, kept: &mut Option<TracerGeometry>) -> Self {
+        let geometry = TracerGeometry::reusing(scene.triangles(), rays, kept);
         // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
         // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
         // between an occluder and its receiver, and the shadow was lost.
@@ -223,14 +260,7 @@ impl Tracer {
 
     /// First surface hit by the ray `origin + t * dir` (`dir` unit).
     pub fn surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
-        let hit = self.bvh.closest_hit(origin, dir, f64::MAX)?;
-        let p = origin + dir * hit.t;
-        let [a, b, c] = self.triangles[hit.triangle as usize];
-        let n = (b - a).cross(c - a).normalize_or_zero();
-        Some(SurfacePoint {
-            position: p - n * (p - a).dot(n),
-            triangle: hit.triangle,
-        })
+        surface_point(&self.bvh, &self.triangles, origin, dir)
     }
 
     /// Whether the light point `l` is visible from the surface point `p`, whose
@@ -321,8 +351,8 @@ pub enum LightSamples {
 /// use penumbra::geom::{Camera, LightSamples, RectLight, Reference, Scene, TriangleMesh};
 ///
 /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 16, 12)?;
-/// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0));
-/// let scene = Scene::new(camera, light)
+/// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0)).unwrap();
+/// let scene = Scene::new(camera).with_light(light)
 ///     .with_mesh("ball", &TriangleMesh::uv_sphere(8, 12), DMat4::from_translation(DVec3::Y));
 /// let reference = Reference::new(&scene);
 /// let soft = reference.render(LightSamples::Stratified { per_axis: 4 }, &|_| {});
@@ -339,13 +369,13 @@ pub struct Reference {
 
 impl Reference {
     /// Builds the BVH of `scene` and keeps its camera.
-    pub fn new(scene: &Scene) -> Self {
+    pub fn new(scene: &LitScene) -> Self {
         Self::new_reusing(scene, &mut None)
     }
 
     /// [`Reference::new`], taking the BVH from `kept` where it serves the scene, and keeping
     /// the one built in `kept` otherwise ([`Tracer::new_reusing`]).
-    pub fn new_reusing(scene: &Scene, kept: &mut Option<TracerGeometry>) -> Self {
+    pub fn new_reusing(scene: &LitScene, kept: &mut Option<TracerGeometry>) -> Self {
         Reference {
             tracer: Tracer::new_reusing(scene, Rays::Many, kept),
             camera: scene.camera,
@@ -405,7 +435,8 @@ mod tests {
     fn scene(x: f64) -> Scene {
         let camera =
             Camera::look_at(DVec3::new(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 8, 6).unwrap();
-        let light = RectLight::new(DVec3::new(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE);
+        let light =
+            RectLight::new(DVec3::new(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
         let ground = TriangleMesh::from_raw(
             "ground",
             &[
@@ -417,7 +448,8 @@ mod tests {
             &[[0, 2, 1], [0, 3, 2]],
         )
         .unwrap();
-        Scene::new(camera, light)
+        Scene::new(camera)
+            .with_light(light)
             .with_mesh("ground", &ground, DMat4::IDENTITY)
             .with_mesh(
                 "sphere",
@@ -432,14 +464,15 @@ mod tests {
     #[test]
     fn the_hierarchies_are_kept_for_the_same_triangles_and_rays_only() {
         let mut kept = None;
-        let first = Tracer::new_reusing(&scene(0.0), Rays::Many, &mut kept);
-        let mut other_light = scene(0.0);
+        let first = Tracer::new_reusing(&(scene(0.0)).lit(0), Rays::Many, &mut kept);
+        let mut other_light = scene(0.0).lit(0);
         other_light.light = RectLight::new(
             DVec3::new(1., 1.5, 0.),
             -DVec3::Y,
             DVec3::Z,
             DVec2::ONE * 2.0,
-        );
+        )
+        .unwrap();
         other_light.camera.eye = DVec3::new(0., 2., 5.);
         let again = Tracer::new_reusing(&other_light, Rays::Many, &mut kept);
         assert!(Arc::ptr_eq(&first.bvh, &again.bvh));
@@ -452,7 +485,7 @@ mod tests {
         assert_ne!(again.epsilon, first.epsilon);
         for (moved, rays) in [(scene(0.5), Rays::Many), (scene(0.0), Rays::Few)] {
             let before = kept.clone().unwrap();
-            let t = Tracer::new_reusing(&moved, rays, &mut kept);
+            let t = Tracer::new_reusing(&moved.lit(0), rays, &mut kept);
             assert!(!Arc::ptr_eq(&before.bvh, &t.bvh));
             assert!(Arc::ptr_eq(&kept.as_ref().unwrap().bvh, &t.bvh));
             assert_eq!(*t.triangles, *moved.triangles());

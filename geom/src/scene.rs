@@ -1,6 +1,7 @@
-//! A scene: the camera, the light (or several named lights), the world-space meshes and the
-//! shadow-map techniques' parameters, made in code here (read from a scene file in `scene_file.rs`, held to the
-//! supported range in `range.rs`).
+//! A scene: the camera, its lights (rectangles or distant lights, each named), the world-space
+//! meshes and the shadow-map techniques' parameters, made in code here (read from a scene file
+//! in `scene_file.rs`, held to the supported range in `range.rs`). Every renderer renders one
+//! light at a time, through the scene's [`LitScene`] for that light (`lit_scene.rs`).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -9,103 +10,92 @@ use glam::{DMat4, DVec3};
 use penumbra_params::TechniqueParams;
 
 use crate::camera::Camera;
-use crate::distant::{DistantLight, Light, Warp};
+use crate::distant::DistantLight;
 use crate::light::RectLight;
-use crate::lights::{LightNameError, NamedLight, check_light_names};
+use crate::lights::{Light, LightNameError, NamedLight, check_light_names, default_light_name};
+use crate::lit_scene::LitScene;
 use crate::mesh::TriangleMesh;
 
 /// One mesh of a scene, in world space.
 #[derive(Clone, Debug)]
 pub struct SceneMesh {
-    /// The OBJ file it came from.
+    /// The mesh file it came from (or the name it was given in code).
     pub source: PathBuf,
-    /// `translate * rotate * scale`: from the OBJ into the world (also in a scene under a
-    /// distant light, whose positions are the warped world's).
+    /// `translate * rotate * scale`: from the mesh file into the world.
     pub transform: DMat4,
-    /// The welded mesh with world-space positions.
+    /// The welded mesh with world-space positions (in a [`LitScene`] under a distant light,
+    /// the warped world's).
     pub mesh: TriangleMesh,
 }
 
-/// A loaded scene: camera, light (or several named lights) and world-space meshes.
+/// A scene: camera, lights and world-space meshes.
 ///
-/// Every renderer renders [`Scene::light`]. A scene of several lights (`[[light]]` in a scene
-/// file, [`Scene::with_lights`] in code) lists them in [`Scene::lights`]; its images have one
-/// channel per light, each the image of [`Scene::for_light`], the same scene under that light
-/// alone.
+/// Its lights are a list, each a rectangle or a distant light with a name; the renderers render
+/// one light at a time, through [`Scene::lit`]. A scene's images have one channel per light:
+/// `V` for a scene of one light (`[light]` in a scene file, one [`Scene::with_light`] in code),
+/// `<name>.V` for each light otherwise (`[[light]]`, even of one entry, or
+/// [`Scene::with_lights`]). The meshes are shared between the scene's copies and its
+/// [`LitScene`]s: cloning a scene or taking one light's view copies no mesh.
 #[derive(Clone, Debug)]
 pub struct Scene {
-    /// The scene file.
+    /// The scene file, or `<in memory>` for a scene made in code.
     pub path: PathBuf,
-    /// The camera.
+    /// The camera, in the world.
     pub camera: Camera,
-    /// The light the renderers render: the scene's one light (`[light]`), or the first of
-    /// [`Scene::lights`].
-    pub light: RectLight,
-    /// The named lights of a scene of several (`[[light]]`, even of one entry), in file order,
-    /// each rendered into its own channel `<name>.V`; empty for a scene of one `[light]`, whose
-    /// image is the one channel `V`.
+    /// The lights, in order: the file's, or those added in code.
     pub lights: Vec<NamedLight>,
-    /// The meshes, in file order.
-    pub meshes: Vec<SceneMesh>,
+    /// The meshes, in order.
+    pub meshes: Arc<Vec<SceneMesh>>,
     /// Parameters of the shadow-map techniques (defaults where the file has no table).
     pub params: TechniqueParams,
-    /// Where [`Scene::light`] stands for a distant light: that light, and the world scene whose
-    /// [`Warp`] this scene is ([`Scene::with_distant_light`]). `None` for a rectangle light.
-    pub distant: Option<Arc<DistantView>>,
-}
-
-/// A scene under a distant light, as the renderers see it: the light, the warp that took the
-/// world to the scene they render, and the world scene.
-#[derive(Clone, Debug)]
-pub struct DistantView {
-    /// The distant light, in the world.
-    pub light: DistantLight,
-    /// The map from the world to the rendered scene.
-    pub warp: Warp,
-    /// The scene in world coordinates, with its lights; its [`Scene::light`] is the rendered
-    /// one's (the world has no rectangle for a distant light).
-    pub world: Scene,
+    /// Whether each light's channel is `<name>.V` even for a scene of one light (`[[light]]`
+    /// in a file, [`Scene::with_lights`] in code).
+    pub named_channels: bool,
 }
 
 impl Scene {
-    /// A scene made in code: `camera` and `light`, no meshes yet (add them with
-    /// [`Scene::with_mesh`]) and the shadow-map techniques' default parameters. Nothing is read
-    /// from disk; its path reads `<in memory>`.
+    /// A scene made in code: `camera`, no lights and no meshes yet (add them with
+    /// [`Scene::with_light`] and [`Scene::with_mesh`], in any order) and the shadow-map
+    /// techniques' default parameters. Nothing is read from disk; its path reads `<in memory>`.
     ///
     /// ```
     /// use penumbra::glam::{DMat4, DVec2, DVec3};
-    /// use penumbra::geom::{Camera, RectLight, Scene, TriangleMesh};
+    /// use penumbra::geom::{Camera, DistantLight, RectLight, Scene, TriangleMesh};
     ///
     /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
-    /// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0));
+    /// let lamp = RectLight::aimed(DVec3::new(0.0, 5.0, 0.0), DVec3::ZERO, DVec2::splat(2.0))?;
     /// let ground = TriangleMesh::from_raw(
     ///     "ground",
     ///     &[DVec3::new(-5.0, 0.0, -5.0), DVec3::new(-5.0, 0.0, 5.0), DVec3::new(5.0, 0.0, 5.0), DVec3::new(5.0, 0.0, -5.0)],
     ///     &[[0, 1, 2], [0, 2, 3]],
     /// )?;
-    /// let scene = Scene::new(camera, light)
+    /// let scene = Scene::new(camera)
     ///     .with_mesh("ground", &ground, DMat4::IDENTITY)
+    ///     .with_light(lamp)
     ///     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), DMat4::from_translation(DVec3::Y));
     /// assert_eq!(scene.meshes.len(), 2);
     /// assert_eq!(scene.triangle_count(), 2 + 2 * 16 * 11);
+    /// assert_eq!(scene.channel_names(), ["V"]);
+    /// // A scene lit by the sun alone needs nothing else.
+    /// let sunny = Scene::new(camera).with_light(DistantLight::sun(135.0, 30.0, 0.53)?);
+    /// assert_eq!(sunny.light_count(), 1);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn new(camera: Camera, light: RectLight) -> Scene {
+    pub fn new(camera: Camera) -> Scene {
         Scene {
             path: PathBuf::from("<in memory>"),
             camera,
-            light,
             lights: Vec::new(),
-            meshes: Vec::new(),
+            meshes: Arc::new(Vec::new()),
             params: TechniqueParams::default(),
-            distant: None,
+            named_channels: false,
         }
     }
 
     /// The scene with `mesh` added, its positions moved by `transform` into the world; `name`
     /// stands for its file in messages.
     pub fn with_mesh(mut self, name: &str, mesh: &TriangleMesh, transform: DMat4) -> Scene {
-        self.meshes.push(SceneMesh {
+        Arc::make_mut(&mut self.meshes).push(SceneMesh {
             source: PathBuf::from(name),
             transform,
             mesh: mesh.transformed(&transform),
@@ -113,178 +103,118 @@ impl Scene {
         self
     }
 
-    /// The scene with several named lights in place of its one: `lights` in order, checked by
-    /// [`crate::check_light_names`] (one at least, names valid and unique); [`Scene::light`]
-    /// becomes the first.
+    /// The scene with `light` (a [`RectLight`] or a [`DistantLight`]) added after its others,
+    /// named `light<k>` by its 0-based position `k` ([`default_light_name`]).
+    pub fn with_light(mut self, light: impl Into<Light>) -> Scene {
+        self.lights.push(NamedLight {
+            name: default_light_name(self.lights.len()),
+            light: light.into(),
+        });
+        self
+    }
+
+    /// The scene with `light` added after its others under `name`, refused where the name is
+    /// not valid ([`crate::check_light_name`]) or is already another light's.
+    pub fn with_named_light(
+        mut self,
+        name: &str,
+        light: impl Into<Light>,
+    ) -> Result<Scene, LightNameError> {
+        self.lights.push(NamedLight::new(name, light)?);
+        check_light_names(&self.lights)?;
+        Ok(self)
+    }
+
+    /// The scene with `lights` in place of its lights, in order, checked by
+    /// [`crate::check_light_names`] (one at least, names valid and unique); its images have a
+    /// channel `<name>.V` for each, even for one light.
     ///
     /// ```
     /// use penumbra::glam::{DVec2, DVec3};
     /// use penumbra::geom::{Camera, NamedLight, RectLight, Scene};
     ///
     /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
-    /// let light = |x: f64| RectLight::new(DVec3::new(x, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
-    /// let scene = Scene::new(camera, light(0.0))
-    ///     .with_lights(vec![NamedLight::new("key", light(-2.0))?, NamedLight::new("fill", light(2.0))?])?;
+    /// let light = |x: f64| RectLight::aimed(DVec3::new(x, 5.0, 0.0), DVec3::new(x, 0.0, 0.0), DVec2::ONE);
+    /// let scene = Scene::new(camera)
+    ///     .with_lights(vec![NamedLight::new("key", light(-2.0)?)?, NamedLight::new("fill", light(2.0)?)?])?;
     /// assert_eq!(scene.light_count(), 2);
     /// assert_eq!(scene.channel_names(), ["key.V", "fill.V"]);
-    /// assert_eq!(scene.for_light(1).light, light(2.0));
+    /// assert_eq!(scene.lit(1).light, light(2.0)?);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn with_lights(self, lights: Vec<NamedLight>) -> Result<Scene, LightNameError> {
+    pub fn with_lights(mut self, lights: Vec<NamedLight>) -> Result<Scene, LightNameError> {
         check_light_names(&lights)?;
-        let first = lights[0].light;
-        Ok(self.world_under(lights, first))
+        self.lights = lights;
+        self.named_channels = true;
+        Ok(self)
     }
 
-    /// The same scene under the distant light `light` alone, in the form every renderer renders:
-    /// the scene's [`Warp`] for that light applied to its meshes and camera, and [`Scene::light`]
-    /// the rectangle that is the image of the light's directions. Its images are those of the
-    /// world scene under `light` (see `docs/scene-format.md`, "Distant lights");
-    /// [`Scene::world`] gives the world scene back.
+    /// The scene under its light `k` (0-based, of [`Scene::light_count`]) in the form every
+    /// renderer renders: the camera, the rectangle to render, the meshes (shared, not copied,
+    /// under a rectangle light) and, for a distant light, its [`crate::Warp`] with the warped
+    /// meshes and camera (see `docs/scene-format.md`, "Distant lights").
     ///
-    /// ```
-    /// use penumbra::glam::{DMat4, DVec2, DVec3};
-    /// use penumbra::geom::{Camera, DistantLight, RectLight, Scene, TriangleMesh};
+    /// # Panics
     ///
-    /// let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
-    /// let lamp = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
-    /// let sun = DistantLight::new(DVec3::Y, DVec3::X, DVec2::splat(0.53));
-    /// let ball = TriangleMesh::uv_sphere(12, 16);
-    /// let scene = Scene::new(camera, lamp)
-    ///     .with_mesh("ball", &ball, DMat4::IDENTITY)
-    ///     .with_distant_light(sun);
-    /// assert_eq!(scene.distant.as_ref().map(|d| d.light), Some(sun));
-    /// // The renderers see the ball warped; the world keeps it as it was.
-    /// assert_ne!(scene.meshes[0].mesh.positions, ball.positions);
-    /// assert_eq!(scene.world().meshes[0].mesh.positions, ball.positions);
-    /// // The sun shines down: its rectangle faces down.
-    /// assert_eq!(scene.light.normal, DVec3::NEG_Y);
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    pub fn with_distant_light(self, light: DistantLight) -> Scene {
-        self.world_under(Vec::new(), Light::Distant(light))
+    /// If `k` is not below [`Scene::light_count`].
+    pub fn lit(&self, k: usize) -> LitScene {
+        assert!(
+            k < self.lights.len(),
+            "light {k} of a scene of {} lights",
+            self.lights.len()
+        );
+        LitScene::new(self, self.lights[k].light)
     }
 
-    /// The world scene with `lights` as its list of lights, in the form the renderers render
-    /// under `light`: warped for a distant light, with `light` as [`Scene::light`] for a
-    /// rectangle.
-    fn world_under(&self, lights: Vec<NamedLight>, light: Light) -> Scene {
-        let mut world = self.world().clone();
-        world.distant = None;
-        world.lights = lights;
-        match light {
-            Light::Rect(l) => {
-                world.light = l;
-                world
-            }
-            Light::Distant(l) => world.warped(l),
-        }
-    }
-
-    /// The scene in world coordinates: this one, or the world scene of a scene under a distant
-    /// light ([`Scene::distant`]).
-    pub fn world(&self) -> &Scene {
-        self.distant.as_ref().map_or(self, |d| &d.world)
-    }
-
-    /// The world scene `self` (not warped) in the form the renderers render under `light`,
-    /// keeping its list of lights.
-    fn warped(self, light: DistantLight) -> Scene {
-        let points = self
-            .meshes
-            .iter()
-            .flat_map(|m| m.mesh.positions.iter().copied())
-            .chain(std::iter::once(self.camera.eye));
-        let warp = Warp::around(points, light.direction);
-        let rendered_light = warp.light(&light);
-        let mut world = self;
-        world.light = rendered_light;
-        Scene {
-            path: world.path.clone(),
-            camera: warp.camera(&world.camera),
-            light: rendered_light,
-            lights: world.lights.clone(),
-            meshes: world
-                .meshes
-                .iter()
-                .map(|m| {
-                    let mut mesh = m.mesh.clone();
-                    for p in &mut mesh.positions {
-                        *p = warp.point(*p);
-                    }
-                    SceneMesh {
-                        source: m.source.clone(),
-                        transform: m.transform,
-                        mesh,
-                    }
-                })
-                .collect(),
-            params: world.params,
-            distant: Some(Arc::new(DistantView { light, warp, world })),
-        }
-    }
-
-    /// The scene's lights in the world, in order: [`Scene::lights`]' for a scene of several,
-    /// else its one light.
-    pub fn world_lights(&self) -> Vec<Light> {
-        let world = self.world();
-        if !world.lights.is_empty() {
-            return world.lights.iter().map(|l| l.light).collect();
-        }
-        vec![match &self.distant {
-            Some(d) => Light::Distant(d.light),
-            None => Light::Rect(self.light),
-        }]
-    }
-
-    /// How many lights the scene has, so many channels its images: 1 for a scene of one
-    /// `[light]`, the length of [`Scene::lights`] otherwise.
-    pub fn light_count(&self) -> usize {
-        self.lights.len().max(1)
-    }
-
-    /// The names of the channels of the scene's images, one per light in order: `V` for a scene
-    /// of one `[light]`, `<name>.V` for each of [`Scene::lights`].
-    pub fn channel_names(&self) -> Vec<String> {
-        if self.lights.is_empty() {
-            vec![crate::image_files::CHANNEL.to_string()]
-        } else {
-            self.lights.iter().map(NamedLight::channel).collect()
-        }
-    }
-
-    /// The names of the scene's lights, in order; empty for a scene of one `[light]`.
-    pub fn light_names(&self) -> Vec<&str> {
-        self.lights.iter().map(|l| l.name.as_str()).collect()
-    }
-
-    /// The same scene under its light `k` alone (0-based, of [`Scene::light_count`]): a scene of
-    /// one light, [`Scene::light`], whose image is channel `k` of this scene's. The meshes are
-    /// copied: 36 bytes per triangle, 5 MB and half a millisecond for the 209,388 triangles of
-    /// `fixtures/scale/scale.toml`, next to the seconds and the hundreds of megabytes of its
-    /// render (its silhouettes, volumes and wedges alone take about 2.4 KB per triangle).
+    /// The same scene under its light `k` alone (0-based, of [`Scene::light_count`]): a scene
+    /// of one light, whose image (its one channel `V`) is channel `k` of this scene's. The
+    /// meshes are shared, not copied.
     ///
     /// # Panics
     ///
     /// If `k` is not below [`Scene::light_count`].
     pub fn for_light(&self, k: usize) -> Scene {
         assert!(
-            k < self.light_count(),
+            k < self.lights.len(),
             "light {k} of a scene of {} lights",
-            self.light_count()
+            self.lights.len()
         );
-        match self.world().lights.get(k) {
-            Some(named) => self.world_under(Vec::new(), named.light),
-            None => self.clone(),
+        Scene {
+            lights: vec![self.lights[k].clone()],
+            named_channels: false,
+            ..self.clone()
         }
+    }
+
+    /// How many lights the scene has, so many channels its images.
+    pub fn light_count(&self) -> usize {
+        self.lights.len()
+    }
+
+    /// Whether the scene's images have the one channel `V`: a scene of one light without
+    /// [`Scene::named_channels`].
+    pub fn single_channel(&self) -> bool {
+        self.lights.len() == 1 && !self.named_channels
+    }
+
+    /// The names of the channels of the scene's images, one per light in order: `V` for a scene
+    /// of one light without [`Scene::named_channels`], `<name>.V` for each light otherwise.
+    pub fn channel_names(&self) -> Vec<String> {
+        if self.single_channel() {
+            vec![crate::image_files::CHANNEL.to_string()]
+        } else {
+            self.lights.iter().map(NamedLight::channel).collect()
+        }
+    }
+
+    /// The names of the scene's lights, in order.
+    pub fn light_names(&self) -> Vec<&str> {
+        self.lights.iter().map(|l| l.name.as_str()).collect()
     }
 
     /// Every world-space triangle of every mesh, meshes in order.
     pub fn triangles(&self) -> Vec<[DVec3; 3]> {
-        self.meshes
-            .iter()
-            .flat_map(|m| (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t)))
-            .collect()
+        triangles(&self.meshes)
     }
 
     /// Total number of triangles.
@@ -292,7 +222,7 @@ impl Scene {
         self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
     }
 
-    /// The files this scene was read from: the scene file and every OBJ.
+    /// The files this scene was read from: the scene file and every mesh file.
     pub fn input_files(&self) -> Vec<PathBuf> {
         std::iter::once(self.path.clone())
             .chain(self.meshes.iter().map(|m| m.source.clone()))
@@ -300,12 +230,10 @@ impl Scene {
     }
 
     /// The scene with every position moved by the rigid or similarity transform `m`, camera
-    /// and lights included (for invariance tests); a scene under a distant light is moved in
-    /// the world and warped again.
+    /// and lights included (for invariance tests).
     pub fn transformed(&self, m: &DMat4) -> Scene {
         let dir = |v: DVec3| m.transform_vector3(v).normalize();
-        let world = self.world();
-        let c = &world.camera;
+        let c = &self.camera;
         let camera = Camera::look_at(
             m.transform_point3(c.eye),
             m.transform_point3(c.eye + c.forward),
@@ -315,50 +243,52 @@ impl Scene {
             c.height,
         )
         .expect("a similarity transform keeps the camera frame valid");
-        let moved_rect = |l: &RectLight| {
-            let scale = m.transform_vector3(l.tangent).length();
-            RectLight::new(
-                m.transform_point3(l.center),
-                dir(l.normal),
-                dir(l.tangent),
-                l.size * scale,
-            )
+        // A similarity keeps angles; a mirror turns the bitangent around, which the light's
+        // frame recomputes.
+        let moved = |l: &Light| match l {
+            Light::Rect(r) => Light::Rect(RectLight::from_frame(
+                m.transform_point3(r.center),
+                dir(r.normal),
+                dir(r.tangent),
+                r.size * m.transform_vector3(r.tangent).length(),
+            )),
+            Light::Distant(d) => Light::Distant(DistantLight::from_frame(
+                dir(d.direction),
+                dir(d.tangent),
+                d.angular_size_deg,
+            )),
         };
-        // A similarity keeps angles; a mirror turns `(-D) x T` around, which the light's frame
-        // recomputes.
-        let moved_distant = |l: &DistantLight| {
-            DistantLight::new(dir(l.direction), dir(l.tangent), l.angular_size_deg)
-        };
-        let moved = Scene {
-            path: world.path.clone(),
+        Scene {
+            path: self.path.clone(),
             camera,
-            light: moved_rect(&world.light),
-            lights: world
+            lights: self
                 .lights
                 .iter()
                 .map(|l| NamedLight {
                     name: l.name.clone(),
-                    light: match &l.light {
-                        Light::Rect(r) => Light::Rect(moved_rect(r)),
-                        Light::Distant(d) => Light::Distant(moved_distant(d)),
-                    },
+                    light: moved(&l.light),
                 })
                 .collect(),
-            meshes: world
-                .meshes
-                .iter()
-                .map(|s| SceneMesh {
-                    source: s.source.clone(),
-                    transform: *m * s.transform,
-                    mesh: s.mesh.transformed(m),
-                })
-                .collect(),
-            params: world.params,
-            distant: None,
-        };
-        match &self.distant {
-            Some(d) => moved.warped(moved_distant(&d.light)),
-            None => moved,
+            meshes: Arc::new(
+                self.meshes
+                    .iter()
+                    .map(|s| SceneMesh {
+                        source: s.source.clone(),
+                        transform: *m * s.transform,
+                        mesh: s.mesh.transformed(m),
+                    })
+                    .collect(),
+            ),
+            params: self.params,
+            named_channels: self.named_channels,
         }
     }
+}
+
+/// Every triangle of `meshes`, meshes in order.
+pub(crate) fn triangles(meshes: &[SceneMesh]) -> Vec<[DVec3; 3]> {
+    meshes
+        .iter()
+        .flat_map(|m| (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t)))
+        .collect()
 }

@@ -44,57 +44,13 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
-use crate::distant::Light;
-use crate::mesh::{MeshError, TriangleMesh};
+use crate::mesh::TriangleMesh;
 use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 use crate::scene::{Scene, SceneMesh};
+use crate::scene_error::SceneError;
+use crate::scene_file_lights::{LightDesc, read_lights};
 use crate::scene_values::{OneOrMany, Scale, Table, Vector};
 use penumbra_params::TechniqueParams;
-
-/// What can be wrong with a scene file.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneError {
-    /// The scene file could not be read.
-    #[error("{path}: cannot read scene: {error}")]
-    Io {
-        /// The scene file.
-        path: PathBuf,
-        /// The underlying error.
-        error: std::io::Error,
-    },
-    /// Not valid TOML, an unknown key, a missing key or a value of the wrong type.
-    #[error("{path}:{line}: {message}")]
-    Syntax {
-        /// The scene file.
-        path: PathBuf,
-        /// 1-based line (0 when the parser gave no position).
-        line: usize,
-        /// The parser's message, naming the key.
-        message: String,
-    },
-    /// Well-formed but meaningless: zero-size light, empty image, `eye == target`, ...
-    #[error("{path}:{line}: {message}")]
-    Invalid {
-        /// The scene file.
-        path: PathBuf,
-        /// 1-based line of the offending value.
-        line: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// A mesh of the scene failed to load.
-    #[error("{path}:{line}: mesh {mesh}: {error}")]
-    Mesh {
-        /// The scene file.
-        path: PathBuf,
-        /// Line of the mesh's `obj` key.
-        line: usize,
-        /// 0-based index of the `[[mesh]]` entry.
-        mesh: usize,
-        /// The mesh error, naming the OBJ file and its line.
-        error: MeshError,
-    },
-}
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -122,20 +78,6 @@ struct CameraDesc {
     fov_y_deg: Spanned<f64>,
     width: Spanned<u32>,
     height: Spanned<u32>,
-}
-
-/// A `[light]` table, or one entry of `[[light]]` (the only one with a `name`).
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct LightDesc {
-    pub(crate) name: Option<Spanned<String>>,
-    pub(crate) distant: Option<Spanned<bool>>,
-    pub(crate) center: Option<Spanned<Vector<3>>>,
-    pub(crate) normal: Option<Spanned<Vector<3>>>,
-    pub(crate) tangent: Spanned<Vector<3>>,
-    pub(crate) size: Option<Spanned<Vector<2>>>,
-    pub(crate) direction: Option<Spanned<Vector<3>>>,
-    pub(crate) angular_size: Option<Spanned<Vector<2>>>,
 }
 
 #[derive(Deserialize)]
@@ -279,8 +221,7 @@ impl Scene {
             invalid(span, format!("camera: {e}"))
         })?;
 
-        let (light, lights) =
-            crate::scene_file_lights::read_lights(&file.light, &invalid, &finite3)?;
+        let (lights, named_channels) = read_lights(&file.light, &invalid, &finite3)?;
 
         let base = path.parent().unwrap_or(Path::new("."));
         let mut meshes = Vec::with_capacity(file.mesh.len());
@@ -361,22 +302,13 @@ impl Scene {
         params
             .validate()
             .map_err(|e| invalid(line_span(&e.table, &e.key), e.to_string()))?;
-        let scene = Scene {
+        Ok(Scene {
             path: path.to_path_buf(),
             camera,
-            // A distant light's is replaced by the rectangle of the warp below.
-            light: light.rect_or_placeholder(),
-            lights: Vec::new(),
-            meshes,
+            lights,
+            meshes: std::sync::Arc::new(meshes),
             params,
-            distant: None,
-        };
-        Ok(match (light, lights.is_empty()) {
-            (_, false) => scene
-                .with_lights(lights)
-                .expect("the loader checked the light names"),
-            (Light::Distant(d), true) => scene.with_distant_light(d),
-            (Light::Rect(_), true) => scene,
+            named_channels,
         })
     }
 }
@@ -512,7 +444,3 @@ mod tests {
         }
     }
 }
-
-#[cfg(test)]
-#[path = "scene_file_lights_tests.rs"]
-mod lights_tests;

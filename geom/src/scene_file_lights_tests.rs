@@ -43,10 +43,10 @@ fn one_light_table_has_no_names_and_one_channel_v() {
         Path::new("s.toml"),
     )
     .unwrap();
-    assert!(s.lights.is_empty());
+    assert!(!s.named_channels);
     assert_eq!(s.light_count(), 1);
     assert_eq!(s.channel_names(), ["V"]);
-    assert_eq!(s.light.center.x, 0.5);
+    assert_eq!(s.lit(0).light.center.x, 0.5);
 }
 
 #[test]
@@ -60,11 +60,11 @@ fn an_array_of_lights_reads_in_file_order_with_default_names() {
     let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
     assert_eq!(s.light_names(), ["key", "light1", "rim_2"]);
     assert_eq!(s.channel_names(), ["key.V", "light1.V", "rim_2.V"]);
-    assert_eq!(Light::Rect(s.light), s.lights[0].light);
+    assert_eq!(Light::Rect(s.lit(0).light), s.lights[0].light);
     for (k, x) in [1.0, 2.0, 3.0].into_iter().enumerate() {
         let one = s.for_light(k);
-        assert_eq!(one.light.center.x, x);
-        assert!(one.lights.is_empty());
+        assert_eq!(one.lit(0).light.center.x, x);
+        assert_eq!(one.lights, [s.lights[k].clone()]);
         assert_eq!(one.channel_names(), ["V"]);
         assert_eq!(one.triangle_count(), s.triangle_count());
     }
@@ -172,9 +172,13 @@ fn the_documented_distant_light_reads_as_documented() {
     let start = section.find("```toml\n").expect("its example") + "```toml\n".len();
     let example = &section[start..start + section[start..].find("```").unwrap()];
     let s = Scene::from_toml(&format!("{CAMERA}{example}"), Path::new("s.toml")).unwrap();
-    let d = s.distant.as_ref().expect("a distant light");
-    assert_eq!(d.light.angular_size_deg, glam::DVec2::splat(0.53));
-    assert!(d.light.direction.y > 0.0);
+    let d = s.lights[0]
+        .light
+        .as_distant()
+        .copied()
+        .expect("a distant light");
+    assert_eq!(d.angular_size_deg, glam::DVec2::splat(0.53));
+    assert!(d.direction.y > 0.0);
 }
 
 #[test]
@@ -195,14 +199,14 @@ fn a_transform_moves_every_light() {
     for k in 0..2 {
         // Moving the scene, then taking a light alone, is taking it alone, then moving it.
         assert_eq!(
-            moved.for_light(k).light,
-            s.for_light(k).transformed(&m).light
+            moved.for_light(k).lit(0).light,
+            s.for_light(k).transformed(&m).lit(0).light
         );
         let c = m.transform_point3(s.lights[k].light.as_rect().unwrap().center);
         assert!((moved.lights[k].light.as_rect().unwrap().center - c).length() < 1e-12);
         assert!((moved.lights[k].light.as_rect().unwrap().size.x - 2.5).abs() < 1e-12);
     }
-    assert_eq!(Light::Rect(moved.light), moved.lights[0].light);
+    assert_eq!(Light::Rect(moved.lit(0).light), moved.lights[0].light);
 }
 
 /// A distant light entry: `header`, extra lines, then its keys.
@@ -221,17 +225,20 @@ fn a_distant_light_reads_as_the_rectangle_of_its_warp() {
     )
     .unwrap();
     assert_eq!(s.channel_names(), ["V"]);
-    let d = s.distant.as_ref().expect("a distant light");
+    let lit = s.lit(0);
+    let d = lit.distant.as_ref().expect("a distant light");
     assert_eq!(d.light.direction, glam::DVec3::new(0.0, 0.6, 0.8));
     assert_eq!(d.light.angular_size_deg, glam::DVec2::new(0.53, 2.0));
     // B = (-D) x T.
     assert!((d.light.bitangent - glam::DVec3::new(0.0, -0.8, 0.6)).length() < 1e-15);
-    assert_eq!(s.light, d.warp.light(&d.light));
-    assert_eq!(s.world_lights(), [Light::Distant(d.light)]);
+    assert_eq!(lit.light, d.warp.light(&d.light));
+    assert_eq!(lit.world_light(), Light::Distant(d.light));
+    assert_eq!(s.lights[0].light, Light::Distant(d.light));
+    assert_eq!(*lit.world_camera(), s.camera);
     // `distant = false` is a rectangle light.
     let text = format!("{CAMERA}{}", light("[light]", "distant = false\n", 0.5));
     let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
-    assert!(s.distant.is_none());
+    assert!(s.lit(0).distant.is_none());
     // Mixed with a rectangle light: each light alone is its own form.
     let text = format!(
         "{CAMERA}{}{}",
@@ -240,12 +247,14 @@ fn a_distant_light_reads_as_the_rectangle_of_its_warp() {
     );
     let s = Scene::from_toml(&text, Path::new("s.toml")).unwrap();
     assert_eq!(s.channel_names(), ["sun.V", "lamp.V"]);
-    assert!(s.distant.is_some() && s.for_light(0).distant.is_some());
+    assert!(s.lit(0).distant.is_some() && s.for_light(0).lit(0).distant.is_some());
     let lamp = s.for_light(1);
-    assert!(lamp.distant.is_none());
-    assert_eq!(lamp.light.center.x, 1.0);
-    assert_eq!(lamp.camera, s.world().camera);
-    assert_eq!(s.for_light(0).camera, s.camera);
+    assert!(lamp.lit(0).distant.is_none());
+    assert_eq!(lamp.lit(0).light.center.x, 1.0);
+    assert_eq!(lamp.camera, s.camera);
+    // The meshes are shared, not copied, by the scene of one light and its rectangle's view.
+    assert!(std::sync::Arc::ptr_eq(&lamp.meshes, &s.meshes));
+    assert!(std::sync::Arc::ptr_eq(&lamp.lit(0).meshes, &s.meshes));
 }
 
 #[test]

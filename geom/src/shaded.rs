@@ -19,11 +19,11 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::channels::VisibilityChannels;
-use crate::distant::Light;
 use crate::image::{ImageError, io_err};
 use crate::image_files::{PngColor, write_png_bytes};
+use crate::lights::Light;
 use crate::raycast::Rays;
-use crate::reference::{Tracer, TracerGeometry};
+use crate::reference::TracerGeometry;
 use crate::scene::Scene;
 
 /// The ambient term `A` of the shaded preview: the linear value of a surface no light reaches.
@@ -92,9 +92,7 @@ impl ShadedImage {
         images: &VisibilityChannels,
         kept: &mut Option<TracerGeometry>,
     ) -> Result<ShadedImage, ImageError> {
-        // The world's geometry: a scene under a distant light renders a warped one.
-        let lights = scene.world_lights();
-        let scene = scene.world();
+        let lights: Vec<Light> = scene.lights.iter().map(|l| l.light).collect();
         let cam = &scene.camera;
         let (w, h) = (cam.width, cam.height);
         let channels = images.channels();
@@ -120,7 +118,7 @@ impl ShadedImage {
                 ),
             ));
         }
-        let tracer = Tracer::new_reusing(scene, Rays::Few, kept);
+        let tracer = TracerGeometry::reusing(scene.triangles(), Rays::Few, kept);
         let mut rgb = vec![SHADED_BACKGROUND; w as usize * h as usize];
         rgb.par_chunks_mut(w.max(1) as usize)
             .enumerate()
@@ -131,7 +129,7 @@ impl ShadedImage {
                     let Some(p) = tracer.surface_point(cam.eye, dir) else {
                         continue;
                     };
-                    let n = facing_normal(tracer.triangles[p.triangle as usize], dir);
+                    let n = facing_normal(tracer.triangles()[p.triangle as usize], dir);
                     terms.clear();
                     for (light, c) in lights.iter().zip(channels) {
                         let (lit, omega) = match light {
@@ -252,7 +250,8 @@ mod tests {
             -DVec3::Y,
             DVec3::X,
             DVec2::splat(1.0),
-        );
+        )
+        .unwrap();
         let quad = TriangleMesh::from_raw(
             "quad",
             &[
@@ -264,7 +263,8 @@ mod tests {
             &[[0, 1, 2], [0, 2, 3]],
         )
         .unwrap();
-        let s = Scene::new(camera, light)
+        let s = Scene::new(camera)
+            .with_light(light)
             .with_mesh("ground", &quad, DMat4::from_scale(DVec3::splat(20.0)))
             .with_mesh("quad", &quad, DMat4::from_translation(DVec3::Y));
         if lights < 2 {

@@ -184,7 +184,7 @@ impl FrameCamera {
     /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera,
     /// with the near plane a thousandth of the scene's extent around the eye, or half the
     /// distance to the nearest triangle where that is closer.
-    pub fn of_scene(scene: &penumbra_geom::Scene) -> Self {
+    pub fn of_scene(scene: &penumbra_geom::LitScene) -> Self {
         Self::for_scene(
             &scene.camera,
             &eye_relative(scene.camera.eye, &scene.triangles()),

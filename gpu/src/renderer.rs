@@ -11,7 +11,7 @@
 //! recorded for one frame.
 
 use penumbra_geom::VisibilityImage;
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{LitScene, Technique};
 use penumbra_volumes::Volumes;
 
 use crate::context::GpuError;
@@ -49,7 +49,7 @@ impl GpuRenderer {
     /// `scene`).
     pub fn render(
         &self,
-        scene: &Scene,
+        scene: &LitScene,
         volumes: &Volumes,
         technique: Technique,
     ) -> Result<VisibilityImage, GpuError> {
@@ -61,7 +61,7 @@ impl GpuRenderer {
     /// `technique` is not a volume technique (`hard`, `wedges`, `wedges-blend`).
     pub fn render_timed(
         &self,
-        scene: &Scene,
+        scene: &LitScene,
         volumes: &Volumes,
         technique: Technique,
     ) -> Result<Rendered, GpuError> {
@@ -93,7 +93,7 @@ impl GpuRenderer {
     /// would be rendered again with the list grown.
     pub fn render_depth_complexity(
         &self,
-        scene: &Scene,
+        scene: &LitScene,
         samples: u32,
     ) -> Result<ComplexityImage, GpuError> {
         let device = &self.context().device;
@@ -153,7 +153,7 @@ impl GpuRenderer {
 
     /// The camera of a one-shot frame of `scene` (near plane from the scene's extent around the
     /// eye), its G-buffer and its V target.
-    fn targets(&self, scene: &Scene) -> (FrameCamera, GBuffer, wgpu::Texture) {
+    fn targets(&self, scene: &LitScene) -> (FrameCamera, GBuffer, wgpu::Texture) {
         let device = &self.context().device;
         let size = (scene.camera.width, scene.camera.height);
         let camera = FrameCamera::of_scene(scene);

@@ -380,7 +380,8 @@ mod tests {
     #[test]
     fn receiver_clusters_return_every_cluster_meeting_the_box_cut_to_it() {
         // Light at the origin facing -z: light space is (x, -y, -z).
-        let light = RectLight::new(DVec3::ZERO, DVec3::NEG_Z, DVec3::X, DVec2::new(2.0, 2.0));
+        let light =
+            RectLight::new(DVec3::ZERO, DVec3::NEG_Z, DVec3::X, DVec2::new(2.0, 2.0)).unwrap();
         // 200 clusters, each one small triangle 16 times over, at x = 0, 1, 2, ... and depth 5:
         // four blocks, the last one partial.
         let triangles: Vec<[DVec3; 3]> = (0..200 * CLUSTER_TRIANGLES)
@@ -442,15 +443,15 @@ mod tests {
         use crate::frame::eye_relative;
         use penumbra_volumes::CpuRenderer;
         for (name, scene) in fixtures() {
-            let cpu = CpuRenderer::new(&scene);
+            let cpu = CpuRenderer::new(&scene.lit(0));
             let world = scene.triangles();
             let camera =
                 FrameCamera::for_scene(&scene.camera, &eye_relative(scene.camera.eye, &world));
-            let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
+            let (instances, ranges) = wedge_instances(&scene.lit(0).light, &world, &cpu.volumes);
             let masks = occluder_tiles(
                 &camera,
-                &scene.light,
-                &ReceiverClusters::new(&scene.light, &world),
+                &scene.lit(0).light,
+                &ReceiverClusters::new(&scene.lit(0).light, &world),
                 &nearest_edges(&cpu.volumes),
                 &instances,
                 &ranges,

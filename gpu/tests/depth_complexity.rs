@@ -110,7 +110,7 @@ fn record_frame(
     gbuffer: &GBuffer,
 ) -> Result<(wgpu::CommandEncoder, wgpu::Texture), penumbra_gpu::GpuError> {
     let device = &ctx.device;
-    let camera = FrameCamera::of_scene(scene);
+    let camera = FrameCamera::of_scene(&scene.lit(0));
     let target = visibility_target(device, gbuffer.size());
     let inputs = FrameInputs {
         camera,
@@ -129,7 +129,7 @@ fn gpu_scene(r: &GpuRenderer, scene: &Scene, samples: u32) -> GpuScene {
         .iter()
         .map(|m| (&m.mesh, DMat4::IDENTITY))
         .collect();
-    let mut s = GpuScene::new(r, &meshes, scene.light);
+    let mut s = GpuScene::new(r, &meshes, scene.lit(0).light);
     s.set_light_samples(samples).unwrap();
     s
 }
@@ -196,7 +196,7 @@ fn an_edge_list_too_small_loses_no_edge_and_grows() {
         .count();
     assert_eq!(differ, 0, "the overflowing frame lost edges");
     // And both are the oracle's image.
-    let oracle = DepthComplexity::new(&scene).render(
+    let oracle = DepthComplexity::new(&scene.lit(0)).render(
         SamplePattern {
             per_axis: 8,
             jitter: false,
@@ -324,7 +324,7 @@ fn the_stencil_counts_the_triangles_towards_the_centre_as_the_oracle_does() {
             1,
         )
         .expect("stencil");
-        let oracle = DepthComplexity::new(&scene);
+        let oracle = DepthComplexity::new(&scene.lit(0));
         let cam = &scene.camera;
         let (mut lit, mut equal, mut deep) = (0, 0, 0);
         let (mut near, mut hits) = (Vec::new(), Vec::new());
@@ -369,23 +369,23 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
     // The same meshes moved in code: the sphere by a transform, then the light.
     let moved =
         DMat4::from_translation(glam::DVec3::new(0.4, -0.2, 0.3)) * DMat4::from_rotation_y(0.5);
-    let mut light = base.light;
+    let mut light = base.lit(0).light;
     light.center += glam::DVec3::new(-0.7, 0.2, 0.5);
     let world = |transform: DMat4, light| {
-        base.meshes
-            .iter()
-            .enumerate()
-            .fold(Scene::new(base.camera, light), |s, (i, m)| {
+        base.meshes.iter().enumerate().fold(
+            Scene::new(base.camera).with_light(light),
+            |s, (i, m)| {
                 s.with_mesh(
                     &format!("mesh {i}"),
                     &m.mesh,
                     if i == 1 { transform } else { DMat4::IDENTITY },
                 )
-            })
+            },
+        )
     };
     for (step, scene) in [
-        (0, world(DMat4::IDENTITY, base.light)),
-        (1, world(moved, base.light)),
+        (0, world(DMat4::IDENTITY, base.lit(0).light)),
+        (1, world(moved, base.lit(0).light)),
         (2, world(moved, light)),
     ] {
         if step == 1 {
@@ -396,7 +396,7 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         }
         let (gpu, report) = frame(&ctx, &mut gpu_scene, &scene, None);
         assert_eq!(report.cut_short, 0);
-        let oracle = DepthComplexity::new(&scene).render(pattern, &|_| {});
+        let oracle = DepthComplexity::new(&scene.lit(0)).render(pattern, &|_| {});
         let (equal, beyond) = agreement(&oracle, &gpu, 1.0 / 64.0);
         assert!(
             equal >= 0.998 && beyond as f64 <= 0.001 * gpu.data.len() as f64,

@@ -148,7 +148,7 @@ fn frame(
 ) -> (VisibilityImage, ComplexityReport) {
     let size = (scene.camera.width, scene.camera.height);
     let gbuffer = GBuffer::new(&ctx.device, size);
-    let camera = FrameCamera::of_scene(scene);
+    let camera = FrameCamera::of_scene(&scene.lit(0));
     let target = visibility_target(&ctx.device, size);
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     gpu_scene.record_depth(&mut enc, &camera, &gbuffer).unwrap();
@@ -188,7 +188,7 @@ fn a_tiny_list_and_tiny_chunks_give_the_same_image() {
         .iter()
         .map(|m| (&m.mesh, DMat4::IDENTITY))
         .collect();
-    let mut gpu_scene = GpuScene::new(&r, &meshes, scene.light);
+    let mut gpu_scene = GpuScene::new(&r, &meshes, scene.lit(0).light);
     gpu_scene.set_light_samples(64).unwrap();
     gpu_scene.set_edge_list_capacity(1 << 20);
     let (fitting, report) = frame(&ctx, &mut gpu_scene, &scene);
@@ -213,7 +213,7 @@ fn a_tiny_list_and_tiny_chunks_give_the_same_image() {
         differ, 0,
         "pixels differ between the fitting and the tiny frame"
     );
-    let cpu = DepthComplexity::new(&scene).render(
+    let cpu = DepthComplexity::new(&scene.lit(0)).render(
         SamplePattern {
             per_axis: 8,
             jitter: false,

@@ -26,9 +26,9 @@ fn gpu_hard_matches_the_hard_reference() {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::with_context(&ctx);
     for (name, scene) in fixtures() {
-        let volumes = Volumes::build(&scene);
-        let img = r.render(&scene, &volumes, Technique::Hard).unwrap();
-        let want = Reference::new(&scene).render(LightSamples::Centre, &|_| {});
+        let volumes = Volumes::build(&scene.lit(0));
+        let img = r.render(&scene.lit(0), &volumes, Technique::Hard).unwrap();
+        let want = Reference::new(&scene.lit(0)).render(LightSamples::Centre, &|_| {});
         let differ = img
             .data
             .iter()
@@ -62,9 +62,9 @@ fn gpu_matches_cpu(t: Technique) {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::with_context(&ctx);
     for (name, scene) in fixtures() {
-        let volumes = Volumes::build(&scene);
-        let gpu = r.render(&scene, &volumes, t).unwrap();
-        let cpu = CpuRenderer::new(&scene).render(t, &|_| {});
+        let volumes = Volumes::build(&scene.lit(0));
+        let gpu = r.render(&scene.lit(0), &volumes, t).unwrap();
+        let cpu = CpuRenderer::new(&scene.lit(0)).render(t, &|_| {});
         let c = compare(&gpu, &cpu).unwrap();
         println!(
             "{name:>18}: GPU {t:?} vs CPU: MAE {:.2e}, p99 {:.2e}, max {:.2e}; penumbra MAE {:.2e}",
@@ -138,7 +138,7 @@ fn shadow_map_techniques_render_every_fixture_lit_far_away_and_dark_in_umbrae() 
     for (name, mut scene) in fixtures().into_iter().filter(|(_, s)| generated(s)) {
         scene.params.shadow_map.resolution = 512;
         let truth =
-            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 8 }, &|_| {});
+            Reference::new(&scene.lit(0)).render(LightSamples::Stratified { per_axis: 8 }, &|_| {});
         let lit = settled(&truth, 1.0, 4);
         assert!(lit.len() > 1000, "{name}: {} lit test pixels", lit.len());
         for r in &renderers {
@@ -146,7 +146,7 @@ fn shadow_map_techniques_render_every_fixture_lit_far_away_and_dark_in_umbrae() 
             let dark = settled(&truth, 0.0, DEEP + screen_reach(t, &scene.params));
             *umbra_pixels.entry(format!("{t:?}")).or_insert(0) += dark.len();
             let img = r
-                .render(&scene)
+                .render(&scene.lit(0))
                 .unwrap_or_else(|e| panic!("{name}: {t:?}: {e}"));
             check_settled(
                 &format!("{name}: {t:?}"),
@@ -249,7 +249,7 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
         ["camera-in-shadow", "overlapping-quads", "sphere-over-plane"].contains(&n.as_str())
     }) {
         let truth =
-            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 8 }, &|_| {});
+            Reference::new(&scene.lit(0)).render(LightSamples::Stratified { per_axis: 8 }, &|_| {});
         for (k, (t, label, set)) in options.iter().enumerate() {
             let mut scene = scene.clone();
             scene.params.shadow_map.resolution = 512;
@@ -265,7 +265,9 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
             let lit = settled(&truth, 1.0, 4 + spread);
             let dark = settled(&truth, 0.0, DEEP + screen_reach(*t, &scene.params));
             umbra_pixels[k] += dark.len();
-            let img = ShadowMapRenderer::new(&ctx, *t).render(&scene).unwrap();
+            let img = ShadowMapRenderer::new(&ctx, *t)
+                .render(&scene.lit(0))
+                .unwrap();
             check_settled(
                 &format!("{name}: {t:?} {label}"),
                 &img,
@@ -290,8 +292,8 @@ fn shadow_map_options_keep_far_lit_pixels_lit_and_umbrae_dark() {
 /// Uniforms of `r`'s technique for a probe over a `size`-texel square map.
 fn probe_uniforms(r: &ShadowMapRenderer, size: u32) -> ShadowUniforms {
     let (_, scene) = fixtures().swap_remove(0);
-    let frustum = LightFrustum::fit(&scene.light, &scene.triangles()).unwrap();
-    let mut u = r.uniforms(&scene, &frustum);
+    let frustum = LightFrustum::fit(&scene.lit(0).light, &scene.triangles()).unwrap();
+    let mut u = r.uniforms(&scene.lit(0), &frustum);
     u.map = [size as f32, size as f32, 1.0, 0.0];
     u
 }
@@ -380,10 +382,10 @@ fn occluders_through_the_light_plane_match_the_cpu_oracle() {
 /// GPU `hard`, `wedges` and `wedges-blend` of `scene` against the CPU oracle: mean absolute
 /// difference at most 1e-3, 99th percentile at most 0.02 (as on the fixtures).
 fn volume_techniques_match_the_oracle(r: &GpuRenderer, scene: &penumbra_geom::Scene, name: &str) {
-    let volumes = Volumes::build(scene);
-    let cpu = CpuRenderer::new(scene);
+    let volumes = Volumes::build(&scene.lit(0));
+    let cpu = CpuRenderer::new(&scene.lit(0));
     for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
-        let img = r.render(scene, &volumes, t).unwrap();
+        let img = r.render(&scene.lit(0), &volumes, t).unwrap();
         let want = cpu.render(t, &|_| {});
         let c = compare(&img, &want).unwrap();
         println!(
@@ -426,11 +428,13 @@ fn random_scenes_match_the_cpu_oracle() {
             normal,
             normal.any_orthonormal_vector(),
             DVec2::new(rng.range(0.5, 3.0), rng.range(0.5, 3.0)),
-        );
+        )
+        .unwrap();
         let eye = DVec3::new(rng.range(-4., 4.), rng.range(2., 5.), rng.range(3., 6.));
         let camera = Camera::look_at(eye, DVec3::ZERO, DVec3::Y, 45.0, 48, 36).unwrap();
-        let mut scene =
-            penumbra_geom::Scene::new(camera, light).with_mesh("ground", &ground, DMat4::IDENTITY);
+        let mut scene = penumbra_geom::Scene::new(camera)
+            .with_light(light)
+            .with_mesh("ground", &ground, DMat4::IDENTITY);
         for k in 0..1 + rng.below(3) {
             let m = DMat4::from_scale_rotation_translation(
                 DVec3::splat(rng.range(0.3, 1.2)),
@@ -482,10 +486,10 @@ fn a_caster_outline_pixel_snapped_onto_folding_caps_is_not_shadowed() {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::with_context(&ctx);
     let scene = penumbra_testkit::scene_in_code();
-    let volumes = Volumes::build(&scene);
-    let cpu = CpuRenderer::new(&scene);
+    let volumes = Volumes::build(&scene.lit(0));
+    let cpu = CpuRenderer::new(&scene.lit(0));
     for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
-        let img = r.render(&scene, &volumes, t).unwrap();
+        let img = r.render(&scene.lit(0), &volumes, t).unwrap();
         let want = cpu.render(t, &|_| {});
         let c = compare(&img, &want).unwrap();
         assert!(c.all.mae <= 1e-3 && c.all.p99 <= 0.02, "{t}: {c:?}");

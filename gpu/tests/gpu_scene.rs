@@ -52,18 +52,20 @@ fn light(x: f64) -> RectLight {
         DVec3::X,
         DVec2::splat(2.5),
     )
+    .unwrap()
 }
 
 /// The same scene for the CPU oracle, with `transforms` and `light`.
-fn cpu_scene(meshes: &[(TriangleMesh, DMat4)], transforms: &[DMat4], light: RectLight) -> Scene {
+fn cpu_scene(
+    meshes: &[(TriangleMesh, DMat4)],
+    transforms: &[DMat4],
+    light: impl Into<penumbra_geom::Light>,
+) -> Scene {
     let camera = Camera::look_at(EYE, TARGET, DVec3::Y, FOV_DEG, SIZE.0, SIZE.1).unwrap();
-    meshes
-        .iter()
-        .zip(transforms)
-        .enumerate()
-        .fold(Scene::new(camera, light), |s, (i, ((m, _), t))| {
-            s.with_mesh(&format!("mesh{i}"), m, *t)
-        })
+    meshes.iter().zip(transforms).enumerate().fold(
+        Scene::new(camera).with_light(light),
+        |s, (i, ((m, _), t))| s.with_mesh(&format!("mesh{i}"), m, *t),
+    )
 }
 
 fn camera() -> FrameCamera {
@@ -101,7 +103,7 @@ fn frame(
 }
 
 fn assert_matches_cpu(image: &VisibilityImage, scene: &Scene, technique: Technique, what: &str) {
-    let cpu = CpuRenderer::new(scene).render(technique, &|_| {});
+    let cpu = CpuRenderer::new(&scene.lit(0)).render(technique, &|_| {});
     let c = compare(image, &cpu).unwrap();
     println!(
         "{what}, {technique}: MAE {:.2e}, p99 {:.2e}",
@@ -145,7 +147,7 @@ fn recorded_frames_match_the_cpu_oracle_as_meshes_and_light_move() {
 /// A distant light from above towards `x`, 12 by 6 degrees.
 fn sun(x: f64) -> DistantLight {
     let d = DVec3::new(x, 1.0, 0.3).normalize();
-    DistantLight::new(d, d.cross(DVec3::Z).normalize(), DVec2::new(12.0, 6.0))
+    DistantLight::new(d, d.cross(DVec3::Z).normalize(), DVec2::new(12.0, 6.0)).unwrap()
 }
 
 #[test]
@@ -160,16 +162,14 @@ fn a_distant_light_matches_the_cpu_oracle_as_the_sun_and_the_meshes_move() {
     let mut transforms: Vec<DMat4> = meshes.iter().map(|m| m.1).collect();
     // The oracle warps the scene its own way (around every vertex and the eye); the images are
     // the world's under the sun either way.
-    let oracle = |transforms: &[DMat4], x: f64| {
-        cpu_scene(&meshes, transforms, light(0.0)).with_distant_light(sun(x))
-    };
+    let oracle = |transforms: &[DMat4], x: f64| cpu_scene(&meshes, transforms, sun(x));
     for t in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
         let image = frame(&ctx, &mut scene, &camera, t);
         assert_matches_cpu(&image, &oracle(&transforms, -0.6), t, "sun");
     }
     // Depth complexity against its oracle's samples.
     let image = frame(&ctx, &mut scene, &camera, Technique::DepthComplexity);
-    let exact = DepthComplexity::new(&oracle(&transforms, -0.6)).render(
+    let exact = DepthComplexity::new(&(oracle(&transforms, -0.6)).lit(0)).render(
         SamplePattern {
             per_axis: 16,
             jitter: false,

@@ -98,8 +98,9 @@ pub fn through_the_light() -> Scene {
         normal,
         normal.cross(DVec3::Z).normalize(),
         DVec2::new(2.5, 2.0),
-    );
-    let mut scene = Scene::new(camera.unwrap(), light);
+    )
+    .unwrap();
+    let mut scene = Scene::new(camera.unwrap()).with_light(light);
     for (name, m) in [("ground", ground), ("box", cube), ("quad", quad)] {
         scene = scene.with_mesh(name, &m, DMat4::IDENTITY);
     }
@@ -115,7 +116,8 @@ pub fn scene_in_code() -> Scene {
     let ground = square(0.0, 6.0);
     let cube = unit_cube();
     let camera = Camera::look_at(p(0.0, 5.0, 7.0), p(0.0, 0.5, 0.0), DVec3::Y, 45.0, 320, 240);
-    let light = RectLight::new(p(-1.0, 6.0, 0.5), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.5));
+    let light =
+        RectLight::new(p(-1.0, 6.0, 0.5), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.5)).unwrap();
     let sphere = DMat4::from_scale_rotation_translation(
         DVec3::splat(0.8),
         DQuat::IDENTITY,
@@ -125,7 +127,8 @@ pub fn scene_in_code() -> Scene {
         DQuat::from_axis_angle(DVec3::new(1.0, 1.0, 0.0).normalize(), 0.6),
         p(1.0, 1.0, 0.6),
     );
-    Scene::new(camera.unwrap(), light)
+    Scene::new(camera.unwrap())
+        .with_light(light)
         .with_mesh("ground", &ground, DMat4::IDENTITY)
         .with_mesh("sphere", &TriangleMesh::uv_sphere(20, 24), sphere)
         .with_mesh("box", &cube, tilted)

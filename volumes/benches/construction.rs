@@ -62,7 +62,8 @@ fn bench(c: &mut Criterion) {
         DVec3::NEG_Y,
         DVec3::X,
         DVec2::new(2.0, 2.0),
-    );
+    )
+    .unwrap();
     let mut g = c.benchmark_group("construction");
     g.sample_size(10);
     for (label, stacks, slices) in [("10k", 50u32, 100u32), ("100k", 224, 224), ("1M", 708, 708)] {

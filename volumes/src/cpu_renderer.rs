@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
 use penumbra_geom::{
-    Camera, Rays, Scene, SurfacePoint, Technique, Tracer, TracerGeometry, VisibilityImage,
+    Camera, LitScene, Rays, SurfacePoint, Technique, Tracer, TracerGeometry, VisibilityImage,
 };
 use rayon::prelude::*;
 
@@ -53,7 +53,7 @@ use crate::wedge_reach::receiver_box;
 ///
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/scenes/nonmanifold.toml");
 /// let scene = Scene::load(std::path::Path::new(path))?;
-/// let renderer = CpuRenderer::new(&scene);
+/// let renderer = CpuRenderer::new(&scene.lit(0));
 /// let v = renderer.render(Technique::WedgesBlend, &|_| {});
 /// assert_eq!((v.width, v.height), (scene.camera.width, scene.camera.height));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -225,13 +225,13 @@ impl Accum {
 
 impl CpuRenderer {
     /// Builds the BVH, the volumes and the wedge grid of `scene`, and keeps its camera.
-    pub fn new(scene: &Scene) -> Self {
+    pub fn new(scene: &LitScene) -> Self {
         Self::new_reusing(scene, &mut None)
     }
 
     /// [`CpuRenderer::new`], taking the BVH from `kept` where it serves the scene, and keeping
     /// the one built in `kept` otherwise ([`Tracer::new_reusing`]).
-    pub fn new_reusing(scene: &Scene, kept: &mut Option<TracerGeometry>) -> Self {
+    pub fn new_reusing(scene: &LitScene, kept: &mut Option<TracerGeometry>) -> Self {
         // Its rays: two per pixel from the camera, one to the light's centre.
         let tracer = Tracer::new_reusing(scene, Rays::Few, kept);
         let mut volumes = Volumes::build(scene);

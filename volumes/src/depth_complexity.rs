@@ -53,7 +53,9 @@
 //! to the rounding above.
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::{Camera, Rays, Scene, SurfacePoint, Tracer, TracerGeometry, VisibilityImage};
+use penumbra_geom::{
+    Camera, LitScene, Rays, SurfacePoint, Tracer, TracerGeometry, VisibilityImage,
+};
 use rayon::prelude::*;
 
 use crate::candidates::Candidates;
@@ -174,13 +176,13 @@ pub struct DepthComplexity {
 
 impl DepthComplexity {
     /// Builds the BVH and the potential silhouette edges of `scene`, and keeps its camera.
-    pub fn new(scene: &Scene) -> Self {
+    pub fn new(scene: &LitScene) -> Self {
         Self::new_reusing(scene, &mut None)
     }
 
     /// [`DepthComplexity::new`], taking the BVH from `kept` where it serves the scene, and
     /// keeping the one built in `kept` otherwise ([`Tracer::new_reusing`]).
-    pub fn new_reusing(scene: &Scene, kept: &mut Option<TracerGeometry>) -> Self {
+    pub fn new_reusing(scene: &LitScene, kept: &mut Option<TracerGeometry>) -> Self {
         let tracer = Tracer::new_reusing(scene, Rays::Many, kept);
         let edges = PotentialEdges::build(scene);
         let light = &tracer.light;

@@ -38,22 +38,29 @@ fn scene(meshes: Vec<TriangleMesh>, eye: DVec3, target: DVec3) -> Scene {
     Scene {
         path: "memory".into(),
         camera: Camera::look_at(eye, target, DVec3::Y, 45.0, 64, 48).unwrap(),
-        light: RectLight::new(
-            DVec3::new(-0.8, 5.0, -0.4),
-            normal,
-            tangent,
-            DVec2::new(2.5, 2.0),
+        lights: vec![
+            penumbra_geom::NamedLight::new(
+                "light0",
+                RectLight::new(
+                    DVec3::new(-0.8, 5.0, -0.4),
+                    normal,
+                    tangent,
+                    DVec2::new(2.5, 2.0),
+                )
+                .unwrap(),
+            )
+            .unwrap(),
+        ],
+        named_channels: false,
+        meshes: std::sync::Arc::new(
+            all.into_iter()
+                .map(|mesh| SceneMesh {
+                    source: "memory".into(),
+                    transform: DMat4::IDENTITY,
+                    mesh,
+                })
+                .collect(),
         ),
-        lights: Vec::new(),
-        distant: None,
-        meshes: all
-            .into_iter()
-            .map(|mesh| SceneMesh {
-                source: "memory".into(),
-                transform: DMat4::IDENTITY,
-                mesh,
-            })
-            .collect(),
         params: TechniqueParams::default(),
     }
 }
@@ -85,14 +92,14 @@ fn survey(dc: &DepthComplexity, scene: &Scene) -> (usize, u32) {
 /// all but a pixel or two, by at most two samples, over an image with a real penumbra; returns
 /// [`survey`]'s numbers, for the caller to check that the scene shows what it is meant to.
 fn agrees_with_the_reference(name: &str, scene: &Scene) -> (usize, u32) {
-    let dc = DepthComplexity::new(scene);
+    let dc = DepthComplexity::new(&scene.lit(0));
     let pattern = SamplePattern {
         per_axis: PER_AXIS,
         jitter: true,
     };
     let got = dc.render(pattern, &|_| {});
-    let want =
-        Reference::new(scene).render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
+    let want = Reference::new(&scene.lit(0))
+        .render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
     let samples = (PER_AXIS * PER_AXIS) as f32;
     let penumbra = want.data.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
     let differ: Vec<(usize, f32, f32)> = got
@@ -287,7 +294,7 @@ fn occluders_through_the_light_plane() {
         penumbra_geom::HalfEdgeMesh::build(&s.meshes[1].mesh).is_closed(),
         "the box is closed"
     );
-    let dc = DepthComplexity::new(&s);
+    let dc = DepthComplexity::new(&s.lit(0));
     assert!(
         dc.edges.crossings.len() >= 4,
         "both should cross the light: {:?}",
@@ -358,7 +365,7 @@ fn tiles_cast_by_rays_give_the_counts_image() {
         DVec3::new(0.5, 6.0, 7.0),
         DVec3::new(0.0, 0.5, 0.0),
     );
-    let mut dc = DepthComplexity::new(&scene);
+    let mut dc = DepthComplexity::new(&scene.lit(0));
     assert!(dc.edges.edges.len() > 300, "{}", dc.edges.edges.len());
     let render = |dc: &DepthComplexity, jitter| {
         dc.render(
@@ -388,8 +395,8 @@ fn tiles_cast_by_rays_give_the_counts_image() {
         "{} of {lit} lit pixels cast",
         dc.cast_pixels()
     );
-    let want =
-        Reference::new(&scene).render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
+    let want = Reference::new(&scene.lit(0))
+        .render(LightSamples::Stratified { per_axis: PER_AXIS }, &|_| {});
     assert_eq!(render(&dc, true).data, want.data);
     let penumbra = counted.data.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
     let differ: Vec<(usize, f32, f32)> = cast

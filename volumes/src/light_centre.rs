@@ -23,7 +23,7 @@ use crate::volumes::Volumes;
 /// use penumbra::geom::{RectLight, TriangleMesh};
 /// use penumbra::volumes::encloses_light_centre;
 ///
-/// let light = RectLight::new(DVec3::new(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE);
+/// let light = RectLight::new(DVec3::new(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE).unwrap();
 /// let sphere = |x: f64| TriangleMesh::uv_sphere(12, 16).transformed(
 ///     &(DMat4::from_translation(DVec3::new(x, 3.0, 0.0)) * DMat4::from_scale(DVec3::splat(0.6))),
 /// );

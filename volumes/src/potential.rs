@@ -21,7 +21,7 @@
 
 use glam::DVec3;
 use penumbra_geom::{BoxTree, Plane};
-use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
+use penumbra_geom::{HalfEdgeMesh, LitScene, RectLight, TriangleMesh};
 
 /// One face on a potential silhouette edge `a b`, as the plane through the edge and the face's
 /// third vertex `w`: `F(x) = n . (x - a)` with `n = (b - a) x (w - a)`, whose sign at a point
@@ -32,7 +32,7 @@ pub struct EdgeFace {
     pub normal: DVec3,
     /// `|normal|^2`, which both silhouette tests scale their margins by.
     pub normal_length2: f64,
-    /// Index of the face in [`Scene::triangles`].
+    /// Index of the face in [`LitScene::triangles`].
     pub triangle: u32,
 }
 
@@ -86,7 +86,7 @@ pub struct LightCrossing {
     /// A point of the triangle just on the emitting side of the segment, whose projection from
     /// a receiver tells which side of the segment the triangle's projection lies on.
     pub inside: DVec3,
-    /// Index of the triangle in [`Scene::triangles`].
+    /// Index of the triangle in [`LitScene::triangles`].
     pub triangle: u32,
 }
 
@@ -144,12 +144,12 @@ fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
 
 impl PotentialEdges {
     /// Finds the potential silhouette edges of every mesh of `scene` for its light.
-    pub fn build(scene: &Scene) -> Self {
+    pub fn build(scene: &LitScene) -> Self {
         Self::build_meshes(scene.meshes.iter().map(|m| &m.mesh), &scene.light)
     }
 
     /// Finds the potential silhouette edges of the world-space `meshes` for `light`; triangles
-    /// are numbered through the meshes in order, as [`Scene::triangles`] numbers them.
+    /// are numbered through the meshes in order, as [`LitScene::triangles`] numbers them.
     pub fn build_meshes<'a>(
         meshes: impl IntoIterator<Item = &'a TriangleMesh>,
         light: &RectLight,

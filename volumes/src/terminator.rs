@@ -76,7 +76,8 @@ mod tests {
 
     #[test]
     fn front_share_is_the_clipped_rectangle() {
-        let light = RectLight::new(DVec3::ZERO, DVec3::NEG_Z, DVec3::X, DVec2::new(2.0, 4.0));
+        let light =
+            RectLight::new(DVec3::ZERO, DVec3::NEG_Z, DVec3::X, DVec2::new(2.0, 4.0)).unwrap();
         let p = DVec3::new(0.0, 0.0, -3.0);
         // Facing the light: all of it; facing away: none.
         assert_eq!(front_share(&light, p, DVec3::Z), 1.0);

@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
-use penumbra_geom::{HalfEdgeMesh, RectLight, Scene, TriangleMesh};
+use penumbra_geom::{HalfEdgeMesh, LitScene, RectLight, TriangleMesh};
 
 use crate::shadow_volume::ShadowVolume;
 use crate::silhouette::Silhouette;
@@ -18,7 +18,7 @@ pub struct Occluder {
     pub mesh: HalfEdgeMesh,
     /// Its silhouette from the light's centre.
     pub silhouette: Silhouette,
-    /// Index of its first triangle in [`Scene::triangles`].
+    /// Index of its first triangle in [`LitScene::triangles`].
     pub first_triangle: u32,
     /// [`crate::terminator::outward_sign`] of the scene's mesh: +1 or -1 for a closed mesh
     /// wound outwards or inwards, 0 for an open one.
@@ -45,7 +45,7 @@ pub struct Volumes {
 
 impl Volumes {
     /// Builds every silhouette, volume and wedge of `scene`.
-    pub fn build(scene: &Scene) -> Self {
+    pub fn build(scene: &LitScene) -> Self {
         Self::build_meshes(scene.meshes.iter().map(|m| &m.mesh), &scene.light)
     }
 

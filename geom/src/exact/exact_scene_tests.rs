@@ -215,7 +215,8 @@ fn spheres_over_ground_at_scene_scale() {
         n,
         n.cross(DVec3::Z).normalize(),
         DVec2::new(4.0, 3.0),
-    );
+    )
+    .unwrap();
     let mut tris: Vec<[DVec3; 3]> = quad(-20.0, 20.0, -20.0, 20.0, 0.0).to_vec();
     for i in 0..9 {
         for j in 0..9 {

@@ -56,6 +56,7 @@ pub(super) fn light_facing_down(h_light: f64, center_xz: DVec2, size: DVec2) -> 
         DVec3::X,
         size,
     )
+    .unwrap()
 }
 
 /// The horizontal quad `[x0, x1] x [z0, z1]` at height `y` as two triangles sharing the
@@ -252,7 +253,8 @@ fn receiver_triangle_and_coplanar_neighbours_do_not_occlude() {
         n,
         n.cross(DVec3::Z).normalize(),
         DVec2::new(2.0, 1.0),
-    );
+    )
+    .unwrap();
     let ground = quad(-5.0, 5.0, -5.0, 5.0, 0.0);
     let mut rng = Rng::new(SEED);
     for _ in 0..100 {
@@ -414,7 +416,8 @@ fn visibility_is_invariant_under_similarity() {
         rot * light.normal,
         rot * light.tangent,
         light.size * scale,
-    );
+    )
+    .unwrap();
     let moved: Vec<[DVec3; 3]> = tris.iter().map(|t| t.map(f)).collect();
     for _ in 0..30 {
         let p = DVec3::new(rng.range(-2.0, 2.0), 0.0, rng.range(-2.0, 2.0));

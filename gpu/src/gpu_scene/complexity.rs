@@ -153,8 +153,8 @@ impl GpuScene {
             ctx: &self.ctx,
             pipelines: &self.pipelines,
             frame: &self.frame,
-            light: &self.light,
-            warp: self.distant.as_ref().map(|d| &d.warp),
+            light: self.light.rect(),
+            warp: self.light.warp(),
             meshes: &self.meshes,
             uploads: &mut self.uploads,
         };

@@ -3,30 +3,68 @@
 //! the meshes and the eye, and the camera the passes then see.
 
 use glam::DVec3;
-use penumbra_geom::{DistantLight, RectLight, Warp};
+use penumbra_geom::{DistantLight, Light, RectLight, Warp};
 
 use super::GpuScene;
 use super::meshes::{StoredMesh, world_corners};
 use crate::frame::FrameCamera;
 
-/// A distant light and the warp its frames are rendered through.
-pub(super) struct Distant {
-    pub(super) light: DistantLight,
-    pub(super) warp: Warp,
+/// The light of a [`GpuScene`]: a rectangle light, or a distant light with the warp its frames
+/// are rendered through and the rectangle that warp makes of it.
+pub(super) enum SceneLight {
+    /// A rectangle light.
+    Rect(RectLight),
+    /// A distant light.
+    Distant {
+        /// The light.
+        light: DistantLight,
+        /// Its warp, around the meshes and the eye.
+        warp: Warp,
+        /// The rectangle the warp makes of the light.
+        rect: RectLight,
+    },
 }
 
-impl Distant {
-    /// `light` with the warp around `meshes` as they are placed now.
-    pub(super) fn new(light: DistantLight, meshes: &[StoredMesh]) -> Self {
-        Distant {
-            light,
-            warp: Warp::around(world_corners(meshes), light.direction),
+impl SceneLight {
+    /// `light`; a distant light with the warp around `meshes` as they are placed now.
+    pub(super) fn new(light: Light, meshes: &[StoredMesh]) -> Self {
+        match light {
+            Light::Rect(l) => SceneLight::Rect(l),
+            Light::Distant(l) => SceneLight::distant(l, world_corners(meshes)),
         }
     }
 
-    /// The rectangle light the warp makes of the light.
-    pub(super) fn rectangle(&self) -> RectLight {
-        self.warp.light(&self.light)
+    /// The distant light `light` with the warp around `points`.
+    fn distant(light: DistantLight, points: Vec<DVec3>) -> Self {
+        let warp = Warp::around(points, light.direction);
+        SceneLight::Distant {
+            light,
+            warp,
+            rect: warp.light(&light),
+        }
+    }
+
+    /// The rectangle light the passes render.
+    pub(super) fn rect(&self) -> &RectLight {
+        match self {
+            SceneLight::Rect(l) | SceneLight::Distant { rect: l, .. } => l,
+        }
+    }
+
+    /// The warp of a distant light.
+    pub(super) fn warp(&self) -> Option<&Warp> {
+        match self {
+            SceneLight::Rect(_) => None,
+            SceneLight::Distant { warp, .. } => Some(warp),
+        }
+    }
+
+    /// The light as it was given.
+    pub(super) fn light(&self) -> Light {
+        match self {
+            SceneLight::Rect(l) => Light::Rect(*l),
+            SceneLight::Distant { light, .. } => Light::Distant(*light),
+        }
     }
 }
 
@@ -44,21 +82,15 @@ impl GpuScene {
     /// the warp renewed first (and what was built for it dropped) where the meshes, as placed
     /// now, or the eye have left it.
     pub(super) fn frame_camera(&mut self, camera: &FrameCamera) -> FrameCamera {
-        let Some(d) = &self.distant else {
+        let SceneLight::Distant { light, warp, .. } = &self.light else {
             return *camera;
         };
         let mut points = world_corners(&self.meshes);
         points.push(camera.eye);
-        if !holds(&d.warp, &points) {
-            let renewed = Distant {
-                light: d.light,
-                warp: Warp::around(points, d.light.direction),
-            };
-            self.light = renewed.rectangle();
-            self.distant = Some(renewed);
+        if !holds(warp, &points) {
+            self.light = SceneLight::distant(*light, points);
             self.light_changed();
         }
-        let warp = self.distant.as_ref().expect("a distant light").warp;
-        camera.warped(&warp)
+        camera.warped(self.light.warp().expect("a distant light"))
     }
 }

@@ -19,7 +19,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use glam::{DMat4, DVec3};
-use penumbra_geom::{HalfEdgeMesh, Light, RectLight, Scene, Technique, TriangleMesh};
+use penumbra_geom::{HalfEdgeMesh, Light, LitScene, RectLight, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::outward_sign;
 
@@ -30,7 +30,7 @@ use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
 pub use complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use complexity_state::ComplexityState;
-use distant::Distant;
+use distant::SceneLight;
 use meshes::{StoredMesh, centre, world};
 use scratch::Scratch;
 use shadows::Shadows;
@@ -65,11 +65,9 @@ pub struct GpuScene {
     /// Every mesh's triangles' corners, as stored, and each mesh's range of them.
     vertices: wgpu::Buffer,
     vertex_ranges: Vec<Range<u32>>,
-    /// The rectangle light the passes render: the scene's light, or a distant light's image
-    /// under its warp.
-    light: RectLight,
-    /// The distant light and its warp, where the scene is lit by one.
-    distant: Option<Distant>,
+    /// The light: a rectangle, or a distant light with its warp and the rectangle the passes
+    /// render.
+    light: SceneLight,
     /// Built for the current light and transforms; `None` until a frame needs them.
     shadows: Option<Shadows>,
     /// Built for other lights under the current transforms, most recent last: a light that
@@ -106,7 +104,7 @@ impl GpuScene {
     /// let corners = corners.map(DVec3::from_array);
     /// let quad = TriangleMesh::from_raw("quad", &corners, &[[0, 2, 1], [0, 3, 2]])
     ///     .unwrap();
-    /// let light = RectLight::new(DVec3::new(0.0, 4.0, 0.0), -DVec3::Y, DVec3::X, DVec2::ONE);
+    /// let light = RectLight::new(DVec3::new(0.0, 4.0, 0.0), -DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
     /// let mut scene = GpuScene::new(&renderer, &[(&quad, DMat4::IDENTITY)], light);
     ///
     /// let size = (320, 240);
@@ -137,11 +135,7 @@ impl GpuScene {
                 (m, t, centre(&m.positions), outward)
             })
             .collect();
-        let light = light.into();
-        // A distant light's rectangle is replaced by its warp's in `set_light`.
-        let mut scene = Self::with_origins(renderer, &meshes, light.rect_or_placeholder());
-        scene.set_light(light);
-        scene
+        Self::with_origins(renderer, &meshes, light.into())
     }
 
     /// [`GpuScene::new`] with each mesh's vertices stored relative to the given origin, and its
@@ -149,7 +143,7 @@ impl GpuScene {
     fn with_origins(
         renderer: &GpuRenderer,
         meshes: &[(&TriangleMesh, DMat4, DVec3, f64)],
-        light: RectLight,
+        light: Light,
     ) -> Self {
         let ctx = renderer.context();
         let device = &ctx.device;
@@ -203,11 +197,10 @@ impl GpuScene {
             complexity: ComplexityState::new(ctx.info.device_type),
             ctx: ctx.clone(),
             pipelines,
-            meshes: stored,
             vertices,
             vertex_ranges,
-            light,
-            distant: None,
+            light: SceneLight::new(light, &stored),
+            meshes: stored,
             shadows: None,
             kept: Vec::new(),
             uniforms,
@@ -222,12 +215,12 @@ impl GpuScene {
 
     /// The meshes of `scene` (world space, stored relative to the eye: the one-shot renderer's
     /// exact layout) with the silhouettes' products of `volumes`, built for `scene`.
-    pub(crate) fn for_scene(renderer: &GpuRenderer, scene: &Scene, volumes: &Volumes) -> Self {
+    pub(crate) fn for_scene(renderer: &GpuRenderer, scene: &LitScene, volumes: &Volumes) -> Self {
         let mut s = Self::of_scene(renderer, scene, |i| volumes.occluders[i].outward);
         let (shadows, bytes) = Shadows::build(
             &s.ctx.device,
             &s.meshes,
-            &s.light,
+            s.light.rect(),
             volumes,
             &scene.triangles(),
         );
@@ -240,7 +233,7 @@ impl GpuScene {
     /// the eye), mesh `i` with the outward sign `outward(i)`; nothing built for the light yet.
     pub(crate) fn of_scene(
         renderer: &GpuRenderer,
-        scene: &Scene,
+        scene: &LitScene,
         outward: impl Fn(usize) -> f64,
     ) -> Self {
         let eye = scene.camera.eye;
@@ -250,7 +243,7 @@ impl GpuScene {
             .enumerate()
             .map(|(i, m)| (&m.mesh, DMat4::IDENTITY, eye, outward(i)))
             .collect();
-        Self::with_origins(renderer, &meshes, scene.light)
+        Self::with_origins(renderer, &meshes, Light::Rect(scene.light))
     }
 
     /// How many meshes it holds.
@@ -280,10 +273,7 @@ impl GpuScene {
 
     /// The light: a rectangle light, or a distant light.
     pub fn light(&self) -> Light {
-        match &self.distant {
-            Some(d) => Light::Distant(d.light),
-            None => Light::Rect(self.light),
-        }
+        self.light.light()
     }
 
     /// Lights the scene by `light`, a [`RectLight`] or a [`penumbra_geom::DistantLight`], from
@@ -291,25 +281,13 @@ impl GpuScene {
     /// ([`penumbra_geom::Warp`], `docs/scene-format.md`, "Distant lights"): the G-buffer then
     /// holds the warped scene's points, as [`GpuScene::record_depth`] writes them.
     pub fn set_light(&mut self, light: impl Into<Light>) {
-        let before = self.light;
-        let changed = match light.into() {
-            Light::Rect(l) => {
-                let changed = self.distant.is_some() || self.light != l;
-                self.distant = None;
-                self.light = l;
-                changed
-            }
-            Light::Distant(l) => {
-                if self.distant.as_ref().is_some_and(|d| d.light == l) {
-                    false
-                } else {
-                    let d = Distant::new(l, &self.meshes);
-                    self.light = d.rectangle();
-                    self.distant = Some(d);
-                    true
-                }
-            }
-        };
+        let light = light.into();
+        if self.light.light() == light {
+            return;
+        }
+        let before = *self.light.rect();
+        self.light = SceneLight::new(light, &self.meshes);
+        let changed = *self.light.rect() != before;
         if changed {
             // Keep what was built for the light left, and take what was kept for this one.
             if let Some(shadows) = self.shadows.take() {
@@ -320,7 +298,7 @@ impl GpuScene {
                 }
             }
             self.light_changed();
-            if let Some(at) = self.kept.iter().position(|(l, _)| *l == self.light) {
+            if let Some(at) = self.kept.iter().position(|(l, _)| l == self.light.rect()) {
                 self.shadows = Some(self.kept.remove(at).1);
             }
         }
@@ -331,7 +309,7 @@ impl GpuScene {
     /// [`penumbra_geom::Warp::point`] makes of its surface points, relative to the warp's image
     /// of the eye.
     pub fn warp(&self) -> Option<penumbra_geom::Warp> {
-        self.distant.as_ref().map(|d| d.warp)
+        self.light.warp().copied()
     }
 
     /// Drops what was built for the light.
@@ -354,12 +332,12 @@ impl GpuScene {
     /// The silhouettes' products, rebuilt if the light or a transform changed.
     fn shadows(&mut self) -> &Shadows {
         if self.shadows.is_none() {
-            let (meshes, world) = world(&self.meshes, self.distant.as_ref().map(|d| &d.warp));
-            let volumes = Volumes::build_meshes(&meshes, &self.light);
+            let (meshes, world) = world(&self.meshes, self.light.warp());
+            let volumes = Volumes::build_meshes(&meshes, self.light.rect());
             let (shadows, bytes) = Shadows::build(
                 &self.ctx.device,
                 &self.meshes,
-                &self.light,
+                self.light.rect(),
                 &volumes,
                 &world,
             );
@@ -372,9 +350,9 @@ impl GpuScene {
     /// Writes the frame's uniforms and model matrices where they changed, for the application's
     /// camera `world` and the camera the passes see ([`GpuScene::frame_camera`]).
     fn write_frame(&mut self, world: &FrameCamera, camera: &FrameCamera) {
-        let mut uniforms = FrameUniforms::new(camera, &self.light);
-        if let Some(d) = &self.distant {
-            uniforms = uniforms.with_warp(&d.warp, world.eye, camera);
+        let mut uniforms = FrameUniforms::new(camera, self.light.rect());
+        if let Some(warp) = self.light.warp() {
+            uniforms = uniforms.with_warp(warp, world.eye, camera);
         }
         let models: Vec<ModelMatrix> = self
             .meshes

@@ -59,7 +59,7 @@ impl GpuScene {
         let (stencil_group, blend_inputs) = blend_groups(device, p, gbuffer, sil, final_buffer);
         let masks = occluder_tiles(
             camera,
-            &self.light,
+            self.light.rect(),
             &shadows.clusters,
             &shadows.nearest,
             &shadows.instances,

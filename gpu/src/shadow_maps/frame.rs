@@ -2,7 +2,7 @@
 //! light map from the light's centre, the base uniforms, V's target and the timer; and the
 //! passes every technique starts with (the depth pre-pass and the light map).
 
-use penumbra_geom::Scene;
+use penumbra_geom::LitScene;
 use penumbra_params::TechniqueParams;
 
 use super::inputs::{ShadowUniforms, back_faces};
@@ -57,7 +57,7 @@ impl<'a> ShadowFrame<'a> {
     pub(super) fn new(
         ctx: &'a GpuContext,
         pipelines: &'a ShadowPipelines,
-        scene: &'a Scene,
+        scene: &'a LitScene,
         (world, closed): (&[[glam::DVec3; 3]], usize),
         base: ShadowUniforms,
         counters: bool,
@@ -249,7 +249,7 @@ impl<'a> ShadowFrame<'a> {
 /// The light map's casters of the scene, for `fractional-disk` its back faces
 /// ([`back_faces`]) of `world` (`closed` of which closed), eye-relative.
 pub(super) fn back_face_casters(
-    scene: &Scene,
+    scene: &LitScene,
     (world, closed): (&[[glam::DVec3; 3]], usize),
 ) -> Vec<[f32; 3]> {
     eye_relative(

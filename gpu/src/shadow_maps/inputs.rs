@@ -5,7 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
-use penumbra_geom::{HalfEdgeMesh, Rng, Scene};
+use penumbra_geom::{HalfEdgeMesh, LitScene, Rng};
 use penumbra_params::{TechniqueParams, equal_area_radius};
 use penumbra_volumes::outward_sign;
 
@@ -38,9 +38,9 @@ const _: () = assert!(std::mem::size_of::<ShadowUniforms>() == 96 + 16 * MAX_TAP
 /// The triangles of `scene`, those of closed and consistently oriented meshes first and wound
 /// outwards (counter-clockwise seen from outside; the signed volume says which way is out), then
 /// the others; and how many are closed.
-pub(super) fn closed_first(scene: &Scene) -> (Vec<[DVec3; 3]>, usize) {
+pub(super) fn closed_first(scene: &LitScene) -> (Vec<[DVec3; 3]>, usize) {
     let (mut closed, mut open) = (Vec::new(), Vec::new());
-    for m in &scene.meshes {
+    for m in scene.meshes.iter() {
         let mesh = &m.mesh;
         let tris = (0..mesh.triangles.len()).map(|t| mesh.triangle(t));
         let sign = outward_sign(mesh, &HalfEdgeMesh::build(mesh));
@@ -115,7 +115,7 @@ impl ShadowUniforms {
     /// The uniforms of a technique whose own lanes are `lanes`, for `scene` with its light map
     /// fitted to `frustum` (before per-pass taps).
     pub(super) fn new(
-        scene: &Scene,
+        scene: &LitScene,
         frustum: &LightFrustum,
         params: &TechniqueParams,
         lanes: TechniqueLanes,
@@ -155,18 +155,18 @@ mod tests {
 
     #[test]
     fn back_faces_keep_a_closed_mesh_s_far_side_and_all_of_an_open_one() {
-        let scene = Scene::load(std::path::Path::new(concat!(
+        let scene = penumbra_geom::Scene::load(std::path::Path::new(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../fixtures/scenes/sphere-over-plane.toml"
         )))
         .unwrap();
-        let (tris, closed) = closed_first(&scene);
-        let back = back_faces(scene.light.center, &tris, closed);
+        let (tris, closed) = closed_first(&scene.lit(0));
+        let back = back_faces(scene.lit(0).light.center, &tris, closed);
         let ground = scene.meshes[0].mesh.triangles.len();
         let sphere = scene.meshes[1].mesh.triangles.len();
         // The whole ground, and about half of the sphere: the half away from the light.
         assert!(back.len() > ground + sphere / 3 && back.len() < ground + 2 * sphere / 3);
-        let c = scene.light.center;
+        let c = scene.lit(0).light.center;
         let centre = DVec3::new(0.0, 1.6, 0.0);
         // The sphere's own normal, not the mesh's winding, says which faces look away. (Closed
         // meshes come first.)

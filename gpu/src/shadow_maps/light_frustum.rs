@@ -424,7 +424,8 @@ mod tests {
             DVec3::NEG_Y,
             DVec3::X,
             DVec2::new(2.0, 1.0),
-        );
+        )
+        .unwrap();
         let tris = [
             [
                 DVec3::new(-3.0, 0.0, -2.0),
@@ -472,7 +473,7 @@ mod tests {
             let scene = Scene::load(std::path::Path::new(&path)).unwrap();
             let tris = scene.triangles();
             let bvh = SceneBvh::build(&tris);
-            let light = &scene.light;
+            let light = &scene.lit(0).light;
             let whole = LightFrustum::fit(light, &tris).unwrap();
             let view = LightFrustum::fit_view(light, &tris, &scene.camera).unwrap();
             let area = |f: &LightFrustum| (f.hi - f.lo).x * (f.hi - f.lo).y;
@@ -533,7 +534,8 @@ mod tests {
                 env!("CARGO_MANIFEST_DIR")
             );
             let scene = Scene::load(std::path::Path::new(&path)).unwrap();
-            let fit = |s: &Scene| LightFrustum::fit_view(&s.light, &s.triangles(), &s.camera);
+            let fit =
+                |s: &Scene| LightFrustum::fit_view(&s.lit(0).light, &s.triangles(), &s.camera);
             let base = fit(&scene).unwrap();
             for _ in 0..4 {
                 let axis = DVec3::new(rng.range(-1., 1.), rng.range(-1., 1.), rng.range(-1., 1.));

@@ -21,7 +21,7 @@ mod probe;
 
 use glam::DVec2;
 use penumbra_geom::VisibilityImage;
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{LitScene, Technique};
 
 use crate::context::{GpuContext, GpuError};
 use crate::timing::{Rendered, read_frame};
@@ -95,7 +95,7 @@ impl ShadowMapRenderer {
 
     /// The uniforms of the technique for `scene`, its light map fitted to `frustum`, with the
     /// parameters of `scene.params`.
-    pub fn uniforms(&self, scene: &Scene, frustum: &LightFrustum) -> ShadowUniforms {
+    pub fn uniforms(&self, scene: &LitScene, frustum: &LightFrustum) -> ShadowUniforms {
         let params = &scene.params;
         let lanes: TechniqueLanes = match self.technique {
             Technique::Pcf => pcf::lanes(params),
@@ -109,14 +109,14 @@ impl ShadowMapRenderer {
     }
 
     /// Renders V of `scene` with the parameters of `scene.params`.
-    pub fn render(&self, scene: &Scene) -> Result<VisibilityImage, GpuError> {
+    pub fn render(&self, scene: &LitScene) -> Result<VisibilityImage, GpuError> {
         Ok(self.render_timed(scene)?.image)
     }
 
     /// [`ShadowMapRenderer::render`], with the GPU time of each kind of pass when the device
     /// has timestamp queries (the light maps, the preprocessing passes, the filter passes, the
     /// read-out), and their counts when [`ShadowMapRenderer::set_counters`] turned them on.
-    pub fn render_timed(&self, scene: &Scene) -> Result<Rendered, GpuError> {
+    pub fn render_timed(&self, scene: &LitScene) -> Result<Rendered, GpuError> {
         let (world, closed) = closed_first(scene);
         let frustum =
             LightFrustum::fit_view(&scene.light, &world, &scene.camera).unwrap_or(EMPTY_FRUSTUM);

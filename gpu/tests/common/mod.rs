@@ -99,7 +99,7 @@ pub fn against_the_oracle(
     penumbra_geom::VisibilityImage,
     penumbra_gpu::ComplexityImage,
 )> {
-    let oracle = penumbra_volumes::DepthComplexity::new(scene);
+    let oracle = penumbra_volumes::DepthComplexity::new(&scene.lit(0));
     [8usize, 16]
         .into_iter()
         .map(|per_axis| {
@@ -110,7 +110,7 @@ pub fn against_the_oracle(
             };
             let cpu = oracle.render(pattern, &|_| {});
             let gpu = r
-                .render_depth_complexity(scene, samples as u32)
+                .render_depth_complexity(&scene.lit(0), samples as u32)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
             (samples, cpu, gpu)

@@ -80,7 +80,7 @@ pub(crate) fn accuracy(
             .to_string_lossy()
             .into_owned();
         // A scene of several lights: a row per light and technique, the light alone.
-        let rows: Vec<(String, Scene)> = if scene.lights.is_empty() {
+        let rows: Vec<(String, Scene)> = if scene.single_channel() {
             vec![(name, scene)]
         } else {
             scene
@@ -219,7 +219,7 @@ fn accuracy_rows(
         .render(scene, Technique::Reference, truth_options)
         .in_command_words()?;
     // Built before the timed renders.
-    let volumes = Volumes::build(scene);
+    let volumes = Volumes::build(&scene.lit(0));
     let runs = techniques.iter().flat_map(|&t| {
         let counts = if t.takes_samples() {
             sampling
@@ -249,7 +249,7 @@ fn accuracy_rows(
         r.release_kept();
         let start = std::time::Instant::now();
         let img = r
-            .render_frame(scene, t, &options, Some(&volumes), &|_| {})
+            .render_frame(&scene.lit(0), t, &options, Some(&volumes), &|_| {})
             .map_err(|e| render_error(e, "--technique-samples"))?
             .image;
         let secs = start.elapsed().as_secs_f64();

@@ -107,7 +107,7 @@ pub(crate) fn bench_one(
     let on_gpu = renderer.uses_gpu(technique).in_command_words()?;
     // A frame of a scene of several lights renders each light alone, one after the other.
     let lights = scene.light_count();
-    let scenes: Vec<Scene> = if scene.lights.is_empty() {
+    let scenes: Vec<Scene> = if scene.single_channel() {
         Vec::new()
     } else {
         (0..lights).map(|k| scene.for_light(k)).collect()
@@ -120,7 +120,7 @@ pub(crate) fn bench_one(
     // Built once, outside the timed frames: the frames time the GPU's work.
     let volumes: Vec<Option<Volumes>> = scenes
         .iter()
-        .map(|s| (on_gpu && technique.is_volume()).then(|| Volumes::build(s)))
+        .map(|s| (on_gpu && technique.is_volume()).then(|| Volumes::build(&s.lit(0))))
         .collect();
     let mut wall = Vec::new();
     let mut passes: Vec<PassTimes> = Vec::new();
@@ -129,7 +129,7 @@ pub(crate) fn bench_one(
         let mut times: Option<PassTimes> = None;
         for (s, v) in scenes.iter().zip(&volumes) {
             let frame = renderer
-                .render_frame(s, technique, &options, v.as_ref(), &|_| {})
+                .render_frame(&s.lit(0), technique, &options, v.as_ref(), &|_| {})
                 .in_command_words()?;
             times = match (times, frame.times) {
                 (Some(a), Some(b)) => Some(a.plus(&b)),
@@ -170,7 +170,7 @@ pub(crate) fn bench_one(
         }
     });
     // The lights a frame renders, for a scene of several (whose frame renders each).
-    if !scene.lights.is_empty() {
+    if !scene.single_channel() {
         report["lights"] = serde_json::json!(lights);
     }
     Ok(report)

@@ -3,13 +3,12 @@
 //! has them) and the bytes of the buffers and textures it binds. Counts, unlike times, do not
 //! depend on the device's speed: lavapipe's are those of any Vulkan device.
 
-use std::borrow::Cow;
 use std::path::Path;
 
 use anyhow::{Result, bail};
 use penumbra::gpu::PassCounters;
 use penumbra::volumes::Volumes;
-use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+use penumbra::{Backend, LitScene, RenderOptions, Renderer, Scene, Technique};
 
 use crate::cli::ParamArgs;
 use crate::words::InCommandWords;
@@ -31,16 +30,13 @@ pub(crate) fn counters(
     renderer.set_counters(true);
     let mut reports = Vec::new();
     // Each light alone, for a scene of several: one frame, and one report, per light.
-    let lights: Vec<(Option<&str>, Cow<Scene>)> = if scene.lights.is_empty() {
-        vec![(None, Cow::Borrowed(&scene))]
-    } else {
-        scene
-            .lights
-            .iter()
-            .enumerate()
-            .map(|(k, l)| (Some(l.name.as_str()), Cow::Owned(scene.for_light(k))))
-            .collect()
-    };
+    let layered = !scene.single_channel();
+    let lights: Vec<(Option<&str>, LitScene)> = scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(k, l)| (layered.then_some(l.name.as_str()), scene.lit(k)))
+        .collect();
     for &technique in techniques {
         options.pattern_for(technique).in_command_words()?;
         if !renderer.uses_gpu(technique).in_command_words()? {

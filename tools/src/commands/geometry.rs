@@ -11,9 +11,10 @@ use penumbra_volumes::GeometryCounts;
 /// order, each entry with its `name`).
 pub(crate) fn geometry(scene_path: &Path, json: bool) -> Result<()> {
     let scene = Scene::load(scene_path)?;
-    let counts =
-        |s: &Scene| penumbra_volumes::GeometryCounts::of(&penumbra_volumes::Volumes::build(s));
-    if scene.lights.is_empty() {
+    let counts = |s: &Scene| {
+        penumbra_volumes::GeometryCounts::of(&penumbra_volumes::Volumes::build(&s.lit(0)))
+    };
+    if scene.single_channel() {
         let g = counts(&scene);
         if json {
             println!("{}", serde_json::to_string_pretty(&g)?);
@@ -47,7 +48,7 @@ pub(crate) fn geometry(scene_path: &Path, json: bool) -> Result<()> {
     }
     if !json {
         // What loading dropped, per mesh that dropped any.
-        for m in &scene.meshes {
+        for m in scene.meshes.iter() {
             let (zero, repeated) = (m.mesh.dropped_degenerate, m.mesh.dropped_duplicate);
             if zero + repeated > 0 {
                 println!(

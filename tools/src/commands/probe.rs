@@ -42,7 +42,7 @@ pub(crate) fn probe(scene_path: &Path, pixel: &str, samples: usize) -> Result<()
     .per_axis;
     let scene = Scene::load(scene_path)?;
     let (x, y) = parse_pixel(pixel, &scene)?;
-    if scene.lights.is_empty() {
+    if scene.single_channel() {
         return probe_light(&scene, (x, y), samples, per_axis, None);
     }
     // Each light alone, in the scene's order.
@@ -72,22 +72,20 @@ fn probe_light(
     if let Some(h) = header {
         println!("{h}");
     }
-    let tracer = Tracer::new_for(scene, Rays::Few);
-    let dir = scene.camera.ray_dir(x, y);
-    match tracer.surface_point(scene.camera.eye, dir) {
+    let lit = scene.lit(0);
+    let tracer = Tracer::new_for(&lit, Rays::Few);
+    let dir = lit.camera.ray_dir(x, y);
+    match tracer.surface_point(lit.camera.eye, dir) {
         None => println!("{indent}pixel {x},{y}: the ray hits nothing; V = 1"),
         Some(p) => {
             let exact = tracer.exact_visibility(&p);
             let mut rng = Rng::stream(
                 REFERENCE_SEED,
-                y as u64 * scene.camera.width as u64 + x as u64,
+                y as u64 * lit.camera.width as u64 + x as u64,
             );
             let sampled = tracer.sampled_visibility(&p, per_axis, &mut rng);
             // In the world's coordinates: a distant light's scene is rendered warped.
-            let q = scene
-                .distant
-                .as_ref()
-                .map_or(p.position, |d| d.warp.unwarp(p.position));
+            let q = lit.warp().map_or(p.position, |w| w.unwarp(p.position));
             println!("{indent}pixel {x},{y}");
             println!(
                 "{indent}P          = [{:.9}, {:.9}, {:.9}] (triangle {})",
@@ -99,12 +97,12 @@ fn probe_light(
                 (sampled * (1.0 - sampled) / samples as f64).sqrt()
             );
             println!("{indent}V hard     = {}", tracer.hard_visibility(&p));
-            let dc = DepthComplexity::new(scene);
+            let dc = DepthComplexity::new(&scene.lit(0));
             let pattern = SamplePattern {
                 per_axis,
                 jitter: true,
             };
-            let pixel = y as u64 * scene.camera.width as u64 + x as u64;
+            let pixel = y as u64 * lit.camera.width as u64 + x as u64;
             let v = dc.visibility(&p, pattern, pixel, &mut Default::default());
             println!(
                 "{indent}V depth    = {:.9} (depth complexity, the reference's {samples} samples; {} edges touched it, {} triangles towards the centre)",

@@ -71,7 +71,7 @@ pub(crate) fn render(
     params.apply(&mut scene)?;
     // A scene of several lights writes a PNG per light.
     let pngs: Vec<PathBuf> = match png {
-        Some(p) if !scene.lights.is_empty() => scene
+        Some(p) if !scene.single_channel() => scene
             .light_names()
             .iter()
             .map(|name| light_png(p, name))
@@ -191,7 +191,7 @@ fn draw(
     let names = scene.light_names();
     for (k, channel) in scene.channel_names().into_iter().enumerate() {
         // A scene of one light renders itself; one of several, each light alone.
-        let one = if scene.lights.is_empty() {
+        let one = if scene.single_channel() {
             None
         } else {
             Some(scene.for_light(k))
@@ -200,7 +200,7 @@ fn draw(
         let progress = |r| bar.set_position(done + r);
         let frame = renderer
             .render_frame(
-                one.as_ref().unwrap_or(scene),
+                &(one.as_ref().unwrap_or(scene)).lit(0),
                 technique,
                 &options,
                 None,

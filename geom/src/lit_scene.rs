@@ -1,0 +1,137 @@
+//! A scene under one of its lights, in the form every renderer renders: the camera, the
+//! rectangle light to render, the meshes and, for a distant light, the warp that took the world
+//! to what is rendered (see `distant.rs`).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::DVec3;
+use penumbra_params::TechniqueParams;
+
+use crate::camera::Camera;
+use crate::distant::{DistantLight, Warp};
+use crate::light::RectLight;
+use crate::lights::Light;
+use crate::scene::{Scene, SceneMesh, triangles};
+
+/// A scene under one light ([`Scene::lit`]): what a renderer renders.
+///
+/// Under a rectangle light it is the scene itself, its meshes shared with the [`Scene`]. Under a
+/// distant light, the scene's [`Warp`] for that light is applied to the meshes and the camera,
+/// and [`LitScene::light`] is the rectangle that is the image of the light's directions: its
+/// images are those of the world scene under the distant light; [`LitScene::distant`] keeps the
+/// light, the warp and the world's camera and meshes.
+#[derive(Clone, Debug)]
+pub struct LitScene {
+    /// The scene file, or `<in memory>`.
+    pub path: PathBuf,
+    /// The camera the renderers cast from (the warped world's under a distant light).
+    pub camera: Camera,
+    /// The rectangle light the renderers render.
+    pub light: RectLight,
+    /// The meshes the renderers render (the warped world's under a distant light).
+    pub meshes: Arc<Vec<SceneMesh>>,
+    /// Parameters of the shadow-map techniques.
+    pub params: TechniqueParams,
+    /// Under a distant light: the light, its warp and the world.
+    pub distant: Option<DistantView>,
+}
+
+/// A distant light's part of a [`LitScene`]: the light, the warp that took the world to the
+/// scene the renderers render, and the world's camera and meshes.
+#[derive(Clone, Debug)]
+pub struct DistantView {
+    /// The distant light, in the world.
+    pub light: DistantLight,
+    /// The map from the world to the rendered scene.
+    pub warp: Warp,
+    /// The camera in the world.
+    pub camera: Camera,
+    /// The meshes in the world (shared with the [`Scene`]).
+    pub meshes: Arc<Vec<SceneMesh>>,
+}
+
+impl LitScene {
+    /// `scene` under `light`.
+    pub(crate) fn new(scene: &Scene, light: Light) -> LitScene {
+        match light {
+            Light::Rect(l) => LitScene {
+                path: scene.path.clone(),
+                camera: scene.camera,
+                light: l,
+                meshes: Arc::clone(&scene.meshes),
+                params: scene.params,
+                distant: None,
+            },
+            Light::Distant(l) => {
+                let points = scene
+                    .meshes
+                    .iter()
+                    .flat_map(|m| m.mesh.positions.iter().copied())
+                    .chain(std::iter::once(scene.camera.eye));
+                let warp = Warp::around(points, l.direction);
+                let meshes = scene
+                    .meshes
+                    .iter()
+                    .map(|m| {
+                        let mut mesh = m.mesh.clone();
+                        for p in &mut mesh.positions {
+                            *p = warp.point(*p);
+                        }
+                        SceneMesh {
+                            source: m.source.clone(),
+                            transform: m.transform,
+                            mesh,
+                        }
+                    })
+                    .collect();
+                LitScene {
+                    path: scene.path.clone(),
+                    camera: warp.camera(&scene.camera),
+                    light: warp.light(&l),
+                    meshes: Arc::new(meshes),
+                    params: scene.params,
+                    distant: Some(DistantView {
+                        light: l,
+                        warp,
+                        camera: scene.camera,
+                        meshes: Arc::clone(&scene.meshes),
+                    }),
+                }
+            }
+        }
+    }
+
+    /// The light in the world: the rectangle, or the distant light.
+    pub fn world_light(&self) -> Light {
+        match &self.distant {
+            Some(d) => Light::Distant(d.light),
+            None => Light::Rect(self.light),
+        }
+    }
+
+    /// The camera in the world.
+    pub fn world_camera(&self) -> &Camera {
+        self.distant.as_ref().map_or(&self.camera, |d| &d.camera)
+    }
+
+    /// The meshes in the world.
+    pub fn world_meshes(&self) -> &[SceneMesh] {
+        self.distant.as_ref().map_or(&self.meshes, |d| &d.meshes)
+    }
+
+    /// The warp of a distant light, `None` under a rectangle.
+    pub fn warp(&self) -> Option<&Warp> {
+        self.distant.as_ref().map(|d| &d.warp)
+    }
+
+    /// Every triangle the renderers render, meshes in order.
+    pub fn triangles(&self) -> Vec<[DVec3; 3]> {
+        triangles(&self.meshes)
+    }
+
+    /// Total number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
+    }
+}
