@@ -79,13 +79,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let light = |frame: usize| -> Light {
         let a = 0.5 * std::f64::consts::TAU * frame as f64 / FRAMES as f64;
         if sun {
-            // From 20 degrees above the eastern horizon (+x) over the south (+z) to the west.
-            let elevation = (20.0 + 40.0 * a.sin()).to_radians();
-            let towards = p(a.cos(), 0.0, a.sin());
-            let direction = towards * elevation.cos() + DVec3::Y * elevation.sin();
-            let tangent = p(-a.sin(), 0.0, a.cos());
-            DistantLight::new(direction, tangent, DVec2::splat(0.53))
-                .unwrap()
+            // From 20 degrees above the eastern horizon over the south to the west: azimuth 90
+            // to 270 degrees, clockwise from north (-z).
+            DistantLight::sun(90.0 + a.to_degrees(), 20.0 + 40.0 * a.sin(), 0.53)
+                .expect("angles in range")
                 .into()
         } else {
             let centre = p(2.5 * a.cos(), 6.0, 2.5 * a.sin());

@@ -55,8 +55,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ],
     )?;
     let camera = Camera::look_at(p(0.0, 5.0, 7.0), p(0.0, 0.5, 0.0), DVec3::Y, 45.0, 320, 240)?;
-    let light =
-        RectLight::new(p(-1.0, 6.0, 0.5), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.5)).unwrap();
+    // A 2.5 x 2.5 lamp 6 above the ground, facing straight down.
+    let light = RectLight::aimed(p(-1.0, 6.0, 0.5), p(-1.0, 0.0, 0.5), DVec2::splat(2.5))?;
     let scene = Scene::new(camera)
         .with_light(light)
         .with_mesh("ground", &ground, DMat4::IDENTITY)

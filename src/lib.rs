@@ -28,15 +28,18 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! A scene made in code needs only this crate's names: a [`Camera`], a [`RectLight`], and
-//! [`TriangleMesh`]es placed by `glam` matrices (re-exported as [`glam`]).
+//! A scene made in code needs only this crate's names: a [`Camera`], its lights (each a
+//! [`RectLight`], for instance [`RectLight::aimed`] at a point, or a [`DistantLight`], for
+//! instance [`DistantLight::sun`] by azimuth and elevation), and [`TriangleMesh`]es placed by
+//! `glam` matrices (re-exported as [`glam`]).
 //!
 //! ```
 //! use penumbra::glam::{DMat4, DVec2, DVec3};
 //! use penumbra::{Backend, Camera, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh};
 //!
 //! let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
-//! let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(1.0)).unwrap();
+//! // A 1 x 1 lamp 5 above the origin, facing it.
+//! let light = RectLight::aimed(DVec3::new(0.0, 5.0, 0.0), DVec3::ZERO, DVec2::splat(1.0))?;
 //! let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
 //! let ground = TriangleMesh::from_raw(
 //!     "ground",
@@ -44,7 +47,9 @@
 //!     &[[0, 1, 2], [0, 2, 3]],
 //! )?;
 //! let ball = DMat4::from_translation(DVec3::new(0.0, 1.0, 0.0)) * DMat4::from_scale(DVec3::splat(0.5));
-//! let scene = Scene::new(camera).with_light(light)
+//! // Lights and meshes are added in any order.
+//! let scene = Scene::new(camera)
+//!     .with_light(light)
 //!     .with_mesh("ground", &ground, DMat4::IDENTITY)
 //!     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), ball);
 //! let v = Renderer::new(Backend::Cpu).render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;

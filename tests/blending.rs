@@ -8,13 +8,13 @@ use penumbra::geom::{LightSamples, Reference};
 use penumbra::volumes::CpuRenderer;
 use rayon::prelude::*;
 
-use crate::common::load;
+use crate::common::load_lit;
 
 /// Mean absolute error of `wedges` and `wedges-blend` against the exact evaluator at penumbra
 /// points seen by the camera.
 fn overlap_errors(name: &str, points: usize) -> (f64, f64, usize) {
-    let scene = load(name);
-    let r = CpuRenderer::new(&scene.lit(0));
+    let scene = load_lit(name);
+    let r = CpuRenderer::new(&scene);
     let cam = scene.camera;
     let mut rng = Rng::new(31);
     let mut candidates = Vec::new();
@@ -78,12 +78,12 @@ fn wedges_blend_on_real_meshes_is_within_0_6_of_blending_per_mesh() {
     for (name, before) in PER_MESH_BLEND {
         // A quarter of the pixels and 256 samples: the bound has room for the reference's noise
         // (about 0.006 over penumbra pixels).
-        let mut scene = load(name);
+        let mut scene = load_lit(name);
         scene.camera.width /= 2;
         scene.camera.height /= 2;
-        let truth = Reference::new(&scene.lit(0))
-            .render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-        let img = CpuRenderer::new(&scene.lit(0)).render(Technique::WedgesBlend, &|_| {});
+        let truth =
+            Reference::new(&scene).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+        let img = CpuRenderer::new(&scene).render(Technique::WedgesBlend, &|_| {});
         let c = compare(&img, &truth).unwrap();
         println!(
             "{name:>12}: wedges-blend penumbra MAE {:.4} over {} pixels, per mesh {before}: {:.2}x",

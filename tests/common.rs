@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use penumbra::geom::Scene;
+use penumbra::geom::{LitScene, Scene};
 
 /// Path of a fixture scene by name.
 pub fn scene_path(name: &str) -> PathBuf {
@@ -16,9 +16,14 @@ pub fn load(name: &str) -> Scene {
     Scene::load(&scene_path(name)).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// A fixture scene under its first light, as the renderers render it ([`Scene::lit`]).
+pub fn load_lit(name: &str) -> LitScene {
+    load(name).lit(0)
+}
+
 /// Every fixture scene's name, from the folder (so a new fixture is tested without a list to
 /// keep up to date). Fails if the folder is empty. A scene of several lights (`two-lights`) is
-/// rendered under its first, [`Scene::light`], by the tests that take every fixture;
+/// rendered under its first, [`Scene::lit`], by the tests that take every fixture;
 /// `several_lights.rs` checks that each light's channel is the scene under that light alone.
 pub fn fixture_names() -> Vec<String> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/scenes");

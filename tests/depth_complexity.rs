@@ -6,19 +6,19 @@
 //! right next to the receiver: at most a couple of samples, on a few pixels. So: equal on at
 //! least 99.9% of pixels, and off by at most two samples (`2/N`) anywhere.
 
-use penumbra::geom::Scene;
 use penumbra::geom::VisibilityImage;
 use penumbra::geom::{LightSamples, Reference};
+use penumbra::geom::{LitScene, Scene};
 use penumbra::volumes::{DepthComplexity, SamplePattern};
 
-use crate::common::{fixture_names, load};
+use crate::common::{fixture_names, load_lit};
 
 /// Renders `scene` both ways with `samples` jittered samples; returns the pixels that differ as
 /// `(x, y, depth complexity, reference)`, and the number of pixels.
-fn differences(scene: &Scene, samples: usize) -> (Vec<(u32, u32, f32, f32)>, usize) {
+fn differences(scene: &LitScene, samples: usize) -> (Vec<(u32, u32, f32, f32)>, usize) {
     let per_axis = (samples as f64).sqrt() as usize;
     assert_eq!(per_axis * per_axis, samples);
-    let dc = DepthComplexity::new(&scene.lit(0));
+    let dc = DepthComplexity::new(&scene);
     let got = dc.render(
         SamplePattern {
             per_axis,
@@ -26,7 +26,7 @@ fn differences(scene: &Scene, samples: usize) -> (Vec<(u32, u32, f32, f32)>, usi
         },
         &|_| {},
     );
-    let want = Reference::new(&scene.lit(0)).render(LightSamples::Stratified { per_axis }, &|_| {});
+    let want = Reference::new(&scene).render(LightSamples::Stratified { per_axis }, &|_| {});
     (diff(&got, &want), got.data.len())
 }
 
@@ -41,7 +41,7 @@ fn diff(got: &VisibilityImage, want: &VisibilityImage) -> Vec<(u32, u32, f32, f3
         .collect()
 }
 
-fn check(name: &str, scene: &Scene, samples: usize) {
+fn check(name: &str, scene: &LitScene, samples: usize) {
     let (differ, pixels) = differences(scene, samples);
     let worst = differ
         .iter()
@@ -72,14 +72,14 @@ fn check(name: &str, scene: &Scene, samples: usize) {
 #[test]
 fn depth_complexity_equals_the_reference_sample_for_sample_on_every_fixture() {
     for name in fixture_names() {
-        check(&name, &load(&name), 64);
+        check(&name, &load_lit(&name), 64);
     }
 }
 
 #[test]
 fn depth_complexity_equals_the_256_sample_reference_on_three_fixtures() {
     for name in ["spheres-9x9", "nonmanifold", "sphere-over-plane"] {
-        check(name, &load(name), 256);
+        check(name, &load_lit(name), 256);
     }
 }
 
@@ -92,5 +92,5 @@ fn depth_complexity_equals_the_reference_on_the_scale_scene() {
     let mut scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     scene.camera.width = 160;
     scene.camera.height = 120;
-    check("scale", &scene, 64);
+    check("scale", &scene.lit(0), 64);
 }

@@ -16,7 +16,7 @@ use penumbra::geom::Rng;
 use penumbra::geom::{REFERENCE_SEED, Tracer};
 use rayon::prelude::*;
 
-use crate::common::{fixture_names, load};
+use crate::common::{fixture_names, load_lit};
 
 const N_PER_AXIS: usize = 64;
 const PIXELS: usize = 200;
@@ -25,8 +25,8 @@ const PIXELS: usize = 200;
 fn exact_and_4096_sample_reference_agree_on_every_fixture() {
     let n = (N_PER_AXIS * N_PER_AXIS) as f64;
     for name in fixture_names() {
-        let scene = load(&name);
-        let tracer = Tracer::new(&scene.lit(0));
+        let scene = load_lit(&name);
+        let tracer = Tracer::new(&scene);
         let cam = scene.camera;
         // 200 random pixels whose ray hits the scene (a miss is V = 1 by definition for both).
         let mut rng = Rng::new(0xF1A7 ^ name.len() as u64);

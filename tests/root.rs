@@ -16,6 +16,7 @@ mod quad_closed_form;
 mod reference_vs_exact;
 mod renderer;
 mod repeated_faces;
+mod scene_building;
 mod several_lights;
 mod volumes;
 mod wedge_lookup;

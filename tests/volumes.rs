@@ -6,10 +6,10 @@ use penumbra::Technique;
 use penumbra::geom::Camera;
 use penumbra::geom::SceneMesh;
 use penumbra::geom::{LightSamples, Reference};
-use penumbra::geom::{Rng, Scene, SurfacePoint, TriangleMesh};
+use penumbra::geom::{LitScene, Rng, Scene, SurfacePoint, TriangleMesh};
 use penumbra::volumes::CpuRenderer;
 
-use crate::common::{fixture_names, load};
+use crate::common::{fixture_names, load, load_lit};
 
 /// Not on any triangle: nothing is excluded.
 const IN_THE_AIR: u32 = u32::MAX;
@@ -17,7 +17,7 @@ const IN_THE_AIR: u32 = u32::MAX;
 #[test]
 fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
     for name in fixture_names() {
-        let scene = load(&name);
+        let scene = load_lit(&name);
         let differ = pixels_where_hard_differs(&scene);
         let share = differ as f64 / scene.camera.pixel_count() as f64;
         println!(
@@ -31,13 +31,13 @@ fn hard_matches_the_hard_reference_on_999_per_mille_of_pixels() {
 #[test]
 fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
     for name in fixture_names() {
-        let scene = load(&name);
-        let r = CpuRenderer::new(&scene.lit(0));
+        let scene = load_lit(&name);
+        let r = CpuRenderer::new(&scene);
         let volumes: Vec<_> = r
             .volumes
             .occluders
             .iter()
-            .map(|o| o.shadow_volume(scene.lit(0).light.center))
+            .map(|o| o.shadow_volume(scene.light.center))
             .collect();
         for (oi, v) in volumes.iter().enumerate() {
             v.check_closed()
@@ -47,7 +47,7 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
         // infinity) along the view ray must equal the per-occluder centre-ray count used by the
         // renderer, away from volume boundaries.
         let cam = scene.camera;
-        let c = scene.lit(0).light.center;
+        let c = scene.light.center;
         let mut rng = Rng::new(99);
         let (mut checked, mut shadowed) = (0, 0);
         while checked < 150 {
@@ -59,7 +59,7 @@ fn every_volume_is_closed_and_z_fail_counts_agree_with_the_centre_ray() {
             let Some(p) = r.tracer.surface_point(cam.eye, dir) else {
                 continue;
             };
-            if !scene.lit(0).light.is_lit_side(p.position) {
+            if !scene.light.is_lit_side(p.position) {
                 continue;
             }
             let hard = r.stencil_counts(&p);
@@ -101,8 +101,8 @@ fn air_points(rng: &mut Rng, n: usize, half: f64, y_max: f64) -> Vec<DVec3> {
 #[test]
 fn wedges_cover_every_penumbra_point_of_the_planar_fixtures() {
     for (name, y_max) in [("quad-over-plane", 0.95), ("overlapping-quads", 0.95)] {
-        let scene = load(name);
-        let r = CpuRenderer::new(&scene.lit(0));
+        let scene = load_lit(name);
+        let r = CpuRenderer::new(&scene);
         let mut rng = Rng::new(2000);
         let (mut found, mut tries) = (0, 0);
         while found < 2000 {
@@ -404,8 +404,8 @@ fn share_of_penumbra_points_outside_every_wedge() {
     // penumbra points lie in no wedge: the single-silhouette approximation's own error, reported
     // in docs/accuracy.md. The planar fixtures must have none.
     for name in fixture_names() {
-        let scene = load(&name);
-        let r = CpuRenderer::new(&scene.lit(0));
+        let scene = load_lit(&name);
+        let r = CpuRenderer::new(&scene);
         let cam = scene.camera;
         let mut rng = Rng::new(8);
         let (mut pen, mut outside, mut tries) = (0, 0, 0);
@@ -492,9 +492,9 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
 }
 
 /// The pixels where CPU `hard` differs from the hard reference.
-fn pixels_where_hard_differs(scene: &Scene) -> usize {
-    let hard = CpuRenderer::new(&scene.lit(0)).render(Technique::Hard, &|_| {});
-    let want = Reference::new(&scene.lit(0)).render(LightSamples::Centre, &|_| {});
+fn pixels_where_hard_differs(scene: &LitScene) -> usize {
+    let hard = CpuRenderer::new(&scene).render(Technique::Hard, &|_| {});
+    let want = Reference::new(&scene).render(LightSamples::Centre, &|_| {});
     hard.data
         .iter()
         .zip(&want.data)
@@ -514,7 +514,7 @@ fn closed_meshes_wound_inwards_or_mirrored_cast_the_same_hard_shadow() {
         // The whole scene mirrored (a negative scale): positions only, windings unchanged.
         let mirrored = scene.transformed(&DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0)));
         for (what, s) in [("wound inwards", &inward), ("mirrored", &mirrored)] {
-            let share = pixels_where_hard_differs(s) as f64 / s.camera.pixel_count() as f64;
+            let share = pixels_where_hard_differs(&s.lit(0)) as f64 / s.camera.pixel_count() as f64;
             println!(
                 "{name:>18} {what}: hard differs from the hard reference on {:.4}% of pixels",
                 100.0 * share

@@ -19,6 +19,8 @@ mod image_files;
 mod input;
 mod light;
 mod light_error;
+#[cfg(test)]
+mod light_error_tests;
 mod lights;
 mod lit_scene;
 mod memory;

@@ -324,3 +324,111 @@ fn bad_distant_lights_name_their_line() {
     let text = format!("{CAMERA}{}", light("[light]", "", 0.0)).replace("size = [1.0, 1.0]\n", "");
     assert!(error(&text).1.contains("a rectangle light needs `size`"));
 }
+
+/// The one light of `text` (camera first), or its error.
+fn only_light(text: &str) -> Result<Light, SceneError> {
+    Scene::from_toml(&format!("{CAMERA}{text}"), Path::new("s.toml")).map(|s| s.lights[0].light)
+}
+
+#[test]
+fn a_light_aimed_at_a_target_is_the_light_of_its_normal() {
+    let aimed = only_light(
+        "[light]\ncenter = [1.0, 3.0, 0.0]\ntarget = [1.0, 0.0, 0.0]\nsize = [1.2, 0.6]\n",
+    )
+    .unwrap();
+    let explicit = only_light(
+        "[light]\ncenter = [1.0, 3.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\ntangent = [1.0, 0.0, 0.0]\n\
+         size = [1.2, 0.6]\n",
+    )
+    .unwrap();
+    assert_eq!(aimed, explicit);
+    // With a tangent of its own.
+    let turned = only_light(
+        "[light]\ncenter = [1.0, 3.0, 0.0]\ntarget = [1.0, 0.0, 0.0]\ntangent = [0.0, 0.0, 1.0]\n\
+         size = [1.2, 0.6]\n",
+    )
+    .unwrap();
+    assert_eq!(turned.as_rect().unwrap().tangent, glam::DVec3::Z);
+    for (text, at, says) in [
+        (
+            "[light]\ncenter = [1.0, 3.0, 0.0]\ntarget = [1.0, 3.0, 0.0]\nsize = [1.0, 1.0]\n",
+            "target = [1.0, 3.0",
+            "light.target [1, 3, 0] is the light's center",
+        ),
+        (
+            "[light]\ncenter = [0.0, 3.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\n\
+             size = [1.0, 1.0]\n",
+            "normal = ",
+            "give `normal` or `target`, not both",
+        ),
+        (
+            "[light]\ncenter = [0.0, 3.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\nsize = [1.0, 1.0]\n",
+            "[light]",
+            "a rectangle light needs `tangent`",
+        ),
+        (
+            "[light]\ncenter = [0.0, 3.0, 0.0]\nnormal = [0.0, -2.0, 0.0]\ntangent = [1.0, 0.0, 0.0]\n\
+             size = [1.0, 1.0]\n",
+            "normal = ",
+            "light.normal [0, -2, 0] is not unit length (|normal| = 2); normalised it is [0, -1, 0]",
+        ),
+    ] {
+        let text = format!("{CAMERA}{text}");
+        let (line, message) = error(&text);
+        assert_eq!(line, line_with(&text, at, 0), "{message}");
+        assert!(message.contains(says), "{says:?} in {message}");
+    }
+}
+
+#[test]
+fn a_sun_given_by_its_angles_is_the_sun_of_its_direction() {
+    let angles = only_light(
+        "[light]\ndistant = true\nazimuth_deg = 135\nelevation_deg = 30\nangular_size = [0.53, 0.53]\n",
+    )
+    .unwrap();
+    let sun = crate::DistantLight::sun(135.0, 30.0, 0.53).unwrap();
+    assert_eq!(angles, Light::Distant(sun));
+    let (c, s) = (30f64.to_radians().cos(), 0.5);
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert!((sun.direction - glam::DVec3::new(c * h, s, c * h)).length() < 1e-12);
+    // The same direction written out, with the tangent the angles chose.
+    let d = sun.direction;
+    let t = sun.tangent;
+    let explicit = only_light(&format!(
+        "[light]\ndistant = true\ndirection = [{:?}, {:?}, {:?}]\ntangent = [{:?}, {:?}, {:?}]\n\
+         angular_size = [0.53, 0.53]\n",
+        d.x, d.y, d.z, t.x, t.y, t.z
+    ))
+    .unwrap();
+    let e = explicit.as_distant().unwrap();
+    assert!((e.direction - d).length() < 1e-15 && (e.tangent - t).length() < 1e-15);
+    for (text, at, says) in [
+        (
+            "[light]\ndistant = true\nazimuth_deg = 10\nelevation_deg = 95\nangular_size = [1, 1]\n",
+            "elevation_deg = ",
+            "light.elevation_deg 95 must be in [-90, 90] degrees",
+        ),
+        (
+            "[light]\ndistant = true\nazimuth_deg = 10\nelevation_deg = 5\ndirection = [0, 1, 0]\n\
+             tangent = [1, 0, 0]\nangular_size = [1, 1]\n",
+            "direction = ",
+            "not both",
+        ),
+        (
+            "[light]\ndistant = true\nazimuth_deg = 10\nangular_size = [1, 1]\n",
+            "[light]",
+            "needs `elevation_deg`",
+        ),
+        (
+            "[light]\ncenter = [0, 3, 0]\nnormal = [0, -1, 0]\ntangent = [1, 0, 0]\nsize = [1, 1]\n\
+             azimuth_deg = 3\n",
+            "azimuth_deg = ",
+            "light.azimuth_deg is not a key of a rectangle light",
+        ),
+    ] {
+        let text = format!("{CAMERA}{text}");
+        let (line, message) = error(&text);
+        assert_eq!(line, line_with(&text, at, 0), "{message}");
+        assert!(message.contains(says), "{says:?} in {message}");
+    }
+}

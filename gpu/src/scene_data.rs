@@ -443,15 +443,16 @@ mod tests {
         use crate::frame::eye_relative;
         use penumbra_volumes::CpuRenderer;
         for (name, scene) in fixtures() {
-            let cpu = CpuRenderer::new(&scene.lit(0));
+            let scene = scene.lit(0);
+            let cpu = CpuRenderer::new(&scene);
             let world = scene.triangles();
             let camera =
                 FrameCamera::for_scene(&scene.camera, &eye_relative(scene.camera.eye, &world));
-            let (instances, ranges) = wedge_instances(&scene.lit(0).light, &world, &cpu.volumes);
+            let (instances, ranges) = wedge_instances(&scene.light, &world, &cpu.volumes);
             let masks = occluder_tiles(
                 &camera,
-                &scene.lit(0).light,
-                &ReceiverClusters::new(&scene.lit(0).light, &world),
+                &scene.light,
+                &ReceiverClusters::new(&scene.light, &world),
                 &nearest_edges(&cpu.volumes),
                 &instances,
                 &ranges,

@@ -8,7 +8,7 @@ use common::{against_the_oracle, agreement, context, fixtures, texture, view};
 
 use glam::DMat4;
 use penumbra_geom::VisibilityImage;
-use penumbra_geom::{Scene, Technique};
+use penumbra_geom::{LitScene, Scene, Technique};
 use penumbra_gpu::wgpu;
 use penumbra_gpu::{
     ComplexityReport, FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene,
@@ -18,7 +18,7 @@ use penumbra_gpu::{
 use penumbra_volumes::{DepthComplexity, SamplePattern};
 
 /// `scene` at `w x h` pixels, the same view.
-fn at_size(mut scene: Scene, (w, h): (u32, u32)) -> Scene {
+fn at_size(mut scene: LitScene, (w, h): (u32, u32)) -> LitScene {
     scene.camera.width = w;
     scene.camera.height = h;
     scene
@@ -33,6 +33,7 @@ fn check_every_fixture(size: Option<(u32, u32)>, min_equal: f64, max_beyond: usi
     let r = GpuRenderer::with_context(&ctx);
     let mut report = Vec::new();
     for (name, scene) in fixtures() {
+        let scene = scene.lit(0);
         let scene = match size {
             Some(size) => at_size(scene, size),
             None => scene,
@@ -82,7 +83,7 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_at_half_size() {
 fn frame(
     ctx: &GpuContext,
     gpu_scene: &mut GpuScene,
-    scene: &Scene,
+    scene: &LitScene,
     capacity: Option<u32>,
 ) -> (VisibilityImage, ComplexityReport) {
     if let Some(c) = capacity {
@@ -106,11 +107,11 @@ fn frame(
 fn record_frame(
     ctx: &GpuContext,
     gpu_scene: &mut GpuScene,
-    scene: &Scene,
+    scene: &LitScene,
     gbuffer: &GBuffer,
 ) -> Result<(wgpu::CommandEncoder, wgpu::Texture), penumbra_gpu::GpuError> {
     let device = &ctx.device;
-    let camera = FrameCamera::of_scene(&scene.lit(0));
+    let camera = FrameCamera::of_scene(&scene);
     let target = visibility_target(device, gbuffer.size());
     let inputs = FrameInputs {
         camera,
@@ -123,23 +124,24 @@ fn record_frame(
 }
 
 /// A fixture's meshes in a [`GpuScene`] (each placed by the identity) with `samples` samples.
-fn gpu_scene(r: &GpuRenderer, scene: &Scene, samples: u32) -> GpuScene {
+fn gpu_scene(r: &GpuRenderer, scene: &LitScene, samples: u32) -> GpuScene {
     let meshes: Vec<_> = scene
         .meshes
         .iter()
         .map(|m| (&m.mesh, DMat4::IDENTITY))
         .collect();
-    let mut s = GpuScene::new(r, &meshes, scene.lit(0).light);
+    let mut s = GpuScene::new(r, &meshes, scene.light);
     s.set_light_samples(samples).unwrap();
     s
 }
 
-fn fixture(name: &str) -> Scene {
+fn fixture(name: &str) -> LitScene {
     fixtures()
         .into_iter()
         .find(|(n, _)| n == name)
         .expect("fixture")
         .1
+        .lit(0)
 }
 
 /// The counting pass's buffer that a frame allocates is the figure `count_buffer_bytes` gives
@@ -196,7 +198,7 @@ fn an_edge_list_too_small_loses_no_edge_and_grows() {
         .count();
     assert_eq!(differ, 0, "the overflowing frame lost edges");
     // And both are the oracle's image.
-    let oracle = DepthComplexity::new(&scene.lit(0)).render(
+    let oracle = DepthComplexity::new(&scene).render(
         SamplePattern {
             per_axis: 8,
             jitter: false,
@@ -324,7 +326,7 @@ fn the_stencil_counts_the_triangles_towards_the_centre_as_the_oracle_does() {
             1,
         )
         .expect("stencil");
-        let oracle = DepthComplexity::new(&scene.lit(0));
+        let oracle = DepthComplexity::new(&scene);
         let cam = &scene.camera;
         let (mut lit, mut equal, mut deep) = (0, 0, 0);
         let (mut near, mut hits) = (Vec::new(), Vec::new());
@@ -369,7 +371,7 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
     // The same meshes moved in code: the sphere by a transform, then the light.
     let moved =
         DMat4::from_translation(glam::DVec3::new(0.4, -0.2, 0.3)) * DMat4::from_rotation_y(0.5);
-    let mut light = base.lit(0).light;
+    let mut light = base.light;
     light.center += glam::DVec3::new(-0.7, 0.2, 0.5);
     let world = |transform: DMat4, light| {
         base.meshes.iter().enumerate().fold(
@@ -384,8 +386,8 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         )
     };
     for (step, scene) in [
-        (0, world(DMat4::IDENTITY, base.lit(0).light)),
-        (1, world(moved, base.lit(0).light)),
+        (0, world(DMat4::IDENTITY, base.light)),
+        (1, world(moved, base.light)),
         (2, world(moved, light)),
     ] {
         if step == 1 {
@@ -394,9 +396,10 @@ fn a_moved_mesh_and_a_moved_light_are_counted_anew() {
         if step == 2 {
             gpu_scene.set_light(light);
         }
+        let scene = scene.lit(0);
         let (gpu, report) = frame(&ctx, &mut gpu_scene, &scene, None);
         assert_eq!(report.cut_short, 0);
-        let oracle = DepthComplexity::new(&scene.lit(0)).render(pattern, &|_| {});
+        let oracle = DepthComplexity::new(&scene).render(pattern, &|_| {});
         let (equal, beyond) = agreement(&oracle, &gpu, 1.0 / 64.0);
         assert!(
             equal >= 0.998 && beyond as f64 <= 0.001 * gpu.data.len() as f64,

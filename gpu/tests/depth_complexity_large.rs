@@ -102,7 +102,7 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_the_large_meshes() {
     let r = GpuRenderer::with_context(&ctx);
     let mut report = Vec::new();
     for (name, scene) in large_scenes() {
-        let runs = against_the_oracle(&r, name, &scene);
+        let runs = against_the_oracle(&r, name, &scene.lit(0));
         let potential = runs[0].2.potential_edges;
         assert!(potential >= 10_000, "{name}: {potential} potential edges");
         assert_large_agrees(name, runs, &mut report);
@@ -134,7 +134,7 @@ fn gpu_depth_complexity_equals_the_cpu_oracle_on_the_scale_scene() {
     let mut report = Vec::new();
     assert_large_agrees(
         "scale",
-        against_the_oracle(&r, "scale", &scene),
+        against_the_oracle(&r, "scale", &scene.lit(0)),
         &mut report,
     );
     println!("{report:#?}");

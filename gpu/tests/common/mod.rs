@@ -93,13 +93,13 @@ pub fn agreement(
 pub fn against_the_oracle(
     r: &penumbra_gpu::GpuRenderer,
     name: &str,
-    scene: &Scene,
+    scene: &penumbra_geom::LitScene,
 ) -> Vec<(
     usize,
     penumbra_geom::VisibilityImage,
     penumbra_gpu::ComplexityImage,
 )> {
-    let oracle = penumbra_volumes::DepthComplexity::new(&scene.lit(0));
+    let oracle = penumbra_volumes::DepthComplexity::new(scene);
     [8usize, 16]
         .into_iter()
         .map(|per_axis| {
@@ -110,7 +110,7 @@ pub fn against_the_oracle(
             };
             let cpu = oracle.render(pattern, &|_| {});
             let gpu = r
-                .render_depth_complexity(&scene.lit(0), samples as u32)
+                .render_depth_complexity(scene, samples as u32)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(gpu.potential_edges, oracle.edges.edges.len(), "{name}");
             (samples, cpu, gpu)

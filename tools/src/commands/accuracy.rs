@@ -219,7 +219,8 @@ fn accuracy_rows(
         .render(scene, Technique::Reference, truth_options)
         .in_command_words()?;
     // Built before the timed renders.
-    let volumes = Volumes::build(&scene.lit(0));
+    let lit = scene.lit(0);
+    let volumes = Volumes::build(&lit);
     let runs = techniques.iter().flat_map(|&t| {
         let counts = if t.takes_samples() {
             sampling
@@ -249,7 +250,7 @@ fn accuracy_rows(
         r.release_kept();
         let start = std::time::Instant::now();
         let img = r
-            .render_frame(&scene.lit(0), t, &options, Some(&volumes), &|_| {})
+            .render_frame(&lit, t, &options, Some(&volumes), &|_| {})
             .map_err(|e| render_error(e, "--technique-samples"))?
             .image;
         let secs = start.elapsed().as_secs_f64();

@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use penumbra::gpu::PassTimes;
 use penumbra::volumes::Volumes;
-use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
+use penumbra::{Backend, LitScene, RenderOptions, Renderer, Scene, Technique};
 
 use crate::cli::ParamArgs;
 use crate::words::InCommandWords;
@@ -107,20 +107,11 @@ pub(crate) fn bench_one(
     let on_gpu = renderer.uses_gpu(technique).in_command_words()?;
     // A frame of a scene of several lights renders each light alone, one after the other.
     let lights = scene.light_count();
-    let scenes: Vec<Scene> = if scene.single_channel() {
-        Vec::new()
-    } else {
-        (0..lights).map(|k| scene.for_light(k)).collect()
-    };
-    let scenes: Vec<&Scene> = if scenes.is_empty() {
-        vec![&scene]
-    } else {
-        scenes.iter().collect()
-    };
+    let scenes: Vec<LitScene> = (0..lights).map(|k| scene.lit(k)).collect();
     // Built once, outside the timed frames: the frames time the GPU's work.
     let volumes: Vec<Option<Volumes>> = scenes
         .iter()
-        .map(|s| (on_gpu && technique.is_volume()).then(|| Volumes::build(&s.lit(0))))
+        .map(|s| (on_gpu && technique.is_volume()).then(|| Volumes::build(s)))
         .collect();
     let mut wall = Vec::new();
     let mut passes: Vec<PassTimes> = Vec::new();
@@ -129,7 +120,7 @@ pub(crate) fn bench_one(
         let mut times: Option<PassTimes> = None;
         for (s, v) in scenes.iter().zip(&volumes) {
             let frame = renderer
-                .render_frame(&s.lit(0), technique, &options, v.as_ref(), &|_| {})
+                .render_frame(s, technique, &options, v.as_ref(), &|_| {})
                 .in_command_words()?;
             times = match (times, frame.times) {
                 (Some(a), Some(b)) => Some(a.plus(&b)),

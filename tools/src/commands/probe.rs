@@ -97,7 +97,7 @@ fn probe_light(
                 (sampled * (1.0 - sampled) / samples as f64).sqrt()
             );
             println!("{indent}V hard     = {}", tracer.hard_visibility(&p));
-            let dc = DepthComplexity::new(&scene.lit(0));
+            let dc = DepthComplexity::new(&lit);
             let pattern = SamplePattern {
                 per_axis,
                 jitter: true,
