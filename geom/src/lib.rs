@@ -13,6 +13,7 @@ mod camera;
 mod channels;
 mod distant;
 mod exact;
+mod gltf;
 mod halfedge;
 mod image;
 mod image_files;
@@ -21,9 +22,11 @@ mod light;
 mod lights;
 mod memory;
 mod mesh;
+mod mesh_files;
 mod metrics;
 mod obj;
 mod output;
+mod ply;
 mod range;
 mod raycast;
 mod reference;
@@ -50,6 +53,7 @@ pub use lights::{
 };
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
+pub use mesh_files::MeshFormat;
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};
 pub use output::{output_target, remove_temporaries_in_progress, write_atomically};
 pub use range::{
