@@ -626,4 +626,4 @@ fn percent_decoded(uri: &str) -> Option<String> {
 
 #[cfg(test)]
 #[path = "gltf_tests.rs"]
-mod tests;
+pub(crate) mod tests;

@@ -245,3 +245,7 @@ mod tests {
         ));
     }
 }
+
+#[cfg(test)]
+#[path = "mesh_files_tests.rs"]
+mod scene_tests;
