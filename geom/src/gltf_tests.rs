@@ -473,14 +473,42 @@ fn base64_and_percent_escapes_decode() {
     for n in 0..8 {
         let bytes: Vec<u8> = (0..n).map(|i| (i * 37 + 200) as u8).collect();
         let text = base64_of(&bytes);
-        assert_eq!(super::base64(&text).unwrap(), bytes, "{text}");
-        assert_eq!(super::base64(text.trim_end_matches('=')).unwrap(), bytes);
+        assert_eq!(crate::gltf_buffers::base64(&text).unwrap(), bytes, "{text}");
+        assert_eq!(
+            crate::gltf_buffers::base64(text.trim_end_matches('=')).unwrap(),
+            bytes
+        );
     }
-    assert!(super::base64("A").is_err());
+    assert!(crate::gltf_buffers::base64("A").is_err());
     assert_eq!(
-        super::percent_decoded("a%20b%2Fc").as_deref(),
+        crate::gltf_buffers::percent_decoded("a%20b%2Fc").as_deref(),
         Some("a b/c")
     );
-    assert_eq!(super::percent_decoded("a%2"), None);
-    assert_eq!(super::percent_decoded("a%+1"), None);
+    assert_eq!(crate::gltf_buffers::percent_decoded("a%2"), None);
+    assert_eq!(crate::gltf_buffers::percent_decoded("a%+1"), None);
+}
+
+#[test]
+fn mutated_files_are_read_or_refused_never_a_panic() {
+    let mut d = Doc::default();
+    let p = d.positions(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ]);
+    let i = d.indices(&[0, 1, 2, 3], 2);
+    let m = d.mesh(&[(p, Some(i), 5), (p, None, 6)]);
+    d.node(&format!(
+        r#"{{"mesh": {m}, "children": [1], "scale": [1, 2, 1]}}"#
+    ));
+    d.node(&format!(r#"{{"mesh": {m}, "rotation": [0, 0.6, 0, 0.8]}}"#));
+    let more = r#""scene": 0, "scenes": [{"nodes": [0]}]"#;
+    let mut rng = crate::rng::Rng::new(11);
+    for good in [d.glb(more), d.embedded(more).into_bytes()] {
+        parse("g.gltf", &good).unwrap();
+        for _ in 0..3000 {
+            let _ = parse("g.gltf", &crate::mesh_files::mutated(&mut rng, &good));
+        }
+    }
 }

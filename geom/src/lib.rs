@@ -14,6 +14,7 @@ mod channels;
 mod distant;
 mod exact;
 mod gltf;
+mod gltf_buffers;
 mod halfedge;
 mod image;
 mod image_files;

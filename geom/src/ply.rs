@@ -121,7 +121,12 @@ impl Element {
 /// The triangles of the PLY file `path` of contents `bytes` (see the module's documentation;
 /// `docs/scene-format.md` is the contract).
 pub(crate) fn parse_ply(path: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshError> {
-    let (encoding, elements, data, first_line) = header(path, bytes)?;
+    let Header {
+        encoding,
+        elements,
+        data,
+        first_line,
+    } = header(path, bytes)?;
     let at = |line: usize, m: String| error(path, Some(line), m);
     // Every declared count against the bytes there are, before anything is allocated.
     let ascii = matches!(encoding, Encoding::Ascii);
@@ -306,12 +311,18 @@ enum Encoding {
     Binary { big: bool },
 }
 
-/// The header of a PLY file: its encoding, its elements, the bytes after `end_header` and the
-/// line they start on.
-fn header<'a>(
-    path: &Path,
-    bytes: &'a [u8],
-) -> Result<(Encoding, Vec<Element>, &'a [u8], usize), MeshError> {
+/// A PLY file's header, and the bytes after it.
+struct Header<'a> {
+    encoding: Encoding,
+    elements: Vec<Element>,
+    /// The bytes after `end_header`.
+    data: &'a [u8],
+    /// The line they start on.
+    first_line: usize,
+}
+
+/// The header of the PLY file `path` of contents `bytes`.
+fn header<'a>(path: &Path, bytes: &'a [u8]) -> Result<Header<'a>, MeshError> {
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
     let mut rest = bytes;
@@ -403,7 +414,12 @@ fn header<'a>(
         }
     }
     let encoding = encoding.ok_or_else(|| error(path, None, "no `format` line".into()))?;
-    Ok((encoding, elements, rest, line + 1))
+    Ok(Header {
+        encoding,
+        elements,
+        data: rest,
+        first_line: line + 1,
+    })
 }
 
 /// The values of the elements, read in order.

@@ -268,3 +268,14 @@ fn hostile_files_are_errors_that_name_the_file_the_line_and_the_fault() {
         "{e}"
     );
 }
+
+#[test]
+fn mutated_files_are_read_or_refused_never_a_panic() {
+    let mut rng = crate::rng::Rng::new(7);
+    for good in [ASCII.as_bytes().to_vec(), binary(false), binary(true)] {
+        parse("g.ply", &good).unwrap();
+        for _ in 0..3000 {
+            let _ = parse("g.ply", &crate::mesh_files::mutated(&mut rng, &good));
+        }
+    }
+}
