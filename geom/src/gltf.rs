@@ -166,7 +166,7 @@ pub(crate) fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<TriangleMesh, Mesh
             "no triangles: the scene's {skipped} primitives are points or lines, which cast no shadow"
         )));
     }
-    from_corners(path, MeshFormat::Gltf, &positions, &triangles)
+    from_corners(path, &positions, &triangles)
 }
 
 /// One primitive in its mesh's own space: positions as stored, triangles as indices into them.

@@ -112,13 +112,12 @@ impl TriangleMesh {
     }
 }
 
-/// The welded mesh of `triangles` over `positions` (finite, every index in range: the readers
-/// check both with their own messages), its vertices numbered in the order the triangles first
-/// use them, as the OBJ reader numbers them: the same triangles read from any format make the
-/// same mesh, and vertices no triangle uses are left out.
+/// The welded mesh of `triangles` over `positions` (finite, every index in range, fewer than
+/// `u32::MAX` positions: the readers check all three with their own messages), its vertices
+/// numbered in the order the triangles first use them, as the OBJ reader numbers them: the same
+/// triangles read from any format make the same mesh, and vertices no triangle uses are left out.
 pub(crate) fn from_corners(
     path: &Path,
-    format: MeshFormat,
     positions: &[DVec3],
     triangles: &[[u32; 3]],
 ) -> Result<TriangleMesh, MeshError> {
@@ -139,17 +138,6 @@ pub(crate) fn from_corners(
             }
             *n
         }));
-    }
-    if used.len() > u32::MAX as usize {
-        return Err(MeshError::Format {
-            path: path.to_path_buf(),
-            format,
-            line: None,
-            message: format!(
-                "{} vertices, more than 32-bit indices can number",
-                used.len()
-            ),
-        });
     }
     TriangleMesh::from_raw_at(path, &used, &renumbered)
 }
@@ -230,7 +218,7 @@ mod tests {
             DVec3::Y,
             DVec3::Z,
         ];
-        let m = from_corners(Path::new("m"), MeshFormat::Ply, &p, &[[3, 1, 2], [4, 1, 3]]).unwrap();
+        let m = from_corners(Path::new("m"), &p, &[[3, 1, 2], [4, 1, 3]]).unwrap();
         assert_eq!(m.positions, [DVec3::Y, DVec3::ZERO, DVec3::X, DVec3::Z]);
         assert_eq!(m.triangles, [[0, 1, 2], [3, 1, 0]]);
         let obj = TriangleMesh::parse_obj(
@@ -240,7 +228,7 @@ mod tests {
         .unwrap();
         assert_eq!(m, obj);
         assert!(matches!(
-            from_corners(Path::new("m"), MeshFormat::Ply, &p, &[]),
+            from_corners(Path::new("m"), &p, &[]),
             Err(MeshError::Empty { .. })
         ));
     }

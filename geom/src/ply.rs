@@ -303,7 +303,7 @@ pub(crate) fn parse_ply(path: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshE
             }
         }
     }
-    from_corners(path, MeshFormat::Ply, &positions, &triangles)
+    from_corners(path, &positions, &triangles)
 }
 
 enum Encoding {
