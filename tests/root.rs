@@ -11,6 +11,7 @@ mod fuzz;
 mod layout;
 mod light_inside;
 mod light_plane;
+mod mesh_files;
 mod outside_crate;
 mod quad_closed_form;
 mod reference_vs_exact;

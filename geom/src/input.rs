@@ -45,28 +45,49 @@ pub fn regular_file(path: &Path) -> std::io::Result<std::fs::Metadata> {
     }
 }
 
+/// `Err` with a message when `bytes` more would not fit in the memory available
+/// ([`crate::memory::available_memory`]), keeping half of it for what is made of them.
+pub fn within_memory(bytes: u64) -> Result<(), String> {
+    match crate::memory::available_memory().filter(|&a| bytes > a / 2) {
+        Some(a) => Err(format!(
+            "{:.1} GB, more than the memory available ({:.1} GB) can hold with what is made of it",
+            bytes as f64 / 1e9,
+            a as f64 / 1e9
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The size of the regular file at `path`, refused (kind `OutOfMemory`) when the memory
+/// available could not hold it.
+fn checked_len(path: &Path) -> std::io::Result<u64> {
+    let m = regular_file(path)?;
+    within_memory(m.len())
+        .map_err(|message| std::io::Error::new(std::io::ErrorKind::OutOfMemory, message))?;
+    Ok(m.len())
+}
+
 /// The text of the regular file at `path` (or the regular file a link there points to). Anything
 /// else is refused before it is opened, and a file larger than the memory available
 /// ([`crate::memory::available_memory`]) before it is read; reading stops at the size the file had
 /// when it was checked, should it grow meanwhile.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
-    use std::io::{Error, ErrorKind};
-    let m = regular_file(path)?;
-    if let Some(a) = crate::memory::available_memory().filter(|&a| m.len() > a / 2) {
-        return Err(Error::new(
-            ErrorKind::OutOfMemory,
-            format!(
-                "{:.1} GB, more than the memory available ({:.1} GB) can hold with what is made of it",
-                m.len() as f64 / 1e9,
-                a as f64 / 1e9
-            ),
-        ));
-    }
-    let mut text = String::with_capacity(m.len() as usize);
+    let len = checked_len(path)?;
+    let mut text = String::with_capacity(len as usize);
     std::fs::File::open(path)?
-        .take(m.len())
+        .take(len)
         .read_to_string(&mut text)?;
     Ok(text)
+}
+
+/// The bytes of the regular file at `path`, under the checks of [`read_text`].
+pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    let len = checked_len(path)?;
+    let mut bytes = Vec::with_capacity(len as usize);
+    std::fs::File::open(path)?
+        .take(len)
+        .read_to_end(&mut bytes)?;
+    Ok(bytes)
 }
 
 #[cfg(test)]
@@ -80,6 +101,8 @@ mod tests {
         let f = dir.join("a.txt");
         std::fs::write(&f, "v 0 0 0\n").unwrap();
         assert_eq!(read_text(&f).unwrap(), "v 0 0 0\n");
+        assert_eq!(read_bytes(&f).unwrap(), b"v 0 0 0\n");
+        assert!(read_bytes(&dir).is_err());
         let e = read_text(&dir).unwrap_err();
         assert!(
             e.to_string().contains("a directory, not a regular file"),

@@ -13,6 +13,8 @@ mod camera;
 mod channels;
 mod distant;
 mod exact;
+mod gltf;
+mod gltf_buffers;
 mod halfedge;
 mod image;
 mod image_files;
@@ -25,9 +27,11 @@ mod lights;
 mod lit_scene;
 mod memory;
 mod mesh;
+mod mesh_files;
 mod metrics;
 mod obj;
 mod output;
+mod ply;
 mod range;
 mod raycast;
 mod reference;
@@ -59,6 +63,7 @@ pub use lights::{
 pub use lit_scene::{DistantView, LitScene};
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
+pub use mesh_files::MeshFormat;
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};
 pub use output::{output_target, remove_temporaries_in_progress, write_atomically};
 pub use range::{

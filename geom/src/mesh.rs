@@ -1,4 +1,5 @@
-//! Triangle meshes, welded by exact position (read from Wavefront OBJ files in `obj.rs`).
+//! Triangle meshes, welded by exact position (read from Wavefront OBJ files in `obj.rs`, glTF in
+//! `gltf.rs` and PLY in `ply.rs`, chosen by the scene file's key in `mesh_files.rs`).
 //!
 //! Welding makes adjacency real: two corners with bit-identical coordinates (with `-0.0` read as
 //! `0.0`) become one vertex, whatever the OBJ's own indices say. Zero-area triangles (repeated
@@ -9,6 +10,8 @@ use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3};
 use thiserror::Error;
+
+use crate::mesh_files::MeshFormat;
 
 /// What can be wrong with a mesh file. Every variant names the file, and the line where there is
 /// one (1-based).
@@ -54,12 +57,60 @@ pub enum MeshError {
         /// Number of vertices.
         count: usize,
     },
+    /// A glTF or PLY file is malformed, or holds what is not read (each reader's documentation
+    /// says what it reads).
+    #[error("{}: {format}: {message}", at_line(path, *line))]
+    Format {
+        /// The mesh file.
+        path: PathBuf,
+        /// Its format.
+        format: MeshFormat,
+        /// 1-based line where the format has lines and the error one (ASCII PLY, glTF JSON).
+        line: Option<usize>,
+        /// What is wrong.
+        message: String,
+    },
+    /// The file's contents are not of the format its scene-file key names (a glTF file given
+    /// as `obj`, an OBJ as `gltf`, ...).
+    #[error(
+        "{path}: {} (a mesh file is named by its format's key: `obj`, `gltf` or `ply`)",
+        what_it_is(*key, *found)
+    )]
+    WrongFormat {
+        /// The mesh file.
+        path: PathBuf,
+        /// The format its key named.
+        key: MeshFormat,
+        /// What its first bytes show it is: glTF or PLY by their signatures, `None` for neither
+        /// (an OBJ has no signature).
+        found: Option<MeshFormat>,
+    },
     /// The file holds no triangle at all.
     #[error("{path}: mesh has no triangles")]
     Empty {
         /// The mesh file.
         path: PathBuf,
     },
+}
+
+/// `path`, or `path:line`.
+fn at_line(path: &Path, line: Option<usize>) -> String {
+    match line {
+        Some(line) => format!("{}:{line}", path.display()),
+        None => path.display().to_string(),
+    }
+}
+
+/// What [`MeshError::WrongFormat`] says of a file given as `key` that is `found`.
+fn what_it_is(key: MeshFormat, found: Option<MeshFormat>) -> String {
+    let given = format!("given as `{} = ...`", key.key());
+    match found {
+        Some(f) => format!("a {f} file {given}: write `{} = ...`", f.key()),
+        None => format!(
+            "not a {key} file ({}) but {given}: an OBJ file is given as `obj = ...`",
+            key.signature()
+        ),
+    }
 }
 
 /// An indexed triangle mesh with welded vertices.

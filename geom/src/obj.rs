@@ -13,13 +13,10 @@ impl TriangleMesh {
     /// Loads every object of an OBJ file, triangulated, into one welded mesh.
     ///
     /// Materials are ignored (a missing `.mtl` is not an error). Errors name the file and, where
-    /// the statement can be located, its line.
+    /// the statement can be located, its line; a glTF or PLY file is refused as such
+    /// ([`TriangleMesh::load`]).
     pub fn load_obj(path: &Path) -> Result<Self, MeshError> {
-        let text = crate::input::read_text(path).map_err(|error| MeshError::Io {
-            path: path.to_path_buf(),
-            error,
-        })?;
-        Self::parse_obj(path, &text)
+        Self::load(path, crate::mesh_files::MeshFormat::Obj)
     }
 
     /// [`TriangleMesh::load_obj`] of the text of an OBJ file; `path` names it in errors.

@@ -19,7 +19,7 @@ use crate::mesh::TriangleMesh;
 /// One mesh of a scene, in world space.
 #[derive(Clone, Debug)]
 pub struct SceneMesh {
-    /// The mesh file it came from (or the name it was given in code).
+    /// The mesh file it came from, OBJ, glTF or PLY (or the name it was given in code).
     pub source: PathBuf,
     /// `translate * rotate * scale`: from the mesh file into the world.
     pub transform: DMat4,

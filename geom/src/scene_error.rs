@@ -41,11 +41,11 @@ pub enum SceneError {
     Mesh {
         /// The scene file.
         path: PathBuf,
-        /// Line of the mesh's `obj` key.
+        /// Line of the mesh's file key (`obj`, `gltf` or `ply`).
         line: usize,
         /// 0-based index of the `[[mesh]]` entry.
         mesh: usize,
-        /// The mesh error, naming the OBJ file and its line.
+        /// The mesh error, naming the mesh file and its line.
         error: MeshError,
     },
 }

@@ -28,7 +28,7 @@
 //! # center = ...            # and the other keys of `[light]`
 //!
 //! [[mesh]]                  # any number
-//! obj = "meshes/foo.obj"    # relative to the scene file
+//! obj = "meshes/foo.obj"    # relative to the scene file; or gltf = "x.glb", or ply = "x.ply"
 //! scale = 1.0               # optional: number or [sx, sy, sz]
 //! rotate_axis_angle = [ax, ay, az, degrees]   # optional
 //! translate = [x, y, z]     # optional; world = translate * rotate * scale
@@ -45,6 +45,7 @@ use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
 use crate::mesh::TriangleMesh;
+use crate::mesh_files::MeshFormat;
 use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 use crate::scene::{Scene, SceneMesh};
 use crate::scene_error::SceneError;
@@ -83,7 +84,9 @@ struct CameraDesc {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MeshDesc {
-    obj: Spanned<String>,
+    obj: Option<Spanned<String>>,
+    gltf: Option<Spanned<String>>,
+    ply: Option<Spanned<String>>,
     scale: Option<Spanned<Scale>>,
     rotate_axis_angle: Option<Spanned<Vector<4>>>,
     translate: Option<Spanned<Vector<3>>>,
@@ -135,7 +138,7 @@ impl Scene {
         Scene::from_toml(&text, path)
     }
 
-    /// Parses scene text as if read from `path` (OBJ paths are relative to its folder).
+    /// Parses scene text as if read from `path` (mesh paths are relative to its folder).
     pub fn from_toml(text: &str, path: &Path) -> Result<Scene, SceneError> {
         // A UTF-8 byte-order mark is not part of the first line.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -226,31 +229,34 @@ impl Scene {
         let base = path.parent().unwrap_or(Path::new("."));
         let mut meshes = Vec::with_capacity(file.mesh.len());
         // Each file is read and parsed once, however many entries name it.
-        let mut loaded: std::collections::HashMap<PathBuf, TriangleMesh> =
+        let mut loaded: std::collections::HashMap<(PathBuf, MeshFormat), TriangleMesh> =
             std::collections::HashMap::new();
-        for (index, m) in file.mesh.iter().enumerate() {
-            let m = m.get_ref();
+        for (index, entry) in file.mesh.iter().enumerate() {
+            let (format, name) =
+                mesh_file(entry, index).map_err(|(span, msg)| invalid(span, msg))?;
+            let m = entry.get_ref();
             let transform = mesh_transform(m).map_err(|(span, msg)| invalid(span, msg))?;
-            let source = base.join(m.obj.get_ref());
-            let mesh = match loaded.get(&source) {
+            let source = base.join(name.get_ref());
+            let mesh = match loaded.get(&(source.clone(), format)) {
                 Some(mesh) => mesh,
                 None => {
-                    let mesh = TriangleMesh::load_obj(&source).map_err(|e| SceneError::Mesh {
-                        path: path.to_path_buf(),
-                        line: line_of(text, m.obj.span().start),
-                        mesh: index,
-                        error: e,
-                    })?;
-                    loaded.entry(source.clone()).or_insert(mesh)
+                    let mesh =
+                        TriangleMesh::load(&source, format).map_err(|e| SceneError::Mesh {
+                            path: path.to_path_buf(),
+                            line: line_of(text, name.span().start),
+                            mesh: index,
+                            error: e,
+                        })?;
+                    loaded.entry((source.clone(), format)).or_insert(mesh)
                 }
             };
             let world = mesh.transformed(&transform);
             if let Some(v) = world.positions.iter().find(|v| !within_coordinates(**v)) {
                 return Err(invalid(
-                    m.obj.span(),
+                    name.span(),
                     format!(
                         "mesh {index} ({}) has a vertex at {v} after its transform, outside the supported range (coordinates up to {MAX_COORDINATE:e})",
-                        m.obj.get_ref()
+                        name.get_ref()
                     ),
                 ));
             }
@@ -335,6 +341,44 @@ fn both_light_forms(text: &str) -> Option<usize> {
 }
 
 type SpanError = (std::ops::Range<usize>, String);
+
+/// The mesh file of `[[mesh]]` entry `index` and its format: exactly one of its keys `obj`,
+/// `gltf` and `ply`.
+fn mesh_file(
+    m: &Spanned<MeshDesc>,
+    index: usize,
+) -> Result<(MeshFormat, &Spanned<String>), SpanError> {
+    let d = m.get_ref();
+    let given: Vec<(MeshFormat, &Spanned<String>)> = [&d.obj, &d.gltf, &d.ply]
+        .into_iter()
+        .zip(MeshFormat::ALL)
+        .filter_map(|(file, format)| Some((format, file.as_ref()?)))
+        .collect();
+    match given.as_slice() {
+        [one] => Ok(*one),
+        [] => Err((
+            m.span(),
+            format!("mesh {index} names no mesh file: give one of `obj`, `gltf` or `ply`"),
+        )),
+        [_, _, ..] => Err((
+            // The later key's line.
+            given
+                .iter()
+                .map(|(_, file)| file.span())
+                .max_by_key(|span| span.start)
+                .expect("two or more"),
+            format!(
+                "mesh {index} names {} mesh files ({}): give exactly one of `obj`, `gltf` or `ply`",
+                given.len(),
+                given
+                    .iter()
+                    .map(|(f, _)| format!("`{}`", f.key()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )),
+    }
+}
 
 fn mesh_transform(m: &MeshDesc) -> Result<DMat4, SpanError> {
     let scale = match m.scale.as_ref() {
