@@ -188,24 +188,17 @@ fn draw(
     let mut renderer = Renderer::new(backend);
     let mut channels = Vec::with_capacity(lights);
     let mut details = Vec::with_capacity(lights);
-    let names = scene.light_names();
+    // The lights' names, where the image names its channels by them.
+    let names = if scene.single_channel() {
+        Vec::new()
+    } else {
+        scene.light_names()
+    };
     for (k, channel) in scene.channel_names().into_iter().enumerate() {
-        // A scene of one light renders itself; one of several, each light alone.
-        let one = if scene.single_channel() {
-            None
-        } else {
-            Some(scene.for_light(k))
-        };
         let done = k as u64 * rows;
         let progress = |r| bar.set_position(done + r);
         let frame = renderer
-            .render_frame(
-                &(one.as_ref().unwrap_or(scene)).lit(0),
-                technique,
-                &options,
-                None,
-                &progress,
-            )
+            .render_frame(&scene.lit(k), technique, &options, None, &progress)
             .in_command_words()?;
         let light = names
             .get(k)
