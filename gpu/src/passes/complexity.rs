@@ -13,16 +13,6 @@ use penumbra_volumes::PotentialEdges;
 /// WGSL declarations shared by the edge-list and the counting pass.
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
 
-/// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), its sample
-/// pattern (`count_pattern.wgsl`), its receiver and the side tests made from its corners
-/// (`count_receiver.wgsl`), then the pass (`count.wgsl`), one shader in four files.
-pub const COUNT_WGSL: &str = concat!(
-    include_str!("../shaders/count_regions.wgsl"),
-    include_str!("../shaders/count_pattern.wgsl"),
-    include_str!("../shaders/count_receiver.wgsl"),
-    include_str!("../shaders/count.wgsl")
-);
-
 /// A potential silhouette edge (`struct Edge`): light-space ends, its faces' range and the
 /// plane through it and the light's centre.
 #[repr(C)]

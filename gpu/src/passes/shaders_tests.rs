@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use super::complexity::{COMPLEXITY_WGSL, COUNT_WGSL};
+use super::complexity::COMPLEXITY_WGSL;
+use super::count::COUNT_WGSL;
 use super::fullscreen::{SHADOW_MAP_SHADERS, SHADOW_WGSL};
 use super::wgsl_source;
 
@@ -33,7 +34,7 @@ fn every_wgsl_file_validates_with_naga() {
         // Each pass's shader is compiled after the shared constants and frame.wgsl
         // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
         // (`fullscreen::shadow_shader`), depth-complexity sampling's passes (and its receiver
-        // candidates) with complexity.wgsl, and the counting pass from its four files (`complexity::COUNT_WGSL`).
+        // candidates) with complexity.wgsl, and the counting pass from its four files (`count::COUNT_WGSL`).
         let file = std::fs::read_to_string(&p).unwrap();
         let source = if SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             format!("{SHADOW_WGSL}\n{file}")
