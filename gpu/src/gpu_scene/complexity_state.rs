@@ -22,7 +22,7 @@
 //! [`ComplexityState`] is all a scene keeps for it: what it built of the scene for the current
 //! light and transforms, the frame's buffers, and its settings.
 
-use crate::counters::Traffic;
+use crate::counters::{Pass, Traffic};
 use std::ops::Range;
 
 use penumbra_geom::{HalfEdgeMesh, RectLight, Warp};
@@ -45,7 +45,7 @@ use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
 use crate::passes::{FrameBindings, bind_group, buffer};
 use crate::pipelines::Pipelines;
-use crate::timing::{Pass, Timer};
+use crate::timing::Timer;
 
 /// Light samples per axis of a new scene (256 samples per pixel).
 const DEFAULT_AXIS: u32 = 16;

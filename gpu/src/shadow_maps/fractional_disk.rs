@@ -14,7 +14,7 @@ use super::pipelines::TechniquePasses;
 use crate::constants::NOISE_SIZE;
 use crate::passes::fullscreen::LIGHT_MAP_FORMAT;
 use crate::passes::{VISIBILITY_FORMAT, texture_descriptor, view};
-use crate::timing::Pass;
+use crate::counters::Pass;
 
 /// Its shader and its passes: the edges, the propagation, the filter, and the probe of the
 /// tests ([`super::ShadowMapRenderer::probe`]).

@@ -12,7 +12,7 @@ use super::light_frustum::LightFrustum;
 use super::pipelines::TechniquePasses;
 use crate::constants::MAX_TAPS;
 use crate::passes::VISIBILITY_FORMAT;
-use crate::timing::Pass;
+use crate::counters::Pass;
 
 /// Its shader and its passes: the distance map, the dilation, the three filters and the
 /// read-out.

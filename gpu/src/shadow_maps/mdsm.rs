@@ -8,7 +8,7 @@ use super::frame::{RGBA, ShadowFrame};
 use super::inputs::TechniqueLanes;
 use super::pipelines::TechniquePasses;
 use crate::passes::VISIBILITY_FORMAT;
-use crate::timing::Pass;
+use crate::counters::Pass;
 
 /// Its shader and its passes: the build, the filter, and the probe of the tests
 /// ([`super::ShadowMapRenderer::probe`]).

@@ -7,7 +7,7 @@ use super::frame::ShadowFrame;
 use super::inputs::TechniqueLanes;
 use super::pipelines::TechniquePasses;
 use crate::passes::VISIBILITY_FORMAT;
-use crate::timing::Pass;
+use crate::counters::Pass;
 
 /// Its shader and its one pass.
 pub(super) const PASSES: TechniquePasses = TechniquePasses {
