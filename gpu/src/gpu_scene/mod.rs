@@ -5,6 +5,7 @@
 //! CPU and uploaded again only in frames where the light or a mesh's transform changed.
 
 mod complexity;
+mod complexity_buffers;
 mod complexity_receivers;
 mod complexity_state;
 mod distant;
@@ -28,7 +29,7 @@ use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_m
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
-pub use complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
+pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use complexity_state::ComplexityState;
 use distant::Distant;
 use meshes::{StoredMesh, centre, world};
