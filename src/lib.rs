@@ -68,8 +68,8 @@
 pub mod backend;
 mod cpu;
 mod error;
-mod frame;
 mod options;
+mod rendered_frame;
 mod renderer;
 mod runs;
 
@@ -91,7 +91,7 @@ pub use penumbra_volumes as volumes;
 
 pub use backend::{Backend, MAX_GPU_BLEND_UNITS, MAX_GPU_SAMPLES};
 pub use error::{MissingGpu, RenderError};
-pub use frame::{Frame, Warning};
+pub use rendered_frame::{Frame, Warning};
 pub use options::{MAX_SAMPLES, RenderOptions};
 pub use renderer::Renderer;
 pub use runs::Runs;

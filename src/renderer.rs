@@ -10,7 +10,7 @@ use penumbra_volumes::Volumes;
 
 use crate::backend::{self, Backend, GpuOffer, Machine, Placement, Reason, Request};
 use crate::error::{MissingGpu, RenderError};
-use crate::frame::{self, Frame};
+use crate::rendered_frame::{self, Frame};
 use crate::options::RenderOptions;
 use crate::runs::Runs;
 
@@ -285,7 +285,7 @@ impl Renderer {
                 frame
             }
         };
-        frame.warnings = frame::warnings(scene, technique, choice.placement, extent);
+        frame.warnings = rendered_frame::warnings(scene, technique, choice.placement, extent);
         Ok(frame)
     }
 

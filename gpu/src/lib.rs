@@ -20,7 +20,7 @@
 mod constants;
 mod context;
 mod counters;
-mod frame;
+mod frame_uniforms;
 mod gpu_scene;
 mod passes;
 mod pipelines;
@@ -39,7 +39,7 @@ pub use context::{
     required_features, required_limits,
 };
 pub use counters::{PassCounters, PassCounts, Statistics};
-pub use frame::{CameraError, FrameCamera};
+pub use frame_uniforms::{CameraError, FrameCamera};
 pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};
 pub use passes::count::{count_buffer_bytes, storage_binding_limit};
 pub use passes::depth::{GBuffer, visibility_target};

@@ -4,7 +4,7 @@
 use super::complexity_state::{ComplexityReport, SceneParts};
 use super::{FrameInputs, GpuScene};
 use crate::context::GpuError;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::GBuffer;
 use crate::timing::Timer;
 

@@ -32,7 +32,7 @@ use super::uploads::Uploads;
 use crate::constants::{COUNT_GROUP, MAX_AXIS};
 use crate::context::{GpuContext, GpuError};
 use crate::counters::{Pass, Traffic};
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::complexity::ComplexityParams;
 use crate::passes::count::{
     band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,

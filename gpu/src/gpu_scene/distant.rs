@@ -7,7 +7,7 @@ use penumbra_geom::{DistantLight, RectLight, Warp};
 
 use super::GpuScene;
 use super::meshes::{StoredMesh, world_corners};
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 
 /// A distant light and the warp its frames are rendered through.
 pub(super) struct Distant {

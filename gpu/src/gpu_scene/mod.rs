@@ -25,7 +25,7 @@ use penumbra_volumes::Volumes;
 use penumbra_volumes::outward_sign;
 
 use crate::context::GpuContext;
-use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
+use crate::frame_uniforms::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};

@@ -6,7 +6,7 @@ use penumbra_geom::{Light, Technique, Warp};
 
 use super::{FrameInputs, GpuScene};
 use crate::context::GpuError;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::{GBuffer, MeshDraws};
 use crate::passes::resolve::ResolveInput;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};

@@ -8,7 +8,7 @@ use crate::counters::{Pass, Traffic, part};
 use std::ops::Range;
 
 use super::GpuScene;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::blend::{SILHOUETTE_ADDED, TileMask, TileRange, disjoint_groups};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;

@@ -118,7 +118,7 @@ impl ComplexityParams {
     /// The camera's part: the eye and the rays through the pixels, in `light`'s space, from
     /// the inverse of `camera`'s view-projection composed in `f64` (a direction is the inverse
     /// image of a point at depth 0, at infinity).
-    pub fn set_camera(&mut self, camera: &crate::frame::FrameCamera, light: &RectLight) {
+    pub fn set_camera(&mut self, camera: &crate::frame_uniforms::FrameCamera, light: &RectLight) {
         let inv = camera.view_proj.inverse();
         let h = light.half_size();
         let dir = |v: DVec4| {

@@ -31,7 +31,7 @@ fn every_wgsl_file_validates_with_naga() {
         {
             continue;
         }
-        // Each pass's shader is compiled after the shared constants and frame.wgsl
+        // Each pass's shader is compiled after the shared constants and common.wgsl
         // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
         // (`fullscreen::shadow_shader`), depth-complexity sampling's passes (and its receiver
         // candidates) with complexity.wgsl, and the counting pass from its four files (`count::COUNT_WGSL`).

@@ -8,7 +8,7 @@ use penumbra_geom::Rng;
 use penumbra_params::TechniqueParams;
 use wgpu::util::DeviceExt;
 
-use super::frame::{RGBA, ShadowFrame};
+use super::resources::{RGBA, ShadowFrame};
 use super::inputs::{TechniqueLanes, best_candidates};
 use super::pipelines::TechniquePasses;
 use crate::constants::NOISE_SIZE;

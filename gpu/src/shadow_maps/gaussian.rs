@@ -6,7 +6,7 @@ use glam::DVec2;
 use penumbra_geom::Rng;
 use penumbra_params::{GaussianVariant, TechniqueParams};
 
-use super::frame::{RGBA, ShadowFrame, uniform_buffer};
+use super::resources::{RGBA, ShadowFrame, uniform_buffer};
 use super::inputs::{TechniqueLanes, best_candidates};
 use super::light_frustum::LightFrustum;
 use super::pipelines::TechniquePasses;

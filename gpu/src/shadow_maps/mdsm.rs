@@ -4,7 +4,7 @@
 
 use penumbra_params::{MdsmExtra, TechniqueParams};
 
-use super::frame::{RGBA, ShadowFrame};
+use super::resources::{RGBA, ShadowFrame};
 use super::inputs::TechniqueLanes;
 use super::pipelines::TechniquePasses;
 use crate::passes::VISIBILITY_FORMAT;

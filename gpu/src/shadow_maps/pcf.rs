@@ -3,7 +3,7 @@
 
 use penumbra_params::TechniqueParams;
 
-use super::frame::ShadowFrame;
+use super::resources::ShadowFrame;
 use super::inputs::TechniqueLanes;
 use super::pipelines::TechniquePasses;
 use crate::passes::VISIBILITY_FORMAT;

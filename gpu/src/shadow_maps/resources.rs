@@ -9,7 +9,7 @@ use super::inputs::{ShadowUniforms, back_faces};
 use super::pipelines::ShadowPipelines;
 use crate::context::GpuContext;
 use crate::counters::{Pass, Traffic};
-use crate::frame::{FrameCamera, FrameUniforms, eye_relative, single_frame_group};
+use crate::frame_uniforms::{FrameCamera, FrameUniforms, eye_relative, single_frame_group};
 use crate::passes::depth::{GBuffer, MeshDraws, visibility_target};
 use crate::passes::fullscreen::{INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT};
 use crate::passes::{bind_group, buffer, texture, view};
