@@ -20,7 +20,7 @@ fn every_wgsl_file_validates_with_naga() {
         // Declarations compiled ahead of the passes' shaders, and the counting pass's first
         // parts: each is validated in the shaders that take it.
         if [
-            "frame",
+            "common",
             "shadow",
             "complexity",
             "count_regions",
