@@ -73,6 +73,9 @@ mod rendered_frame;
 mod renderer;
 mod runs;
 
+#[cfg(test)]
+mod backend_tests;
+
 pub use glam;
 pub use penumbra_geom as geom;
 pub use penumbra_geom::CameraError;
