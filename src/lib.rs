@@ -37,15 +37,11 @@
 //!
 //! let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
 //! let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(1.0));
-//! let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
-//! let ground = TriangleMesh::from_raw(
-//!     "ground",
-//!     &corners.map(|[x, z]| DVec3::new(x, 0.0, z)),
-//!     &[[0, 1, 2], [0, 2, 3]],
-//! )?;
+//! // The unit quad scaled to an 8 x 8 ground, and a sphere of radius 0.5 one above it.
+//! let ground = DMat4::from_scale(DVec3::splat(8.0));
 //! let ball = DMat4::from_translation(DVec3::new(0.0, 1.0, 0.0)) * DMat4::from_scale(DVec3::splat(0.5));
 //! let scene = Scene::new(camera, light)
-//!     .with_mesh("ground", &ground, DMat4::IDENTITY)
+//!     .with_mesh("ground", &TriangleMesh::quad(), ground)
 //!     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), ball);
 //! let v = Renderer::new(Backend::Cpu).render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
 //! // The ball's shadow falls straight below it, in the middle of the image; the corners are lit.

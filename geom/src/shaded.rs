@@ -253,17 +253,7 @@ mod tests {
             DVec3::X,
             DVec2::splat(1.0),
         );
-        let quad = TriangleMesh::from_raw(
-            "quad",
-            &[
-                DVec3::new(-0.5, 0.0, -0.5),
-                DVec3::new(-0.5, 0.0, 0.5),
-                DVec3::new(0.5, 0.0, 0.5),
-                DVec3::new(0.5, 0.0, -0.5),
-            ],
-            &[[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap();
+        let quad = TriangleMesh::quad();
         let s = Scene::new(camera, light)
             .with_mesh("ground", &quad, DMat4::from_scale(DVec3::splat(20.0)))
             .with_mesh("quad", &quad, DMat4::from_translation(DVec3::Y));
