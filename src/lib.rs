@@ -90,7 +90,7 @@ pub use penumbra_volumes as volumes;
 
 pub use backend::{Backend, MAX_GPU_BLEND_UNITS, MAX_GPU_SAMPLES};
 pub use error::{MissingGpu, RenderError};
-pub use rendered_frame::{Frame, Warning};
 pub use options::{MAX_SAMPLES, RenderOptions};
+pub use rendered_frame::{Frame, Warning};
 pub use renderer::Renderer;
 pub use runs::Runs;

@@ -10,8 +10,8 @@ use penumbra_volumes::Volumes;
 
 use crate::backend::{self, Backend, GpuOffer, Machine, Placement, Reason, Request};
 use crate::error::{MissingGpu, RenderError};
-use crate::rendered_frame::{self, Frame};
 use crate::options::RenderOptions;
+use crate::rendered_frame::{self, Frame};
 use crate::runs::Runs;
 
 /// Whether the GPU has been looked for yet, and what was found.

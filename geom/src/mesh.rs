@@ -405,7 +405,11 @@ mod tests {
             })
             .sum();
         assert_eq!(up, 1.0);
-        assert!(quad.positions.iter().all(|p| p.y == 0.0 && p.x.abs() == 0.5 && p.z.abs() == 0.5));
+        assert!(
+            quad.positions
+                .iter()
+                .all(|p| p.y == 0.0 && p.x.abs() == 0.5 && p.z.abs() == 0.5)
+        );
     }
 
     #[test]

@@ -29,8 +29,8 @@ use crate::frame_uniforms::{FrameCamera, FrameUniforms, ModelMatrix, frame_group
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
-pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use complexity_state::ComplexityState;
+pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use distant::Distant;
 use meshes::{StoredMesh, centre, world};
 use scratch::Scratch;

@@ -26,12 +26,12 @@ use penumbra_geom::{Scene, Technique};
 
 use crate::context::{GpuContext, GpuError};
 use crate::timing::{Rendered, read_frame};
-use resources::{ShadowFrame, back_face_casters};
 pub use gaussian::multi_pass_kernel;
 pub use inputs::ShadowUniforms;
 use inputs::{TechniqueLanes, closed_first};
 pub use light_frustum::{LightFrustum, MAX_SLOPE};
 use pipelines::{ShadowPipelines, TechniquePasses};
+use resources::{ShadowFrame, back_face_casters};
 
 /// The pipelines of one shadow-map technique, built once per device; each
 /// [`ShadowMapRenderer::render`] renders a scene with the parameters of its `params`.

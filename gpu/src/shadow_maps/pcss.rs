@@ -4,11 +4,11 @@
 
 use penumbra_params::TechniqueParams;
 
-use super::resources::ShadowFrame;
 use super::inputs::TechniqueLanes;
 use super::pipelines::TechniquePasses;
-use crate::passes::VISIBILITY_FORMAT;
+use super::resources::ShadowFrame;
 use crate::counters::Pass;
+use crate::passes::VISIBILITY_FORMAT;
 
 /// Its shader and its one pass.
 pub(super) const PASSES: TechniquePasses = TechniquePasses {

@@ -7,8 +7,8 @@ use penumbra_geom::Technique;
 use wgpu::util::DeviceExt;
 
 use super::ShadowMapRenderer;
-use super::resources::{RGBA, SAMPLED};
 use super::inputs::ShadowUniforms;
+use super::resources::{RGBA, SAMPLED};
 use crate::context::GpuError;
 use crate::frame_uniforms::{FrameUniforms, single_frame_group};
 use crate::passes::fullscreen::{INPUT_IMAGES, LIGHT_MAP_FORMAT};
