@@ -15,11 +15,10 @@ use super::complexity_receivers::ReceiverTargets;
 use super::meshes::{StoredMesh, world};
 use crate::constants::TILE;
 use crate::counters::Traffic;
-use crate::passes::bind_group;
-use crate::passes::buffer;
 use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
 use crate::passes::count::count_bytes;
 use crate::passes::depth::GBuffer;
+use crate::passes::{bind_group, buffer};
 use crate::pipelines::Pipelines;
 
 /// What depth-complexity sampling keeps of a scene for the current light and transforms.
