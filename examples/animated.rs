@@ -57,16 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // A ground and the spot mesh, each in its own space.
     let p = DVec3::new;
-    let ground = TriangleMesh::from_raw(
-        "ground",
-        &[
-            p(-5.0, 0.0, -5.0),
-            p(-5.0, 0.0, 5.0),
-            p(5.0, 0.0, 5.0),
-            p(5.0, 0.0, -5.0),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    )?;
+    let ground = TriangleMesh::quad().transformed(&DMat4::from_scale(DVec3::splat(10.0)));
     let spot = TriangleMesh::load_obj(&root.join("fixtures/meshes/spot.obj"))?;
     let turn = |frame: usize| {
         let angle = std::f64::consts::TAU * frame as f64 / FRAMES as f64;

@@ -17,43 +17,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         PathBuf::from,
     );
     let p = |x, y, z| DVec3::new(x, y, z);
-    let ground = TriangleMesh::from_raw(
-        "ground",
-        &[
-            p(-6.0, 0.0, -6.0),
-            p(-6.0, 0.0, 6.0),
-            p(6.0, 0.0, 6.0),
-            p(6.0, 0.0, -6.0),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    )?;
-    let cube = TriangleMesh::from_raw(
-        "cube",
-        &[
-            p(-0.5, -0.5, -0.5),
-            p(0.5, -0.5, -0.5),
-            p(0.5, 0.5, -0.5),
-            p(-0.5, 0.5, -0.5),
-            p(-0.5, -0.5, 0.5),
-            p(0.5, -0.5, 0.5),
-            p(0.5, 0.5, 0.5),
-            p(-0.5, 0.5, 0.5),
-        ],
-        &[
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [2, 3, 7],
-            [2, 7, 6],
-            [1, 2, 6],
-            [1, 6, 5],
-            [0, 4, 7],
-            [0, 7, 3],
-        ],
-    )?;
+    // The unit quad and the unit cube, placed by matrices: a 12 x 12 ground and a tilted box.
+    let ground = TriangleMesh::quad().transformed(&DMat4::from_scale(DVec3::splat(12.0)));
+    let cube = TriangleMesh::cube();
     let camera = Camera::look_at(p(0.0, 5.0, 7.0), p(0.0, 0.5, 0.0), DVec3::Y, 45.0, 320, 240)?;
     // A 2.5 x 2.5 lamp 6 above the ground, facing straight down.
     let light = RectLight::aimed(p(-1.0, 6.0, 0.5), p(-1.0, 0.0, 0.5), DVec2::splat(2.5))?;

@@ -398,6 +398,3 @@ fn gpu_limits(
     }
     Ok(None)
 }
-
-#[cfg(test)]
-mod backend_tests;

@@ -5,7 +5,7 @@ use penumbra_geom::{LightSamples, Reference};
 use penumbra_geom::{LitScene, Technique, TracerGeometry};
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
-use crate::frame::Frame;
+use crate::rendered_frame::Frame;
 
 /// Renders a technique that runs on the CPU, taking the ray-casting hierarchy from `kept`
 /// where it serves the scene and keeping the one it builds there otherwise.

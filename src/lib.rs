@@ -40,17 +40,13 @@
 //! let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 64, 48)?;
 //! // A 1 x 1 lamp 5 above the origin, facing it.
 //! let light = RectLight::aimed(DVec3::new(0.0, 5.0, 0.0), DVec3::ZERO, DVec2::splat(1.0))?;
-//! let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
-//! let ground = TriangleMesh::from_raw(
-//!     "ground",
-//!     &corners.map(|[x, z]| DVec3::new(x, 0.0, z)),
-//!     &[[0, 1, 2], [0, 2, 3]],
-//! )?;
+//! // The unit quad scaled to an 8 x 8 ground, and a sphere of radius 0.5 one above it.
+//! let ground = DMat4::from_scale(DVec3::splat(8.0));
 //! let ball = DMat4::from_translation(DVec3::new(0.0, 1.0, 0.0)) * DMat4::from_scale(DVec3::splat(0.5));
 //! // Lights and meshes are added in any order.
 //! let scene = Scene::new(camera)
 //!     .with_light(light)
-//!     .with_mesh("ground", &ground, DMat4::IDENTITY)
+//!     .with_mesh("ground", &TriangleMesh::quad(), ground)
 //!     .with_mesh("ball", &TriangleMesh::uv_sphere(12, 16), ball);
 //! let v = Renderer::new(Backend::Cpu).render(&scene, Technique::WedgesBlend, &RenderOptions::default())?;
 //! // The ball's shadow falls straight below it, in the middle of the image; the corners are lit.
@@ -73,10 +69,13 @@
 pub mod backend;
 mod cpu;
 mod error;
-mod frame;
 mod options;
+mod rendered_frame;
 mod renderer;
 mod runs;
+
+#[cfg(test)]
+mod backend_tests;
 
 pub use glam;
 pub use penumbra_geom as geom;
@@ -96,7 +95,7 @@ pub use penumbra_volumes as volumes;
 
 pub use backend::{Backend, MAX_GPU_BLEND_UNITS, MAX_GPU_SAMPLES};
 pub use error::{MissingGpu, RenderError};
-pub use frame::{Frame, Warning};
 pub use options::{MAX_SAMPLES, RenderOptions};
+pub use rendered_frame::{Frame, Warning};
 pub use renderer::Renderer;
 pub use runs::Runs;

@@ -10,8 +10,8 @@ use penumbra_volumes::Volumes;
 
 use crate::backend::{self, Backend, GpuOffer, Machine, Placement, Reason, Request};
 use crate::error::{MissingGpu, RenderError};
-use crate::frame::{self, Frame};
 use crate::options::RenderOptions;
+use crate::rendered_frame::{self, Frame};
 use crate::runs::Runs;
 
 /// Whether the GPU has been looked for yet, and what was found.
@@ -300,7 +300,7 @@ impl Renderer {
                 frame
             }
         };
-        frame.warnings = frame::warnings(scene, technique, choice.placement, extent);
+        frame.warnings = rendered_frame::warnings(scene, technique, choice.placement, extent);
         Ok(frame)
     }
 

@@ -11,17 +11,7 @@ use penumbra_volumes::Volumes;
 /// y = 3, its centre at the origin).
 fn scene(occluder: &TriangleMesh) -> Scene {
     let c = DVec3::new;
-    let ground = TriangleMesh::from_raw(
-        "ground",
-        &[
-            c(-6., 0., -6.),
-            c(-6., 0., 6.),
-            c(6., 0., 6.),
-            c(6., 0., -6.),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    )
-    .unwrap();
+    let ground = penumbra_testkit::square(0.0, 6.0);
     let camera = Camera::look_at(c(0.0, 6.0, 8.0), c(0.0, 0.5, 0.0), DVec3::Y, 45.0, 16, 12);
     let light = RectLight::new(c(0.0, 3.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::ONE).unwrap();
     Scene::new(camera.unwrap())

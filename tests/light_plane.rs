@@ -106,15 +106,7 @@ fn faces_and_rings_on_the_light_plane() {
     use penumbra::volumes::{DepthComplexity, SamplePattern};
     let c = DVec3::new;
     let mesh = |p: &[DVec3], t: &[[u32; 3]]| TriangleMesh::from_raw("memory", p, t).unwrap();
-    let ground = mesh(
-        &[
-            c(-4., 0., -4.),
-            c(-4., 0., 4.),
-            c(4., 0., 4.),
-            c(4., 0., -4.),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    );
+    let ground = penumbra_testkit::square(0.0, 4.0);
     let (lo, hi) = (c(-0.3, 1.0, -0.3), c(0.3, 2.0, 0.3));
     let corner = |i: u32| {
         c(

@@ -15,15 +15,10 @@ use penumbra::{
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let camera = Camera::look_at(DVec3::new(0.0, 4.0, 5.0), DVec3::ZERO, DVec3::Y, 45.0, 32, 24)?;
     let light = RectLight::aimed(DVec3::new(0.0, 5.0, 0.0), DVec3::ZERO, DVec2::ONE)?;
-    let corners = [[-4.0, -4.0], [-4.0, 4.0], [4.0, 4.0], [4.0, -4.0]];
-    let ground = TriangleMesh::from_raw(
-        "ground",
-        &corners.map(|[x, z]| DVec3::new(x, 0.0, z)),
-        &[[0, 1, 2], [0, 2, 3]],
-    )?;
+    let ground = DMat4::from_scale(DVec3::splat(8.0));
     let ball = DMat4::from_translation(DVec3::Y) * DMat4::from_scale(DVec3::splat(0.5));
     let scene = Scene::new(camera)
-        .with_mesh("ground", &ground, DMat4::IDENTITY)
+        .with_mesh("ground", &TriangleMesh::quad(), ground)
         .with_light(light)
         .with_mesh("ball", &TriangleMesh::uv_sphere(8, 12), ball);
     let mut renderer = Renderer::new(Backend::Cpu);

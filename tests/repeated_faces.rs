@@ -12,17 +12,7 @@ use penumbra::volumes::CpuRenderer;
 #[test]
 fn repeated_faces_cast_one_shadow() {
     let c = DVec3::new;
-    let ground = TriangleMesh::from_raw(
-        "ground",
-        &[
-            c(-2., 0., -2.),
-            c(-2., 0., 2.),
-            c(2., 0., 2.),
-            c(2., 0., -2.),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    )
-    .unwrap();
+    let ground = penumbra_testkit::square(0.0, 2.0);
     let corners = [
         c(-0.5, 1., -0.5),
         c(-0.5, 1., 0.5),

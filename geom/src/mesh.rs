@@ -222,6 +222,80 @@ impl TriangleMesh {
         Ok(mesh)
     }
 
+    /// The unit square `[-0.5, 0.5]^2` in the plane `y = 0`, facing `+y`: corners
+    /// `(-0.5, 0, -0.5)`, `(-0.5, 0, 0.5)`, `(0.5, 0, 0.5)`, `(0.5, 0, -0.5)` in that order, as the
+    /// two triangles `[0, 1, 2]` and `[0, 2, 3]`, counter-clockwise seen from above. Scaled and
+    /// moved by a matrix it is a ground or a square occluder.
+    ///
+    /// ```
+    /// use penumbra::glam::{DMat4, DVec3};
+    /// use penumbra::geom::TriangleMesh;
+    ///
+    /// let ground = TriangleMesh::quad().transformed(&DMat4::from_scale(DVec3::splat(12.0)));
+    /// assert_eq!(ground.positions[0], DVec3::new(-6.0, 0.0, -6.0));
+    /// let [a, b, c] = ground.triangle(0);
+    /// assert!((b - a).cross(c - a).dot(DVec3::Y) > 0.0);
+    /// ```
+    pub fn quad() -> TriangleMesh {
+        let c = DVec3::new;
+        TriangleMesh::from_raw(
+            "quad",
+            &[
+                c(-0.5, 0.0, -0.5),
+                c(-0.5, 0.0, 0.5),
+                c(0.5, 0.0, 0.5),
+                c(0.5, 0.0, -0.5),
+            ],
+            &[[0, 1, 2], [0, 2, 3]],
+        )
+        .expect("finite positions and in-range indices by construction")
+    }
+
+    /// The unit cube `[-0.5, 0.5]^3` around the origin, closed and wound outwards
+    /// (counter-clockwise seen from outside): the corners `(-,-,-)`, `(+,-,-)`, `(+,+,-)`,
+    /// `(-,+,-)` at `z = -0.5`, then the same four at `z = +0.5` (each coordinate `±0.5`), as 12
+    /// triangles, two per face. Scaled, turned and moved by a matrix it is any box.
+    ///
+    /// ```
+    /// use penumbra::geom::{HalfEdgeMesh, TriangleMesh};
+    ///
+    /// let cube = TriangleMesh::cube();
+    /// assert_eq!((cube.positions.len(), cube.triangles.len()), (8, 12));
+    /// let h = HalfEdgeMesh::build(&cube);
+    /// assert!(h.validate().is_ok() && h.is_closed() && !h.has_inconsistent_orientation());
+    /// ```
+    pub fn cube() -> TriangleMesh {
+        let c = DVec3::new;
+        TriangleMesh::from_raw(
+            "cube",
+            &[
+                c(-0.5, -0.5, -0.5),
+                c(0.5, -0.5, -0.5),
+                c(0.5, 0.5, -0.5),
+                c(-0.5, 0.5, -0.5),
+                c(-0.5, -0.5, 0.5),
+                c(0.5, -0.5, 0.5),
+                c(0.5, 0.5, 0.5),
+                c(-0.5, 0.5, 0.5),
+            ],
+            &[
+                [0, 2, 1],
+                [0, 3, 2],
+                [4, 5, 6],
+                [4, 6, 7],
+                [0, 1, 5],
+                [0, 5, 4],
+                [2, 3, 7],
+                [2, 7, 6],
+                [1, 2, 6],
+                [1, 6, 5],
+                [0, 4, 7],
+                [0, 7, 3],
+            ],
+        )
+        .expect("finite positions and in-range indices by construction")
+    }
+
     /// A closed UV sphere of radius 1 around the origin, outward-facing: a pole at `+y` and one
     /// at `-y`, `stacks - 1` rings of `slices` vertices, `2 * slices * (stacks - 1)` triangles.
     ///
@@ -348,6 +422,45 @@ mod tests {
             MeshError::NonFiniteVertex { line, index, .. } => assert_eq!((line, index), (4, 2)),
             other => panic!("unexpected {other}"),
         }
+    }
+
+    /// Six times the signed volume that `m`'s triangles enclose (positive: wound outwards).
+    fn six_volumes(m: &TriangleMesh) -> f64 {
+        (0..m.triangles.len())
+            .map(|t| {
+                let [a, b, c] = m.triangle(t);
+                a.dot(b.cross(c))
+            })
+            .sum()
+    }
+
+    #[test]
+    fn the_unit_cube_is_closed_wound_outwards_and_of_volume_one() {
+        let cube = TriangleMesh::cube();
+        let h = crate::HalfEdgeMesh::build(&cube);
+        h.validate().unwrap();
+        assert!(h.is_closed() && !h.has_inconsistent_orientation());
+        assert_eq!(six_volumes(&cube), 6.0);
+        assert!(cube.positions.iter().all(|p| p.abs() == DVec3::splat(0.5)));
+        assert_eq!((cube.dropped_degenerate, cube.dropped_duplicate), (0, 0));
+    }
+
+    #[test]
+    fn the_unit_quad_faces_up_with_area_one() {
+        let quad = TriangleMesh::quad();
+        crate::HalfEdgeMesh::build(&quad).validate().unwrap();
+        let up: f64 = (0..2)
+            .map(|t| {
+                let [a, b, c] = quad.triangle(t);
+                (b - a).cross(c - a).dot(DVec3::Y) / 2.0
+            })
+            .sum();
+        assert_eq!(up, 1.0);
+        assert!(
+            quad.positions
+                .iter()
+                .all(|p| p.y == 0.0 && p.x.abs() == 0.5 && p.z.abs() == 0.5)
+        );
     }
 
     #[test]

@@ -252,17 +252,7 @@ mod tests {
             DVec2::splat(1.0),
         )
         .unwrap();
-        let quad = TriangleMesh::from_raw(
-            "quad",
-            &[
-                DVec3::new(-0.5, 0.0, -0.5),
-                DVec3::new(-0.5, 0.0, 0.5),
-                DVec3::new(0.5, 0.0, 0.5),
-                DVec3::new(0.5, 0.0, -0.5),
-            ],
-            &[[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap();
+        let quad = TriangleMesh::quad();
         let s = Scene::new(camera)
             .with_light(light)
             .with_mesh("ground", &quad, DMat4::from_scale(DVec3::splat(20.0)))

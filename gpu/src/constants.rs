@@ -36,6 +36,13 @@ pub const COUNT_GROUP: u32 = 4;
 /// receiver, the centre's count, the entries done, the entries in all, its flags.
 pub const STATE_WORDS: u32 = 8;
 
+/// Loop iterations that one invocation of the counting pass's `count_chunk` may spend on its
+/// entries: an eighth of llvmpipe's 65,535, so that the fixed work around them (the pattern's
+/// permutations, at most a few hundred iterations) keeps an invocation far below that limit, and
+/// short enough for a hardware driver's watchdog (a few thousand region tests per invocation).
+/// The shaders read it by this name.
+pub const DISPATCH_ITERATIONS: u32 = 8192;
+
 /// Most samples per axis of depth-complexity sampling on the GPU.
 pub const MAX_AXIS: u32 = 32;
 
@@ -69,10 +76,7 @@ pub fn shared_constants() -> String {
         ("MAX_AXIS", MAX_AXIS),
         ("COUNT_GROUP", COUNT_GROUP),
         ("STATE_WORDS", STATE_WORDS),
-        (
-            "DISPATCH_ITERATIONS",
-            crate::passes::count::DISPATCH_ITERATIONS,
-        ),
+        ("DISPATCH_ITERATIONS", DISPATCH_ITERATIONS),
         ("TRIANGLE_BIAS", TRIANGLE_BIAS),
         ("STENCIL_SIGN", STENCIL_SIGN),
     ];

@@ -8,7 +8,50 @@ use std::cell::RefCell;
 
 use crate::context::{GpuContext, GpuError};
 use crate::readback::read_u64;
-use crate::timing::Pass;
+
+/// The kind of a pass, under which its time and its counts are summed: the field of
+/// [`PassTimes`](crate::PassTimes) it adds to, and its [`PassCounts::pass`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    /// [`crate::PassTimes::depth`].
+    Depth,
+    /// [`crate::PassTimes::stencil`].
+    Stencil,
+    /// [`crate::PassTimes::wedge`].
+    Wedge,
+    /// [`crate::PassTimes::blend`].
+    Blend,
+    /// [`crate::PassTimes::resolve`].
+    Resolve,
+    /// [`crate::PassTimes::light_map`].
+    LightMap,
+    /// [`crate::PassTimes::preprocess`].
+    Preprocess,
+    /// [`crate::PassTimes::filter`].
+    Filter,
+    /// [`crate::PassTimes::edge_lists`].
+    EdgeLists,
+    /// [`crate::PassTimes::count`].
+    Count,
+}
+
+impl Pass {
+    /// The name of its field of [`PassTimes`](crate::PassTimes).
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Pass::Depth => "depth",
+            Pass::Stencil => "stencil",
+            Pass::Wedge => "wedge",
+            Pass::Blend => "blend",
+            Pass::Resolve => "resolve",
+            Pass::LightMap => "light_map",
+            Pass::Preprocess => "preprocess",
+            Pass::Filter => "filter",
+            Pass::EdgeLists => "edge_lists",
+            Pass::Count => "count",
+        }
+    }
+}
 
 /// The statistics each query records, in the order wgpu resolves them.
 const STATISTICS: wgpu::PipelineStatisticsTypes = wgpu::PipelineStatisticsTypes::all();

@@ -20,7 +20,7 @@
 mod constants;
 mod context;
 mod counters;
-mod frame;
+mod frame_uniforms;
 mod gpu_scene;
 mod passes;
 mod pipelines;
@@ -33,15 +33,15 @@ mod timing;
 #[cfg(test)]
 mod docs_tests;
 
-pub use constants::{MAX_SAMPLES, MAX_TAPS};
+pub use constants::{DISPATCH_ITERATIONS, MAX_SAMPLES, MAX_TAPS};
 pub use context::{
     GpuContext, GpuError, OPTIONAL_FEATURES, REQUIRED_FEATURES, quiet_device_select,
     required_features, required_limits,
 };
 pub use counters::{PassCounters, PassCounts, Statistics};
-pub use frame::{CameraError, FrameCamera};
+pub use frame_uniforms::{CameraError, FrameCamera};
 pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};
-pub use passes::count::{DISPATCH_ITERATIONS, count_buffer_bytes, storage_binding_limit};
+pub use passes::count::{count_buffer_bytes, storage_binding_limit};
 pub use passes::depth::{GBuffer, visibility_target};
 pub use passes::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT};
 pub use pipelines::GpuRenderer;

@@ -16,7 +16,7 @@ use penumbra_volumes::Volumes;
 
 use crate::context::GpuError;
 use crate::counters::PassCounters;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::gpu_scene::{FrameInputs, GpuScene};
 use crate::passes::depth::{GBuffer, visibility_target};
 use crate::passes::view;

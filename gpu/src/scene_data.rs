@@ -8,7 +8,7 @@ use penumbra_volumes::Volumes;
 use penumbra_volumes::{VolumeVertex, caps, side};
 use penumbra_volumes::{WedgeFrustum, receiver_box, wedge_frustum};
 
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::blend::TileMask;
 use crate::passes::wedge::WedgeInstance;
 
@@ -440,7 +440,7 @@ mod tests {
     /// blend covers and which no other occluder of its group shares.
     #[test]
     fn occluder_tiles_hold_every_pixel_their_silhouette_reaches() {
-        use crate::frame::eye_relative;
+        use crate::frame_uniforms::eye_relative;
         use penumbra_volumes::CpuRenderer;
         for (name, scene) in fixtures() {
             let scene = scene.lit(0);

@@ -4,7 +4,7 @@
 use std::cell::RefCell;
 
 use crate::context::{GpuContext, GpuError};
-use crate::counters::{Counters, PassCounters, Traffic};
+use crate::counters::{Counters, Pass, PassCounters, Traffic};
 use crate::readback::{read_r32f, read_u64};
 use penumbra_geom::VisibilityImage;
 
@@ -79,49 +79,6 @@ impl PassTimes {
             Pass::Filter => &mut self.filter,
             Pass::EdgeLists => &mut self.edge_lists,
             Pass::Count => &mut self.count,
-        }
-    }
-}
-
-/// The kind of a pass: the field of [`PassTimes`] it adds to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pass {
-    /// [`PassTimes::depth`].
-    Depth,
-    /// [`PassTimes::stencil`].
-    Stencil,
-    /// [`PassTimes::wedge`].
-    Wedge,
-    /// [`PassTimes::blend`].
-    Blend,
-    /// [`PassTimes::resolve`].
-    Resolve,
-    /// [`PassTimes::light_map`].
-    LightMap,
-    /// [`PassTimes::preprocess`].
-    Preprocess,
-    /// [`PassTimes::filter`].
-    Filter,
-    /// [`PassTimes::edge_lists`].
-    EdgeLists,
-    /// [`PassTimes::count`].
-    Count,
-}
-
-impl Pass {
-    /// The name of its field of [`PassTimes`].
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Pass::Depth => "depth",
-            Pass::Stencil => "stencil",
-            Pass::Wedge => "wedge",
-            Pass::Blend => "blend",
-            Pass::Resolve => "resolve",
-            Pass::LightMap => "light_map",
-            Pass::Preprocess => "preprocess",
-            Pass::Filter => "filter",
-            Pass::EdgeLists => "edge_lists",
-            Pass::Count => "count",
         }
     }
 }

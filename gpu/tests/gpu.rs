@@ -404,17 +404,7 @@ fn random_scenes_match_the_cpu_oracle() {
     let Some(ctx) = context() else { return };
     let r = GpuRenderer::with_context(&ctx);
     let mut rng = Rng::new(2026);
-    let quad = TriangleMesh::from_raw(
-        "quad",
-        &[
-            DVec3::new(-0.5, 0.0, -0.5),
-            DVec3::new(-0.5, 0.0, 0.5),
-            DVec3::new(0.5, 0.0, 0.5),
-            DVec3::new(0.5, 0.0, -0.5),
-        ],
-        &[[0, 1, 2], [0, 2, 3]],
-    )
-    .unwrap();
+    let quad = TriangleMesh::quad();
     let sphere = TriangleMesh::uv_sphere(8, 12);
     let ground = quad.transformed(&DMat4::from_scale(DVec3::splat(12.0)));
     for case in 0..6 {

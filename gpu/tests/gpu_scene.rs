@@ -16,7 +16,7 @@ use penumbra_gpu::{
     FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene, read_r32f,
     visibility_target,
 };
-use penumbra_testkit::{square, unit_cube};
+use penumbra_testkit::square;
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 
 const SIZE: (u32, u32) = (96, 72);
@@ -37,7 +37,7 @@ fn meshes() -> Vec<(TriangleMesh, DMat4)> {
                 p(-0.8, 1.2, 0.0),
             ),
         ),
-        (unit_cube(), box_transform(0.3)),
+        (TriangleMesh::cube(), box_transform(0.3)),
     ]
 }
 

@@ -5,48 +5,12 @@
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use penumbra_geom::{Camera, RectLight, Scene, TriangleMesh};
 
-/// A horizontal square of side `2 half` at height `y`, facing up (`+y`), as two triangles.
+/// A horizontal square of side `2 half` at height `y`, facing up (`+y`), as two triangles: the
+/// unit quad ([`TriangleMesh::quad`]) scaled and lifted.
 pub fn square(y: f64, half: f64) -> TriangleMesh {
-    let (c, h) = (DVec3::new, half);
-    TriangleMesh::from_raw(
-        "square",
-        &[c(-h, y, -h), c(-h, y, h), c(h, y, h), c(h, y, -h)],
-        &[[0, 1, 2], [0, 2, 3]],
-    )
-    .unwrap()
-}
-
-/// The cube `[-0.5, 0.5]^3`, closed and wound outwards, as twelve triangles.
-pub fn unit_cube() -> TriangleMesh {
-    let c = DVec3::new;
-    TriangleMesh::from_raw(
-        "cube",
-        &[
-            c(-0.5, -0.5, -0.5),
-            c(0.5, -0.5, -0.5),
-            c(0.5, 0.5, -0.5),
-            c(-0.5, 0.5, -0.5),
-            c(-0.5, -0.5, 0.5),
-            c(0.5, -0.5, 0.5),
-            c(0.5, 0.5, 0.5),
-            c(-0.5, 0.5, 0.5),
-        ],
-        &[
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [2, 3, 7],
-            [2, 7, 6],
-            [1, 2, 6],
-            [1, 6, 5],
-            [0, 4, 7],
-            [0, 7, 3],
-        ],
-    )
-    .unwrap()
+    let place = DMat4::from_translation(DVec3::new(0.0, y, 0.0))
+        * DMat4::from_scale(DVec3::splat(2.0 * half));
+    TriangleMesh::quad().transformed(&place)
 }
 
 /// A scene that the light's plane cuts, where the volume techniques clip what lies behind the
@@ -114,7 +78,7 @@ pub fn through_the_light() -> Scene {
 pub fn scene_in_code() -> Scene {
     let p = DVec3::new;
     let ground = square(0.0, 6.0);
-    let cube = unit_cube();
+    let cube = TriangleMesh::cube();
     let camera = Camera::look_at(p(0.0, 5.0, 7.0), p(0.0, 0.5, 0.0), DVec3::Y, 45.0, 320, 240);
     let light =
         RectLight::new(p(-1.0, 6.0, 0.5), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.5)).unwrap();

@@ -18,22 +18,11 @@ fn mesh(positions: &[DVec3], triangles: &[[u32; 3]]) -> TriangleMesh {
     TriangleMesh::from_raw("test", positions, triangles).unwrap()
 }
 
-/// A 12 x 12 ground at y = 0.
-fn ground() -> TriangleMesh {
-    let p = [
-        DVec3::new(-6.0, 0.0, -6.0),
-        DVec3::new(-6.0, 0.0, 6.0),
-        DVec3::new(6.0, 0.0, 6.0),
-        DVec3::new(6.0, 0.0, -6.0),
-    ];
-    mesh(&p, &[[0, 1, 2], [0, 2, 3]])
-}
-
 /// `meshes` over the ground under a tilted 2.5 x 2 light, seen by a 64 x 48 camera.
 fn scene(meshes: Vec<TriangleMesh>, eye: DVec3, target: DVec3) -> Scene {
     let normal = DVec3::new(0.25, -1.0, 0.15).normalize();
     let tangent = normal.cross(DVec3::Z).normalize();
-    let mut all = vec![ground()];
+    let mut all = vec![penumbra_testkit::square(0.0, 6.0)];
     all.extend(meshes);
     Scene {
         path: "memory".into(),

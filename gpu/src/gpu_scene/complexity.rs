@@ -1,40 +1,12 @@
 //! A [`GpuScene`]'s depth-complexity sampling: its settings, its edge list and its reports, kept
 //! by [`super::complexity_state`], which records the passes.
 
-use super::complexity_state::SceneParts;
+use super::complexity_state::{ComplexityReport, SceneParts};
 use super::{FrameInputs, GpuScene};
 use crate::context::GpuError;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::GBuffer;
 use crate::timing::Timer;
-
-/// Loop iterations an invocation of the counting pass may take on a software device before its
-/// pixel counts as cut short. Mesa's llvmpipe (lavapipe) ends every loop of an invocation once
-/// they have run 65,535 iterations in all (`LP_MAX_TGSI_LOOP_ITERATIONS`), silently; the
-/// counting pass counts its loops' iterations (an upper bound of llvmpipe's count, which does
-/// not see the loops its compiler unrolls) and reports the pixels that may have reached that
-/// limit ([`ComplexityReport::cut_short`]).
-pub const SOFTWARE_LOOP_BUDGET: u32 = 65_000;
-
-/// What a depth-complexity frame reports once it has run
-/// ([`GpuScene::complexity_report`](super::GpuScene::complexity_report)).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ComplexityReport {
-    /// Entries the frame's edge list needed.
-    pub demand: u32,
-    /// Whether that was more than it held: the tiles that did not fit read every edge (the
-    /// image is the same, only slower) and the list has grown for the next frames.
-    pub overflowed: bool,
-    /// Pixels whose counting took more loop iterations than a software device runs (see
-    /// [`SOFTWARE_LOOP_BUDGET`]): their V may be wrong. Always 0 on a hardware GPU, and on a
-    /// software one unless a receiver's own work outgrows the budget (a budget set below
-    /// what the counting pass's bounded dispatches take).
-    pub cut_short: u32,
-    /// Pixels whose work (their tile's edges and the crossings) the counting pass's
-    /// dispatches did not finish: their V is wrong. Found exactly, by each pixel; 0 unless a
-    /// frame records fewer dispatches than the longest possible work needs, which none does.
-    pub unfinished: u32,
-}
 
 impl GpuScene {
     /// Light samples per pixel of depth-complexity sampling (`N x N`).

@@ -2,11 +2,11 @@
 //! for the counting pass's `count_setup` to check it against: the nearest triangle the pixel's
 //! ray meets (`passes::candidates`).
 
-use crate::counters::Traffic;
+use crate::counters::{Pass, Traffic};
 use crate::passes::candidates::{CANDIDATE_DEPTH_FORMAT, CANDIDATE_FORMAT};
 use crate::passes::{texture, view};
 use crate::pipelines::Pipelines;
-use crate::timing::{Pass, Timer};
+use crate::timing::Timer;
 
 /// The targets, at one image size.
 pub(super) struct ReceiverTargets {

@@ -20,241 +20,62 @@
 //! [`super::GpuScene::complexity_report`] reads the demand back after the frame and grows the list.
 //!
 //! [`ComplexityState`] is all a scene keeps for it: what it built of the scene for the current
-//! light and transforms, the frame's buffers, and its settings.
+//! light and transforms and the frame's buffers (`super::complexity_buffers`), and its
+//! settings; [`ComplexityReport`] is what a frame reports once it has run.
 
-use crate::counters::Traffic;
-use std::ops::Range;
+use penumbra_geom::{RectLight, Warp};
 
-use penumbra_geom::{HalfEdgeMesh, RectLight, Warp};
-use penumbra_volumes::PotentialEdges;
-use penumbra_volumes::Silhouette;
-use penumbra_volumes::{ShadowVolume, VolumeVertex};
-
-use super::complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
-use super::complexity_receivers::{ReceiverInputs, ReceiverTargets};
-use super::meshes::{StoredMesh, world};
+use super::complexity_buffers::{ComplexityFrame, ComplexityScene, tiles};
+use super::complexity_receivers::ReceiverInputs;
+use super::meshes::StoredMesh;
 use super::uploads::Uploads;
-use crate::constants::{COUNT_GROUP, MAX_AXIS, TILE};
+use crate::constants::{COUNT_GROUP, MAX_AXIS};
 use crate::context::{GpuContext, GpuError};
-use crate::frame::FrameCamera;
-use crate::passes::complexity::{ComplexityParams, gpu_edges, light_triangles, neighbours};
+use crate::counters::{Pass, Traffic};
+use crate::frame_uniforms::FrameCamera;
+use crate::passes::complexity::ComplexityParams;
 use crate::passes::count::{
     band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,
 };
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
-use crate::passes::{FrameBindings, bind_group, buffer};
+use crate::passes::{FrameBindings, bind_group};
 use crate::pipelines::Pipelines;
-use crate::timing::{Pass, Timer};
+use crate::timing::Timer;
+
+/// Loop iterations an invocation of the counting pass may take on a software device before its
+/// pixel counts as cut short. Mesa's llvmpipe (lavapipe) ends every loop of an invocation once
+/// they have run 65,535 iterations in all (`LP_MAX_TGSI_LOOP_ITERATIONS`), silently; the
+/// counting pass counts its loops' iterations (an upper bound of llvmpipe's count, which does
+/// not see the loops its compiler unrolls) and reports the pixels that may have reached that
+/// limit ([`ComplexityReport::cut_short`]).
+pub const SOFTWARE_LOOP_BUDGET: u32 = 65_000;
+
+/// What a depth-complexity frame reports once it has run
+/// ([`GpuScene::complexity_report`](super::GpuScene::complexity_report)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ComplexityReport {
+    /// Entries the frame's edge list needed.
+    pub demand: u32,
+    /// Whether that was more than it held: the tiles that did not fit read every edge (the
+    /// image is the same, only slower) and the list has grown for the next frames.
+    pub overflowed: bool,
+    /// Pixels whose counting took more loop iterations than a software device runs (see
+    /// [`SOFTWARE_LOOP_BUDGET`]): their V may be wrong. Always 0 on a hardware GPU, and on a
+    /// software one unless a receiver's own work outgrows the budget (a budget set below
+    /// what the counting pass's bounded dispatches take).
+    pub cut_short: u32,
+    /// Pixels whose work (their tile's edges and the crossings) the counting pass's
+    /// dispatches did not finish: their V is wrong. Found exactly, by each pixel; 0 unless a
+    /// frame records fewer dispatches than the longest possible work needs, which none does.
+    pub unfinished: u32,
+}
 
 /// Light samples per axis of a new scene (256 samples per pixel).
 const DEFAULT_AXIS: u32 = 16;
 
 /// Entries of the edge list per tile of a new scene, before any frame told how many it needs.
 const FIRST_ENTRIES_PER_TILE: u32 = 64;
-
-/// What depth-complexity sampling keeps of a scene for the current light and transforms.
-pub(super) struct ComplexityScene {
-    /// The open-rule shadow volumes' vertices (as `scene_data::volume_vertices`) and each mesh's
-    /// range.
-    volume: wgpu::Buffer,
-    volume_ranges: Vec<(u32, Range<u32>)>,
-    edges: wgpu::Buffer,
-    faces: wgpu::Buffer,
-    crossings: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    edge_count: u32,
-    crossing_count: u32,
-    triangle_count: u32,
-    /// Most faces on one potential edge (the counting pass's work per edge grows with it).
-    max_faces: u32,
-    /// Potential silhouette edges, and all edges, for reports.
-    pub(super) potential: usize,
-    pub(super) all_edges: usize,
-}
-
-/// The per-frame buffers of depth-complexity sampling at one image size and list capacity.
-pub(super) struct ComplexityFrame {
-    size: (u32, u32),
-    capacity: u32,
-    /// Samples per axis and dispatches of the counting pass the buffers are made for.
-    per_axis: u32,
-    chunks: u32,
-    /// Rows whose state and counts the counting pass keeps at once.
-    band_rows: u32,
-    tile_ranges: wgpu::Buffer,
-    list: wgpu::Buffer,
-    demand: wgpu::Buffer,
-    demand_readback: wgpu::Buffer,
-    params: wgpu::Buffer,
-    /// V, then each pixel's state and counts between the counting pass's dispatches.
-    visibility: wgpu::Buffer,
-    /// The indirect arguments of the counting pass's chunk dispatches.
-    args: wgpu::Buffer,
-    /// What the receivers' checks draw (`super::complexity_receivers`).
-    receivers: ReceiverTargets,
-    /// Whether the last recorded frame's report awaits [`ComplexityState::report`].
-    pending: bool,
-}
-
-/// Tiles per row and rows of tiles of an image of `size` pixels.
-fn tiles((w, h): (u32, u32)) -> (u32, u32) {
-    (w.div_ceil(TILE), h.div_ceil(TILE))
-}
-
-impl ComplexityScene {
-    /// Builds and uploads what the passes read of `meshes` lit by `light`; and the bytes
-    /// uploaded.
-    fn build(
-        device: &wgpu::Device,
-        meshes: &[StoredMesh],
-        light: &RectLight,
-        warp: Option<&Warp>,
-    ) -> (Self, u64) {
-        let stored = meshes;
-        let (meshes, world) = world(stored, warp);
-        let c = light.center;
-        let mut vol: Vec<[f32; 4]> = Vec::new();
-        let mut volume_ranges = Vec::with_capacity(meshes.len());
-        let half_edge: Vec<HalfEdgeMesh> = meshes.iter().map(HalfEdgeMesh::build).collect();
-        let triangles = light_triangles(light, &world, &neighbours(&half_edge));
-        for (mi, (mesh, stored)) in half_edge.iter().zip(stored).enumerate() {
-            // Every triangle casts, facing the centre either way: the stencil then counts each
-            // triangle the segment to the centre crosses.
-            let sil = Silhouette::build_as(mesh, c, false);
-            let volume = ShadowVolume::build(mesh, &sil, c);
-            let start = vol.len() as u32;
-            for (t, _) in &volume.triangles {
-                vol.extend(t.iter().map(|&v| {
-                    match v {
-                        VolumeVertex::Finite(i) => {
-                            let [x, y, z] = stored.stored[i as usize];
-                            [x, y, z, 1.0]
-                        }
-                        VolumeVertex::Infinite(i) => (mesh.positions[i as usize] - c)
-                            .as_vec3()
-                            .extend(0.0)
-                            .to_array(),
-                    }
-                }));
-            }
-            volume_ranges.push((mi as u32, start..vol.len() as u32));
-        }
-        let potential = PotentialEdges::build_half_edge(&half_edge, light);
-        let (edges, faces, crossings) = gpu_edges(&potential);
-        let storage = wgpu::BufferUsages::STORAGE;
-        let bytes = std::mem::size_of_val(vol.as_slice())
-            + std::mem::size_of_val(edges.as_slice())
-            + std::mem::size_of_val(faces.as_slice())
-            + std::mem::size_of_val(crossings.as_slice())
-            + std::mem::size_of_val(triangles.as_slice());
-        let data = ComplexityScene {
-            volume: buffer(device, "open volumes", &vol, wgpu::BufferUsages::VERTEX),
-            volume_ranges,
-            edges: buffer(device, "potential edges", &edges, storage),
-            faces: buffer(device, "edge faces", &faces, storage),
-            crossings: buffer(device, "light crossings", &crossings, storage),
-            triangles: buffer(device, "light-space triangles", &triangles, storage),
-            edge_count: edges.len() as u32,
-            crossing_count: crossings.len() as u32,
-            triangle_count: triangles.len() as u32,
-            max_faces: potential
-                .edges
-                .iter()
-                .map(|e| e.face_count)
-                .max()
-                .unwrap_or(0),
-            potential: potential.edges.len(),
-            all_edges: potential.all_edges,
-        };
-        (data, bytes as u64)
-    }
-}
-
-impl ComplexityFrame {
-    /// What the edge-list pass binds: it reads the receivers' positions, the edges, faces and
-    /// parameters, and writes the tiles' ranges, the list and its demand.
-    fn edge_list_traffic(&self, data: &ComplexityScene, gbuffer: &GBuffer) -> Traffic {
-        Traffic::new()
-            .reads(&gbuffer.position)
-            .reads(&data.edges)
-            .reads(&data.faces)
-            .reads(&self.params)
-            .writes(&self.tile_ranges)
-            .writes(&self.list)
-            .updates(&self.demand)
-    }
-
-    /// What the counting pass binds: it reads the receivers, their stencil counts, the
-    /// edges, faces, crossings, triangles, the tiles' lists, the parameters and its dispatches'
-    /// arguments, and updates V with each pixel's state and counts between dispatches.
-    fn count_traffic(&self, data: &ComplexityScene, gbuffer: &GBuffer) -> Traffic {
-        Traffic::new()
-            .reads(&gbuffer.position)
-            .reads(&gbuffer.depth)
-            .reads(&data.edges)
-            .reads(&data.faces)
-            .reads(&data.crossings)
-            .reads(&data.triangles)
-            .reads(&self.tile_ranges)
-            .reads(&self.list)
-            .reads(&self.params)
-            .reads(&self.args)
-            .updates(&self.demand)
-            .updates(&self.visibility)
-    }
-
-    fn new(
-        device: &wgpu::Device,
-        size: (u32, u32),
-        capacity: u32,
-        (per_axis, chunks, band_rows): (u32, u32, u32),
-    ) -> Self {
-        let (tx, ty) = tiles(size);
-        let make = |label, bytes: u64, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes.max(4),
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let storage = wgpu::BufferUsages::STORAGE;
-        let copy = wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
-        ComplexityFrame {
-            size,
-            capacity,
-            per_axis,
-            chunks,
-            band_rows,
-            tile_ranges: make("tile ranges", 8 * (tx * ty) as u64, storage),
-            list: make("edge list", 4 * capacity as u64, storage),
-            demand: make("depth-complexity report", 32, storage | copy),
-            demand_readback: make(
-                "depth-complexity report readback",
-                16,
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            ),
-            params: make(
-                "depth-complexity params",
-                std::mem::size_of::<ComplexityParams>() as u64,
-                wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            ),
-            visibility: make(
-                "visibility",
-                count_bytes(size, per_axis, band_rows),
-                storage,
-            ),
-            args: make(
-                "count arguments",
-                12 * chunks as u64,
-                storage | wgpu::BufferUsages::INDIRECT,
-            ),
-            receivers: ReceiverTargets::new(device, size),
-            pending: false,
-        }
-    }
-}
 
 /// Everything a scene keeps for depth-complexity sampling.
 pub(super) struct ComplexityState {
@@ -577,37 +398,5 @@ impl ComplexityState {
             ),
         );
         Ok(())
-    }
-}
-
-impl ComplexityFrame {
-    /// Group 1 of both compute passes (`passes::complexity::inputs_layout`).
-    fn inputs(
-        &self,
-        device: &wgpu::Device,
-        p: &Pipelines,
-        data: &ComplexityScene,
-        gbuffer: &GBuffer,
-        candidate: &wgpu::TextureView,
-    ) -> wgpu::BindGroup {
-        bind_group(
-            device,
-            "depth-complexity inputs",
-            &p.complexity_layout,
-            &[
-                wgpu::BindingResource::TextureView(&gbuffer.position_view),
-                wgpu::BindingResource::TextureView(&gbuffer.stencil_view),
-                data.edges.as_entire_binding(),
-                data.faces.as_entire_binding(),
-                data.crossings.as_entire_binding(),
-                self.tile_ranges.as_entire_binding(),
-                self.list.as_entire_binding(),
-                self.demand.as_entire_binding(),
-                self.params.as_entire_binding(),
-                self.visibility.as_entire_binding(),
-                data.triangles.as_entire_binding(),
-                wgpu::BindingResource::TextureView(candidate),
-            ],
-        )
     }
 }

@@ -7,7 +7,7 @@ use penumbra_geom::{DistantLight, Light, RectLight, Warp};
 
 use super::GpuScene;
 use super::meshes::{StoredMesh, world_corners};
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 
 /// The light of a [`GpuScene`]: a rectangle light, or a distant light with the warp its frames
 /// are rendered through and the rectangle that warp makes of it.

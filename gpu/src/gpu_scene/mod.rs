@@ -5,6 +5,7 @@
 //! CPU and uploaded again only in frames where the light or a mesh's transform changed.
 
 mod complexity;
+mod complexity_buffers;
 mod complexity_receivers;
 mod complexity_state;
 mod distant;
@@ -24,12 +25,12 @@ use penumbra_volumes::Volumes;
 use penumbra_volumes::outward_sign;
 
 use crate::context::GpuContext;
-use crate::frame::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
+use crate::frame_uniforms::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
-pub use complexity::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use complexity_state::ComplexityState;
+pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
 use distant::SceneLight;
 use meshes::{StoredMesh, centre, world};
 use scratch::Scratch;

@@ -1,17 +1,17 @@
 //! Recording a frame of a [`GpuScene`]: the depth pre-pass, then the passes of the technique
 //! into the application's visibility target.
 
-use crate::counters::Traffic;
+use crate::counters::{Pass, Traffic};
 use penumbra_geom::{Light, Technique, Warp};
 
 use super::{FrameInputs, GpuScene};
 use crate::context::GpuError;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::{GBuffer, MeshDraws};
 use crate::passes::resolve::ResolveInput;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
 use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group};
-use crate::timing::{Pass, Timer};
+use crate::timing::Timer;
 
 /// Checks that `camera` (the camera's size) is the size of `what`.
 fn same_size(camera: (u32, u32), what: &'static str, other: (u32, u32)) -> Result<(), GpuError> {

@@ -4,11 +4,11 @@
 //! then the resolve.
 
 use crate::constants::TILE;
-use crate::counters::{Traffic, part};
+use crate::counters::{Pass, Traffic, part};
 use std::ops::Range;
 
 use super::GpuScene;
-use crate::frame::FrameCamera;
+use crate::frame_uniforms::FrameCamera;
 use crate::passes::blend::{SILHOUETTE_ADDED, TileMask, TileRange, disjoint_groups};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
@@ -16,7 +16,7 @@ use crate::passes::wedge::{WedgeDraws, WedgeOutput};
 use crate::passes::{FrameBindings, bind_group, buffer};
 use crate::pipelines::Pipelines;
 use crate::scene_data::occluder_tiles;
-use crate::timing::{Pass, Timer};
+use crate::timing::Timer;
 
 /// The blend's tile lists of a frame, uploaded: each group's range of one list of tiles.
 struct BlendTiles {

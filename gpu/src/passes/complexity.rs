@@ -13,16 +13,6 @@ use penumbra_volumes::PotentialEdges;
 /// WGSL declarations shared by the edge-list and the counting pass.
 pub const COMPLEXITY_WGSL: &str = include_str!("../shaders/complexity.wgsl");
 
-/// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), its sample
-/// pattern (`count_pattern.wgsl`), its receiver and the side tests made from its corners
-/// (`count_receiver.wgsl`), then the pass (`count.wgsl`), one shader in four files.
-pub const COUNT_WGSL: &str = concat!(
-    include_str!("../shaders/count_regions.wgsl"),
-    include_str!("../shaders/count_pattern.wgsl"),
-    include_str!("../shaders/count_receiver.wgsl"),
-    include_str!("../shaders/count.wgsl")
-);
-
 /// A potential silhouette edge (`struct Edge`): light-space ends, its faces' range and the
 /// plane through it and the light's centre.
 #[repr(C)]
@@ -128,7 +118,7 @@ impl ComplexityParams {
     /// The camera's part: the eye and the rays through the pixels, in `light`'s space, from
     /// the inverse of `camera`'s view-projection composed in `f64` (a direction is the inverse
     /// image of a point at depth 0, at infinity).
-    pub fn set_camera(&mut self, camera: &crate::frame::FrameCamera, light: &RectLight) {
+    pub fn set_camera(&mut self, camera: &crate::frame_uniforms::FrameCamera, light: &RectLight) {
         let inv = camera.view_proj.inverse();
         let h = light.half_size();
         let dir = |v: DVec4| {

@@ -26,15 +26,18 @@
 //! `count_band` moving to the next; most images are one band.
 
 use super::complexity::COMPLEXITY_WGSL;
-use super::complexity::COUNT_WGSL;
-use crate::constants::{COUNT_GROUP, STATE_WORDS};
+use crate::constants::{COUNT_GROUP, DISPATCH_ITERATIONS, STATE_WORDS};
 use crate::timing::PassQueries;
 
-/// Loop iterations that one invocation of `count_chunk` may spend on its entries: an eighth of
-/// llvmpipe's 65,535, so that the fixed work around them (the pattern's permutations, at most
-/// a few hundred iterations) keeps an invocation far below that limit, and short enough for a
-/// hardware driver's watchdog (a few thousand region tests per invocation).
-pub const DISPATCH_ITERATIONS: u32 = 8192;
+/// The counting pass's WGSL: its regions of light samples (`count_regions.wgsl`), its sample
+/// pattern (`count_pattern.wgsl`), its receiver and the side tests made from its corners
+/// (`count_receiver.wgsl`), then the pass (`count.wgsl`), one shader in four files.
+pub const COUNT_WGSL: &str = concat!(
+    include_str!("../shaders/count_regions.wgsl"),
+    include_str!("../shaders/count_pattern.wgsl"),
+    include_str!("../shaders/count_receiver.wgsl"),
+    include_str!("../shaders/count.wgsl")
+);
 
 /// Loop iterations one entry of a pixel's work may take in `count_chunk` at `n x n` samples,
 /// on edges of at most `faces` faces, as the shader counts them: the entry's own iteration,

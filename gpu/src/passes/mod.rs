@@ -13,14 +13,15 @@ pub mod wedge;
 #[cfg(test)]
 mod shaders_tests;
 
-/// The shared declarations of `shaders/frame.wgsl`.
-pub const FRAME_WGSL: &str = include_str!("../shaders/frame.wgsl");
+/// The declarations every pass shares, `shaders/common.wgsl`: the frame's uniforms, the
+/// light-space transforms, the radial parts' rectangles and the final buffer's layout.
+pub const COMMON_WGSL: &str = include_str!("../shaders/common.wgsl");
 
-/// A pass's whole WGSL: the [`crate::constants::shared_constants`], the frame declarations (`frame.wgsl`) and
-/// `source`.
+/// A pass's whole WGSL: the [`crate::constants::shared_constants`], the shared declarations
+/// ([`COMMON_WGSL`]) and `source`.
 pub fn wgsl_source(source: &str) -> String {
     format!(
-        "{}\n{FRAME_WGSL}\n{source}",
+        "{}\n{COMMON_WGSL}\n{source}",
         crate::constants::shared_constants()
     )
 }
@@ -46,7 +47,7 @@ pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// Bind group layout of the frame: the uniforms (binding 0, every stage) and the meshes'
-/// model matrices (binding 1, vertex stage; `frame::ModelMatrix`, one per mesh, indexed by
+/// model matrices (binding 1, vertex stage; `frame_uniforms::ModelMatrix`, one per mesh, indexed by
 /// the instance index of the depth and stencil passes' draws).
 pub fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use super::complexity::{COMPLEXITY_WGSL, COUNT_WGSL};
+use super::complexity::COMPLEXITY_WGSL;
+use super::count::COUNT_WGSL;
 use super::fullscreen::{SHADOW_MAP_SHADERS, SHADOW_WGSL};
 use super::wgsl_source;
 
@@ -19,7 +20,7 @@ fn every_wgsl_file_validates_with_naga() {
         // Declarations compiled ahead of the passes' shaders, and the counting pass's first
         // parts: each is validated in the shaders that take it.
         if [
-            "frame",
+            "common",
             "shadow",
             "complexity",
             "count_regions",
@@ -30,10 +31,10 @@ fn every_wgsl_file_validates_with_naga() {
         {
             continue;
         }
-        // Each pass's shader is compiled after the shared constants and frame.wgsl
+        // Each pass's shader is compiled after the shared constants and common.wgsl
         // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
         // (`fullscreen::shadow_shader`), depth-complexity sampling's passes (and its receiver
-        // candidates) with complexity.wgsl, and the counting pass from its four files (`complexity::COUNT_WGSL`).
+        // candidates) with complexity.wgsl, and the counting pass from its four files (`count::COUNT_WGSL`).
         let file = std::fs::read_to_string(&p).unwrap();
         let source = if SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             format!("{SHADOW_WGSL}\n{file}")

@@ -30,7 +30,7 @@ struct TileRange {
 @group(2) @binding(1) var<storage, read> tiles: array<u32>;
 
 // TILE (tile side in pixels) and MAX_WORKGROUPS (workgroups along x of a dispatch: the tile
-// index is x + MAX_WORKGROUPS y) come from Rust (`passes::shared_constants`).
+// index is x + MAX_WORKGROUPS y) come from Rust (`constants::shared_constants`).
 
 // The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
 // rectangle to end at them (CPU: 2 (1 - 1e-9); the cover is summed in f16, 11 bits).

@@ -2,7 +2,7 @@
 // 2008): the edge-list pass (`edge_lists.wgsl`) and the counting pass (`count.wgsl`), each
 // prepended with this file. Group 1 is `passes::complexity::inputs_layout`.
 //
-// Everything geometric is in light space (`to_light` in frame.wgsl: the light is [-1, 1]^2 at
+// Everything geometric is in light space (`to_light` in common.wgsl: the light is [-1, 1]^2 at
 // z = 0, its centre the origin), as the CPU oracle (`penumbra_volumes::depth_complexity`) keeps
 // it, in f32 here.
 

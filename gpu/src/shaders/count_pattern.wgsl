@@ -1,6 +1,6 @@
 // The counting pass's light samples: the correlated multi-jittered pattern of
 // `penumbra_volumes::samples` (Kensler 2013), compiled with count_regions.wgsl ahead of
-// count.wgsl (`passes::complexity::COUNT_WGSL`).
+// count.wgsl (`passes::count::COUNT_WGSL`).
 
 // The pattern's permutation of 0..l chosen by p (`penumbra_volumes::samples::permute`,
 // Kensler 2013).

@@ -1,6 +1,6 @@
 // The counting pass's receiver: the triangle and the point of it that a pixel's ray meets, as
 // the CPU oracle's ray caster finds them, and the sides of planes taken from its corners,
-// compiled ahead of count.wgsl (`passes::complexity::COUNT_WGSL`).
+// compiled ahead of count.wgsl (`passes::count::COUNT_WGSL`).
 
 // The receiver's triangle, for the side tests: its corners and P's barycentric weights on it.
 // The side of P of a plane through an edge's end `a` is the weighted sum of its corners' sides

@@ -5,7 +5,7 @@
 // and the surface's geometric normal, turned to face the camera, into an Rgba16Float target (the
 // shadow-map techniques' receiver planes).
 
-// `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
+// `frame` (group 0) is declared in common.wgsl, prepended by `passes::shader`.
 
 struct VertexOut {
     // Invariant: the stencil pass draws the light caps from the same positions and must land on
@@ -15,7 +15,7 @@ struct VertexOut {
     // For triangles of closed meshes, +1 where they are wound outwards and -1 where inwards;
     // 0 for open meshes. The first `frame.size.z` vertices are closed meshes' wound outwards (the
     // shadow-map techniques order them so); otherwise the mesh's model matrix carries its sign
-    // in column 0's w (`frame::model_matrix`).
+    // in column 0's w (`frame_uniforms::model_matrix`).
     @location(1) @interpolate(flat) outward: f32,
     // The triangle's index in the scene (`penumbra_geom::Scene::triangles`): the meshes' vertices
     // lie three per triangle in that order, each mesh drawn from its first.

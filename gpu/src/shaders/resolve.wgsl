@@ -3,7 +3,7 @@
 // Drawn as a full-screen triangle once per stencil outcome (zero, not zero, then negative:
 // `casters`, whose draw writes the unshadowed value over the second's).
 
-// `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
+// `frame` (group 0) is declared in common.wgsl, prepended by `passes::shader`.
 @group(1) @binding(0) var position: texture_2d<f32>;
 // The depth pre-pass's normals: w = 2 where the receiver lies on a closed mesh, xyz outward.
 @group(1) @binding(1) var normal_map: texture_2d<f32>;

@@ -1,5 +1,5 @@
 // Declarations shared by the shadow-map techniques (pcf, pcss, fractional-disk, mdsm,
-// gaussian); `passes::shadow_shader` prepends this file (after frame.wgsl) to each of their
+// gaussian); `passes::shadow_shader` prepends this file (after common.wgsl) to each of their
 // shaders. The light map is a perspective view from the light's centre along its normal, fitted
 // to the scene: texel (u, v) looks along light-space direction (a, b, 1) with
 // (a, b) = frustum.xy + (u, 1 - v) * (frustum.zw - frustum.xy). Texels store the linear light

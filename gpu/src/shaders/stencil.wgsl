@@ -5,7 +5,7 @@
 // quads and dark caps reach infinity and the reversed, infinite projection puts them at depth 0.
 // No colour output: the stencil operations do the counting.
 
-// `frame` (group 0) is declared in frame.wgsl, prepended by `passes::shader`.
+// `frame` (group 0) is declared in common.wgsl, prepended by `passes::shader`.
 
 @vertex
 fn vs(

@@ -8,13 +8,13 @@ use penumbra_geom::Rng;
 use penumbra_params::TechniqueParams;
 use wgpu::util::DeviceExt;
 
-use super::frame::{RGBA, ShadowFrame};
 use super::inputs::{TechniqueLanes, best_candidates};
 use super::pipelines::TechniquePasses;
+use super::resources::{RGBA, ShadowFrame};
 use crate::constants::NOISE_SIZE;
+use crate::counters::Pass;
 use crate::passes::fullscreen::LIGHT_MAP_FORMAT;
 use crate::passes::{VISIBILITY_FORMAT, texture_descriptor, view};
-use crate::timing::Pass;
 
 /// Its shader and its passes: the edges, the propagation, the filter, and the probe of the
 /// tests ([`super::ShadowMapRenderer::probe`]).

@@ -6,13 +6,13 @@ use glam::DVec2;
 use penumbra_geom::Rng;
 use penumbra_params::{GaussianVariant, TechniqueParams};
 
-use super::frame::{RGBA, ShadowFrame, uniform_buffer};
 use super::inputs::{TechniqueLanes, best_candidates};
 use super::light_frustum::LightFrustum;
 use super::pipelines::TechniquePasses;
+use super::resources::{RGBA, ShadowFrame, uniform_buffer};
 use crate::constants::MAX_TAPS;
+use crate::counters::Pass;
 use crate::passes::VISIBILITY_FORMAT;
-use crate::timing::Pass;
 
 /// Its shader and its passes: the distance map, the dilation, the three filters and the
 /// read-out.

@@ -4,11 +4,11 @@
 
 use penumbra_params::{MdsmExtra, TechniqueParams};
 
-use super::frame::{RGBA, ShadowFrame};
 use super::inputs::TechniqueLanes;
 use super::pipelines::TechniquePasses;
+use super::resources::{RGBA, ShadowFrame};
+use crate::counters::Pass;
 use crate::passes::VISIBILITY_FORMAT;
-use crate::timing::Pass;
 
 /// Its shader and its passes: the build, the filter, and the probe of the tests
 /// ([`super::ShadowMapRenderer::probe`]).

@@ -6,10 +6,10 @@
 //! A render takes the depth pre-pass (receivers' positions and normals), a light map from the
 //! light's centre fitted to what can shadow the view ([`light_frustum`]), the technique's own
 //! passes, and a full-screen pass writing V. What the techniques share is in [`inputs`] (the
-//! uniforms, the casters) and [`frame`] (one render's resources).
+//! uniforms, the casters) and [`resources`] (one render's resources, and the passes every
+//! technique starts with).
 
 mod fractional_disk;
-mod frame;
 mod gaussian;
 mod inputs;
 mod light_frustum;
@@ -18,6 +18,7 @@ mod pcf;
 mod pcss;
 mod pipelines;
 mod probe;
+mod resources;
 
 use glam::DVec2;
 use penumbra_geom::VisibilityImage;
@@ -25,12 +26,12 @@ use penumbra_geom::{LitScene, Technique};
 
 use crate::context::{GpuContext, GpuError};
 use crate::timing::{Rendered, read_frame};
-use frame::{ShadowFrame, back_face_casters};
 pub use gaussian::multi_pass_kernel;
 pub use inputs::ShadowUniforms;
 use inputs::{TechniqueLanes, closed_first};
 pub use light_frustum::{LightFrustum, MAX_SLOPE};
 use pipelines::{ShadowPipelines, TechniquePasses};
+use resources::{ShadowFrame, back_face_casters};
 
 /// The pipelines of one shadow-map technique, built once per device; each
 /// [`ShadowMapRenderer::render`] renders a scene with the parameters of its `params`.

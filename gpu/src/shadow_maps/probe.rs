@@ -7,10 +7,10 @@ use penumbra_geom::Technique;
 use wgpu::util::DeviceExt;
 
 use super::ShadowMapRenderer;
-use super::frame::{RGBA, SAMPLED};
 use super::inputs::ShadowUniforms;
+use super::resources::{RGBA, SAMPLED};
 use crate::context::GpuError;
-use crate::frame::{FrameUniforms, single_frame_group};
+use crate::frame_uniforms::{FrameUniforms, single_frame_group};
 use crate::passes::fullscreen::{INPUT_IMAGES, LIGHT_MAP_FORMAT};
 use crate::passes::{VISIBILITY_FORMAT, bind_group, buffer, texture, texture_descriptor, view};
 use crate::readback::read_r32f;

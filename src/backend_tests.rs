@@ -3,7 +3,12 @@
 
 use std::cell::Cell;
 
-use super::*;
+use penumbra_geom::Technique;
+
+use crate::backend::*;
+use crate::error::{MissingGpu, RenderError};
+use crate::options::RenderOptions;
+use crate::runs::Runs;
 
 /// A machine with or without a GPU, counting what the policy looked at.
 struct Fake {

@@ -8,12 +8,12 @@ use penumbra_params::TechniqueParams;
 use super::inputs::{ShadowUniforms, back_faces};
 use super::pipelines::ShadowPipelines;
 use crate::context::GpuContext;
-use crate::counters::Traffic;
-use crate::frame::{FrameCamera, FrameUniforms, eye_relative, single_frame_group};
+use crate::counters::{Pass, Traffic};
+use crate::frame_uniforms::{FrameCamera, FrameUniforms, eye_relative, single_frame_group};
 use crate::passes::depth::{GBuffer, MeshDraws, visibility_target};
 use crate::passes::fullscreen::{INPUT_IMAGES, LIGHT_DEPTH_FORMAT, LIGHT_MAP_FORMAT};
 use crate::passes::{bind_group, buffer, texture, view};
-use crate::timing::{Pass, Timer};
+use crate::timing::Timer;
 
 /// Usage of a target that a later pass reads.
 pub(super) const SAMPLED: wgpu::TextureUsages =

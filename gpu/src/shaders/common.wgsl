@@ -1,7 +1,7 @@
 // Declarations shared by every pass; `passes::shader` prepends this file to each pass's shader,
 // so each is written once in WGSL: the per-frame uniforms (and once in Rust:
-// `frame::FrameUniforms`, whose size is asserted), the light-space transforms and the radial
-// parts' rectangles. Positions are eye-relative.
+// `frame_uniforms::FrameUniforms`, whose size is asserted), the light-space transforms and the
+// radial parts' rectangles. Positions are eye-relative.
 
 struct Frame {
     // Eye-relative world to clip: reversed z, infinite far plane.
@@ -17,8 +17,9 @@ struct Frame {
     light_tangent: vec4<f32>,
     // Light bitangent (xyz) and half the second side (w).
     light_bitangent: vec4<f32>,
-    // A distant light's warp (`frame::FrameUniforms::with_warp`): its direction (xyz) and k
-    // (w), zero without one; its origin minus the world's eye; its origin minus the warped eye.
+    // A distant light's warp (`frame_uniforms::FrameUniforms::with_warp`): its direction (xyz)
+    // and k (w), zero without one; its origin minus the world's eye; its origin minus the warped
+    // eye.
     warp_direction: vec4<f32>,
     warp_origin: vec4<f32>,
     warp_image: vec4<f32>,
@@ -26,9 +27,9 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
-// One matrix per mesh: its stored vertices to eye-relative world (`frame::ModelMatrix`). The
-// depth and stencil passes draw each mesh as instance `mesh` and place its vertices with
-// `eye_relative`, so that both land on exactly the same positions.
+// One matrix per mesh: its stored vertices to eye-relative world
+// (`frame_uniforms::ModelMatrix`). The depth and stencil passes draw each mesh as instance `mesh`
+// and place its vertices with `eye_relative`, so that both land on exactly the same positions.
 @group(0) @binding(1) var<storage, read> models: array<mat4x4<f32>>;
 
 // Under a distant light's warp, the eye-relative world point is carried to the warped scene,
@@ -75,7 +76,7 @@ fn casters(stencil: u32) -> u32 {
 }
 
 // A rectangle as (min x, min y, max x, max y); empty when min > max. BIG (larger than any
-// coordinate) comes from Rust (`passes::shared_constants`).
+// coordinate) comes from Rust (`constants::shared_constants`).
 const EMPTY_RECT: vec4<f32> = vec4<f32>(BIG, BIG, -BIG, -BIG);
 
 // Bounding rectangle of radial part k of the light (counter-clockwise from +x).
@@ -122,7 +123,7 @@ fn encoded_area(e: vec4<f32>) -> f32 {
 // The final visibility buffer of `wedges-blend`, a storage buffer of `FINAL_WORDS` words per
 // pixel: the occluded area per part as 16-bit unorm (two words) and each part's rectangle as
 // `encode_rect` in 8-bit unorm (one word per part): 24 bytes. Zeroed: no occlusion.
-// FINAL_WORDS comes from Rust (`passes::blend::FINAL_WORDS`, through `passes::shared_constants`).
+// FINAL_WORDS comes from Rust (`constants::FINAL_WORDS`, through `constants::shared_constants`).
 
 fn final_index(pixel: vec2<u32>) -> u32 {
     return (pixel.y * u32(frame.size.x) + pixel.x) * FINAL_WORDS;

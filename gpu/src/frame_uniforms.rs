@@ -1,6 +1,7 @@
 //! The per-frame uniforms shared by every pass, laid out identically in Rust and WGSL
-//! (`struct Frame` in each shader). Positions on the GPU are relative to the eye, in `f32`, so
-//! that precision does not depend on where the scene sits in the world.
+//! (`struct Frame` in `shaders/common.wgsl`), the camera they are made from ([`FrameCamera`]) and
+//! the meshes' model matrices. Positions on the GPU are relative to the eye, in `f32`, so that
+//! precision does not depend on where the scene sits in the world.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3, DVec4, Vec3};
@@ -37,7 +38,7 @@ pub struct FrameUniforms {
 
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
 
-/// A mesh's model matrix as the shaders read it (`models` in `frame.wgsl`): its stored vertices
+/// A mesh's model matrix as the shaders read it (`models` in `common.wgsl`): its stored vertices
 /// to eye-relative world, column-major. The shaders use its rows x, y and z; column 0's w (row
 /// w, unused by an affine map) carries the mesh's outward sign for the depth pre-pass's normals.
 pub type ModelMatrix = [[f32; 4]; 4];
