@@ -117,7 +117,7 @@ impl DistantLight {
     ) -> Result<DistantLight, LightError> {
         let frame = LightError::SunFrame { north, up };
         let (n, u) = match (north.try_normalize(), up.try_normalize()) {
-            (Some(n), Some(u)) if n.dot(u).abs() <= crate::range::UNIT_TOLERANCE => {
+            (Some(n), Some(u)) if n.dot(u).abs() <= crate::limits::UNIT_TOLERANCE => {
                 (n, (u - n * n.dot(u)).normalize())
             }
             _ => return Err(frame),

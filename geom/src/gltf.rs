@@ -16,9 +16,10 @@ use ::gltf::scene::Transform;
 use ::gltf::{Node, Primitive, Semantic};
 use glam::{DMat4, DQuat, DVec3, DVec4};
 
+use crate::corners::from_corners;
 use crate::gltf_buffers::{Buffers, split_glb};
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::mesh_files::{MeshFormat, from_corners};
+use crate::mesh_format::MeshFormat;
 
 /// A `MeshError::Format` of the glTF file `path`.
 fn error(path: &Path, line: Option<usize>, message: String) -> MeshError {
@@ -363,7 +364,3 @@ fn document_error(path: &Path, glb: bool, e: ::gltf::Error) -> MeshError {
         e => error(path, None, e.to_string()),
     }
 }
-
-#[cfg(test)]
-#[path = "gltf_tests.rs"]
-pub(crate) mod tests;

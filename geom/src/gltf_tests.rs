@@ -5,7 +5,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::mesh_files::MeshFormat;
+use crate::mesh_format::MeshFormat;
 
 /// Base64 of `bytes`, padded.
 pub(crate) fn base64_of(bytes: &[u8]) -> String {

@@ -11,10 +11,13 @@ mod boxtree;
 mod bvh_build;
 mod camera;
 mod channels;
+mod corners;
 mod distant;
 mod exact;
 mod gltf;
 mod gltf_buffers;
+#[cfg(test)]
+mod gltf_tests;
 mod halfedge;
 mod image;
 mod image_files;
@@ -24,14 +27,20 @@ mod light_error;
 #[cfg(test)]
 mod light_error_tests;
 mod lights;
+mod limits;
 mod lit_scene;
 mod memory;
 mod mesh;
 mod mesh_files;
+#[cfg(test)]
+mod mesh_files_tests;
+mod mesh_format;
 mod metrics;
 mod obj;
 mod output;
 mod ply;
+#[cfg(test)]
+mod ply_tests;
 mod range;
 mod raycast;
 mod reference;
@@ -60,15 +69,14 @@ pub use lights::{
     Light, LightNameError, MAX_LIGHT_NAME, NamedLight, check_light_name, check_light_names,
     default_light_name, light_channel,
 };
+pub use limits::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, UNIT_TOLERANCE, within_coordinates};
 pub use lit_scene::{DistantView, LitScene};
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
-pub use mesh_files::MeshFormat;
+pub use mesh_format::MeshFormat;
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};
 pub use output::{output_target, remove_temporaries_in_progress, write_atomically};
-pub use range::{
-    MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, RangeError, UNIT_TOLERANCE, within_coordinates,
-};
+pub use range::RangeError;
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{
     LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,

@@ -4,7 +4,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::range::{MAX_COORDINATE, UNIT_TOLERANCE, within_coordinates};
+use crate::limits::{MAX_COORDINATE, UNIT_TOLERANCE, within_coordinates};
 
 /// What is wrong with a value given to a light's constructor ([`crate::RectLight::new`],
 /// [`crate::RectLight::aimed`], [`crate::DistantLight::new`], [`crate::DistantLight::sun`]):

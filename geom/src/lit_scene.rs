@@ -135,3 +135,22 @@ impl LitScene {
         self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
     }
 }
+
+impl Scene {
+    /// The scene under its light `k` (0-based, of [`Scene::light_count`]) in the form every
+    /// renderer renders: the camera, the rectangle to render, the meshes (shared, not copied,
+    /// under a rectangle light) and, for a distant light, its [`crate::Warp`] with the warped
+    /// meshes and camera (see `docs/scene-format.md`, "Distant lights").
+    ///
+    /// # Panics
+    ///
+    /// If `k` is not below [`Scene::light_count`].
+    pub fn lit(&self, k: usize) -> LitScene {
+        assert!(
+            k < self.lights.len(),
+            "light {k} of a scene of {} lights",
+            self.lights.len()
+        );
+        LitScene::new(self, self.lights[k].light)
+    }
+}

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use glam::{DMat4, DVec3};
 use thiserror::Error;
 
-use crate::mesh_files::MeshFormat;
+use crate::mesh_format::MeshFormat;
 
 /// What can be wrong with a mesh file. Every variant names the file, and the line where there is
 /// one (1-based).

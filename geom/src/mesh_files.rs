@@ -1,74 +1,12 @@
 //! Mesh files by format: the scene file's key (`obj`, `gltf`, `ply`) names the reader, and the
 //! file's first bytes must agree with it (glTF and PLY have signatures, OBJ has none). The
 //! readers are `obj.rs`, `gltf.rs` and `ply.rs`; all end in [`TriangleMesh::from_raw_at`]'s
-//! welding, through [`from_corners`] where they make their own triangles.
+//! welding, through `corners.rs` where they make their own triangles.
 
 use std::path::Path;
 
-use glam::DVec3;
-
 use crate::mesh::{MeshError, TriangleMesh};
-
-/// The formats a scene file's `[[mesh]]` entry can name, one key each.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum MeshFormat {
-    /// Wavefront OBJ (`obj = ...`).
-    Obj,
-    /// glTF 2.0, `.gltf` or `.glb` (`gltf = ...`).
-    Gltf,
-    /// PLY, ASCII or binary (`ply = ...`).
-    Ply,
-}
-
-impl MeshFormat {
-    /// Every format, in the order of the scene file's keys.
-    pub const ALL: [MeshFormat; 3] = [MeshFormat::Obj, MeshFormat::Gltf, MeshFormat::Ply];
-
-    /// The scene file's key: `obj`, `gltf` or `ply`.
-    pub fn key(self) -> &'static str {
-        match self {
-            MeshFormat::Obj => "obj",
-            MeshFormat::Gltf => "gltf",
-            MeshFormat::Ply => "ply",
-        }
-    }
-
-    /// How a file of the format starts, in words.
-    pub(crate) fn signature(self) -> &'static str {
-        match self {
-            MeshFormat::Obj => "text of `v` and `f` statements",
-            MeshFormat::Gltf => "a .glb starts with `glTF`, a .gltf with `{`",
-            MeshFormat::Ply => "a PLY file starts with the line `ply`",
-        }
-    }
-
-    /// The format that `bytes` announce by their signature: glTF (binary `glTF`, or JSON's
-    /// `{` after any byte-order mark and white space) or PLY (a first line `ply`); `None` for
-    /// anything else, which an OBJ is.
-    pub fn sniff(bytes: &[u8]) -> Option<MeshFormat> {
-        if bytes.starts_with(b"glTF") {
-            return Some(MeshFormat::Gltf);
-        }
-        if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
-            return Some(MeshFormat::Ply);
-        }
-        let text = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
-        match text.iter().find(|b| !b.is_ascii_whitespace()) {
-            Some(b'{') => Some(MeshFormat::Gltf),
-            _ => None,
-        }
-    }
-}
-
-impl std::fmt::Display for MeshFormat {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            MeshFormat::Obj => "OBJ",
-            MeshFormat::Gltf => "glTF",
-            MeshFormat::Ply => "PLY",
-        })
-    }
-}
+use crate::mesh_format::MeshFormat;
 
 impl TriangleMesh {
     /// Loads the mesh file at `path` as `format`, welded as [`TriangleMesh::from_raw`] welds.
@@ -112,39 +50,11 @@ impl TriangleMesh {
     }
 }
 
-/// The welded mesh of `triangles` over `positions` (finite, every index in range, fewer than
-/// `u32::MAX` positions: the readers check all three with their own messages), its vertices
-/// numbered in the order the triangles first use them, as the OBJ reader numbers them: the same
-/// triangles read from any format make the same mesh, and vertices no triangle uses are left out.
-pub(crate) fn from_corners(
-    path: &Path,
-    positions: &[DVec3],
-    triangles: &[[u32; 3]],
-) -> Result<TriangleMesh, MeshError> {
-    if triangles.is_empty() {
-        return Err(MeshError::Empty {
-            path: path.to_path_buf(),
-        });
-    }
-    let mut number = vec![u32::MAX; positions.len()];
-    let mut used = Vec::new();
-    let mut renumbered = Vec::with_capacity(triangles.len());
-    for t in triangles {
-        renumbered.push(t.map(|i| {
-            let n = &mut number[i as usize];
-            if *n == u32::MAX {
-                *n = used.len() as u32;
-                used.push(positions[i as usize]);
-            }
-            *n
-        }));
-    }
-    TriangleMesh::from_raw_at(path, &used, &renumbered)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::corners::from_corners;
+    use glam::DVec3;
 
     #[test]
     fn each_format_is_told_by_its_signature_and_obj_by_having_none() {
@@ -261,7 +171,3 @@ pub(crate) fn mutated(rng: &mut crate::rng::Rng, bytes: &[u8]) -> Vec<u8> {
     }
     b
 }
-
-#[cfg(test)]
-#[path = "mesh_files_tests.rs"]
-mod scene_tests;

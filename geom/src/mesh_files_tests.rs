@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use crate::gltf::tests::Doc;
+use crate::gltf_tests::Doc;
 use crate::scene::Scene;
 use crate::scene_error::SceneError;
 

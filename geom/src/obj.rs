@@ -16,7 +16,7 @@ impl TriangleMesh {
     /// the statement can be located, its line; a glTF or PLY file is refused as such
     /// ([`TriangleMesh::load`]).
     pub fn load_obj(path: &Path) -> Result<Self, MeshError> {
-        Self::load(path, crate::mesh_files::MeshFormat::Obj)
+        Self::load(path, crate::mesh_format::MeshFormat::Obj)
     }
 
     /// [`TriangleMesh::load_obj`] of the text of an OBJ file; `path` names it in errors.

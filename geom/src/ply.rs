@@ -13,8 +13,9 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use crate::corners::from_corners;
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::mesh_files::{MeshFormat, from_corners};
+use crate::mesh_format::MeshFormat;
 
 /// A `MeshError::Format` of the PLY file `path`.
 fn error(path: &Path, line: Option<usize>, message: String) -> MeshError {
@@ -554,7 +555,3 @@ impl Values<'_> {
         Ok(())
     }
 }
-
-#[cfg(test)]
-#[path = "ply_tests.rs"]
-mod tests;

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::mesh::{MeshError, TriangleMesh};
-use crate::mesh_files::MeshFormat;
+use crate::mesh_format::MeshFormat;
 
 fn parse(name: &str, bytes: &[u8]) -> Result<TriangleMesh, MeshError> {
     TriangleMesh::parse(Path::new(name), MeshFormat::Ply, bytes)

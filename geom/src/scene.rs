@@ -1,7 +1,7 @@
 //! A scene: the camera, its lights (rectangles or distant lights, each named), the world-space
 //! meshes and the shadow-map techniques' parameters, made in code here (read from a scene file
 //! in `scene_file.rs`, held to the supported range in `range.rs`). Every renderer renders one
-//! light at a time, through the scene's [`LitScene`] for that light (`lit_scene.rs`).
+//! light at a time, through the scene's [`LitScene`](crate::LitScene) for that light (`lit_scene.rs`).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -13,7 +13,6 @@ use crate::camera::Camera;
 use crate::distant::DistantLight;
 use crate::light::RectLight;
 use crate::lights::{Light, LightNameError, NamedLight, check_light_names, default_light_name};
-use crate::lit_scene::LitScene;
 use crate::mesh::TriangleMesh;
 
 /// One mesh of a scene, in world space.
@@ -23,7 +22,7 @@ pub struct SceneMesh {
     pub source: PathBuf,
     /// `translate * rotate * scale`: from the mesh file into the world.
     pub transform: DMat4,
-    /// The welded mesh with world-space positions (in a [`LitScene`] under a distant light,
+    /// The welded mesh with world-space positions (in a [`LitScene`](crate::LitScene) under a distant light,
     /// the warped world's).
     pub mesh: TriangleMesh,
 }
@@ -35,7 +34,7 @@ pub struct SceneMesh {
 /// `V` for a scene of one light (`[light]` in a scene file, one [`Scene::with_light`] in code),
 /// `<name>.V` for each light otherwise (`[[light]]`, even of one entry, or
 /// [`Scene::with_lights`]). The meshes are shared between the scene's copies and its
-/// [`LitScene`]s: cloning a scene or taking one light's view copies no mesh.
+/// [`LitScene`](crate::LitScene)s: cloning a scene or taking one light's view copies no mesh.
 #[derive(Clone, Debug)]
 pub struct Scene {
     /// The scene file, or `<in memory>` for a scene made in code.
@@ -147,23 +146,6 @@ impl Scene {
         self.lights = lights;
         self.named_channels = true;
         Ok(self)
-    }
-
-    /// The scene under its light `k` (0-based, of [`Scene::light_count`]) in the form every
-    /// renderer renders: the camera, the rectangle to render, the meshes (shared, not copied,
-    /// under a rectangle light) and, for a distant light, its [`crate::Warp`] with the warped
-    /// meshes and camera (see `docs/scene-format.md`, "Distant lights").
-    ///
-    /// # Panics
-    ///
-    /// If `k` is not below [`Scene::light_count`].
-    pub fn lit(&self, k: usize) -> LitScene {
-        assert!(
-            k < self.lights.len(),
-            "light {k} of a scene of {} lights",
-            self.lights.len()
-        );
-        LitScene::new(self, self.lights[k].light)
     }
 
     /// The same scene under its light `k` alone (0-based, of [`Scene::light_count`]): a scene

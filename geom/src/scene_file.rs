@@ -44,9 +44,9 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::camera::{Camera, CameraError};
+use crate::limits::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
 use crate::mesh::TriangleMesh;
-use crate::mesh_files::MeshFormat;
-use crate::range::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, within_coordinates};
+use crate::mesh_format::MeshFormat;
 use crate::scene::{Scene, SceneMesh};
 use crate::scene_error::SceneError;
 use crate::scene_file_lights::{LightDesc, read_lights};
