@@ -80,7 +80,7 @@ pub const MAX_GPU_EXTENT_RATIO: f64 = 5e4;
 /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/scenes/quad-over-plane.toml");
 /// let scene = penumbra::Scene::load(std::path::Path::new(path))?;
 /// // A 20 x 20 ground seen from about 7 units from the light.
-/// assert!((extent_ratio(&scene) - 28.28 / 7.28).abs() < 0.01);
+/// assert!((extent_ratio(&scene.lit(0)) - 28.28 / 7.28).abs() < 0.01);
 /// # Ok::<(), penumbra::SceneError>(())
 /// ```
 pub fn extent_ratio(scene: &LitScene) -> f64 {

@@ -148,7 +148,7 @@ impl RectLight {
     /// use penumbra::geom::RectLight;
     ///
     /// // A 4 x 2 light at height 5, shining down.
-    /// let l = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::new(4.0, 2.0));
+    /// let l = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::new(4.0, 2.0)).unwrap();
     /// let corner = l.point(DVec2::new(1.0, 1.0));
     /// assert!((l.to_light_space(corner) - DVec3::new(1.0, 1.0, 0.0)).length() < 1e-12);
     /// assert_eq!(l.to_light_space(DVec3::ZERO).z, 5.0); // 5 below the light

@@ -63,9 +63,15 @@ pub enum LightError {
         /// The axis.
         axis: DVec3,
     },
-    /// A rectangle's sides that are not two positive finite lengths within the supported range.
-    #[error("size {size} must be two positive finite lengths (sides up to {MAX_COORDINATE:e})")]
+    /// A rectangle's sides that are not two positive finite lengths.
+    #[error("size {size} must be two positive finite lengths")]
     Size {
+        /// The sides.
+        size: DVec2,
+    },
+    /// A rectangle's side beyond [`MAX_COORDINATE`].
+    #[error("size {size} lies outside the supported range (sides up to {MAX_COORDINATE:e})")]
+    SizeOutOfRange {
         /// The sides.
         size: DVec2,
     },
@@ -168,10 +174,12 @@ pub(crate) fn horizontal_tangent(axis: DVec3, up: DVec3, fallback: DVec3) -> DVe
 
 /// `size` as two positive finite sides within the supported range.
 pub(crate) fn size(size: DVec2) -> Result<DVec2, LightError> {
-    if size.x > 0.0 && size.y > 0.0 && size.max_element() <= MAX_COORDINATE {
-        Ok(size)
-    } else {
+    if !(size.x > 0.0 && size.y > 0.0 && size.is_finite()) {
         Err(LightError::Size { size })
+    } else if size.max_element() > MAX_COORDINATE {
+        Err(LightError::SizeOutOfRange { size })
+    } else {
+        Ok(size)
     }
 }
 

@@ -354,7 +354,7 @@ pub enum LightSamples {
 /// let light = RectLight::new(DVec3::new(0.0, 5.0, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::splat(2.0)).unwrap();
 /// let scene = Scene::new(camera).with_light(light)
 ///     .with_mesh("ball", &TriangleMesh::uv_sphere(8, 12), DMat4::from_translation(DVec3::Y));
-/// let reference = Reference::new(&scene);
+/// let reference = Reference::new(&scene.lit(0));
 /// let soft = reference.render(LightSamples::Stratified { per_axis: 4 }, &|_| {});
 /// let hard = reference.render(LightSamples::Centre, &|_| {});
 /// assert_eq!((soft.width, hard.height), (16, 12));

@@ -113,7 +113,7 @@ pub(crate) fn read_lights(
                 | LightError::NotUnit { field, .. }
                 | LightError::Angle { field, .. } => *field,
                 LightError::NotOrthogonal { .. } => "tangent",
-                LightError::Size { .. } => "size",
+                LightError::Size { .. } | LightError::SizeOutOfRange { .. } => "size",
                 LightError::AngularSize { .. } => "angular_size",
                 LightError::TargetAtCenter { .. } => "target",
                 LightError::SunFrame { .. } => "azimuth_deg",
