@@ -1,7 +1,7 @@
-//! Mutational fuzzing of the scene loader and the OBJ loader, for a bounded time per target
-//! (`PENUMBRA_FUZZ_SECONDS`, default 60): inputs grown from the fixtures by byte and token
-//! mutations, every one that loads then rendered small by the CPU volume techniques and
-//! depth-complexity. Any panic fails the test, after the input is saved under
+//! Mutational fuzzing of the scene loader and the OBJ loader, a bounded number of inputs per
+//! target (`PENUMBRA_FUZZ_INPUTS`, default 200,000, or as many as `PENUMBRA_FUZZ_SECONDS`
+//! allow): inputs grown from the fixtures by byte and token mutations, every one that loads
+//! then rendered small by the CPU volume techniques and depth-complexity. Any panic fails the test, after the input is saved under
 //! `target/fuzz-crashes/`; a crash found is kept in `tests/fuzz/` (a scene as `*.toml`, an OBJ as
 //! `*.obj`), which every run replays first.
 
@@ -70,13 +70,30 @@ const LINES: [&str; 22] = [
     "f 9999999 1 2",
 ];
 
-/// The seconds each target runs for.
-fn budget() -> Duration {
-    let s = std::env::var("PENUMBRA_FUZZ_SECONDS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(60.0f64);
-    Duration::from_secs_f64(s)
+/// How much each target runs: a number of inputs, or for as long as asked.
+enum Budget {
+    Inputs(u64),
+    Time(Duration),
+}
+
+impl Budget {
+    /// `PENUMBRA_FUZZ_SECONDS` where it is set (a longer session), else `PENUMBRA_FUZZ_INPUTS`
+    /// inputs, 200,000 by default (seconds on two cores: most mutants fail to load).
+    fn from_env() -> Budget {
+        let var = |name| std::env::var(name).ok().and_then(|v| v.parse::<f64>().ok());
+        match (var("PENUMBRA_FUZZ_SECONDS"), var("PENUMBRA_FUZZ_INPUTS")) {
+            (Some(s), _) => Budget::Time(Duration::from_secs_f64(s)),
+            (None, n) => Budget::Inputs(n.map_or(200_000, |n| n as u64)),
+        }
+    }
+
+    /// Whether another input is due after `runs` inputs since `start`.
+    fn more(&self, runs: u64, start: Instant) -> bool {
+        match *self {
+            Budget::Inputs(n) => runs < n,
+            Budget::Time(d) => start.elapsed() < d,
+        }
+    }
 }
 
 fn mutate(rng: &mut Rng, input: &str, corpus: &[String]) -> String {
@@ -320,10 +337,11 @@ fn fuzz(name: &str, ext: &str, seed: u64, check: impl Fn(&str) + std::panic::Ref
     }
     let mut corpus = seeds(ext);
     let mut rng = Rng::new(seed ^ std::process::id() as u64);
+    let budget = Budget::from_env();
     let start = Instant::now();
     let (mut runs, mut crashes) = (0u64, Vec::new());
     quiet_panics(true);
-    while start.elapsed() < budget() {
+    while budget.more(runs, start) {
         let base = corpus[rng.below(corpus.len())].clone();
         let input = mutate(&mut rng, &base, &corpus);
         runs += 1;
