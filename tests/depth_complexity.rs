@@ -18,7 +18,7 @@ use crate::common::{fixture_names, load_lit};
 fn differences(scene: &LitScene, samples: usize) -> (Vec<(u32, u32, f32, f32)>, usize) {
     let per_axis = (samples as f64).sqrt() as usize;
     assert_eq!(per_axis * per_axis, samples);
-    let dc = DepthComplexity::new(&scene);
+    let dc = DepthComplexity::new(scene);
     let got = dc.render(
         SamplePattern {
             per_axis,
@@ -26,7 +26,7 @@ fn differences(scene: &LitScene, samples: usize) -> (Vec<(u32, u32, f32, f32)>, 
         },
         &|_| {},
     );
-    let want = Reference::new(&scene).render(LightSamples::Stratified { per_axis }, &|_| {});
+    let want = Reference::new(scene).render(LightSamples::Stratified { per_axis }, &|_| {});
     (diff(&got, &want), got.data.len())
 }
 

@@ -493,8 +493,8 @@ fn lengyel_planes_bound_every_wedge_and_the_split_plane_separates_its_halves() {
 
 /// The pixels where CPU `hard` differs from the hard reference.
 fn pixels_where_hard_differs(scene: &LitScene) -> usize {
-    let hard = CpuRenderer::new(&scene).render(Technique::Hard, &|_| {});
-    let want = Reference::new(&scene).render(LightSamples::Centre, &|_| {});
+    let hard = CpuRenderer::new(scene).render(Technique::Hard, &|_| {});
+    let want = Reference::new(scene).render(LightSamples::Centre, &|_| {});
     hard.data
         .iter()
         .zip(&want.data)

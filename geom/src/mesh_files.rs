@@ -50,6 +50,34 @@ impl TriangleMesh {
     }
 }
 
+/// `bytes` changed a few times at random (bytes set, copied, cut out, or the end cut off), for
+/// the readers' tests: whatever comes of them must be a mesh or an error, never a panic.
+#[cfg(test)]
+pub(crate) fn mutated(rng: &mut crate::rng::Rng, bytes: &[u8]) -> Vec<u8> {
+    let mut b = bytes.to_vec();
+    for _ in 0..1 + rng.below(3) {
+        let i = rng.below(b.len().max(1)).min(b.len());
+        match rng.below(5) {
+            0 => b.truncate(i),
+            1 if i < b.len() => b[i] = rng.below(256) as u8,
+            2 if i < b.len() => {
+                let set = b"0123456789-.e ,[]{}\n\xff";
+                b[i] = set[rng.below(set.len())];
+            }
+            3 => {
+                let end = (i + 1 + rng.below(16)).min(b.len());
+                b.drain(i..end);
+            }
+            _ => {
+                let from = rng.below(b.len().max(1)).min(b.len());
+                let piece: Vec<u8> = b[from..(from + rng.below(8)).min(b.len())].to_vec();
+                b.splice(i..i, piece);
+            }
+        }
+    }
+    b
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -142,32 +170,4 @@ mod tests {
             Err(MeshError::Empty { .. })
         ));
     }
-}
-
-/// `bytes` changed a few times at random (bytes set, copied, cut out, or the end cut off), for
-/// the readers' tests: whatever comes of them must be a mesh or an error, never a panic.
-#[cfg(test)]
-pub(crate) fn mutated(rng: &mut crate::rng::Rng, bytes: &[u8]) -> Vec<u8> {
-    let mut b = bytes.to_vec();
-    for _ in 0..1 + rng.below(3) {
-        let i = rng.below(b.len().max(1)).min(b.len());
-        match rng.below(5) {
-            0 => b.truncate(i),
-            1 if i < b.len() => b[i] = rng.below(256) as u8,
-            2 if i < b.len() => {
-                let set = b"0123456789-.e ,[]{}\n\xff";
-                b[i] = set[rng.below(set.len())];
-            }
-            3 => {
-                let end = (i + 1 + rng.below(16)).min(b.len());
-                b.drain(i..end);
-            }
-            _ => {
-                let from = rng.below(b.len().max(1)).min(b.len());
-                let piece: Vec<u8> = b[from..(from + rng.below(8)).min(b.len())].to_vec();
-                b.splice(i..i, piece);
-            }
-        }
-    }
-    b
 }

@@ -111,7 +111,7 @@ fn record_frame(
     gbuffer: &GBuffer,
 ) -> Result<(wgpu::CommandEncoder, wgpu::Texture), penumbra_gpu::GpuError> {
     let device = &ctx.device;
-    let camera = FrameCamera::of_scene(&scene);
+    let camera = FrameCamera::of_scene(scene);
     let target = visibility_target(device, gbuffer.size());
     let inputs = FrameInputs {
         camera,
