@@ -49,7 +49,7 @@ pub const TOUCH_EPSILON: f64 = 1e-9;
 pub struct SurfacePoint {
     /// World position, snapped onto the plane of its triangle in `f64`.
     pub position: DVec3,
-    /// Index of the triangle it lies on (into [`Scene::triangles`]).
+    /// Index of the triangle it lies on (into [`LitScene::triangles`]).
     pub triangle: u32,
 }
 

@@ -86,7 +86,7 @@ impl ShadedImage {
 
     /// [`ShadedImage::render`], taking the ray-casting hierarchy from `kept` where it serves
     /// the scene's triangles, and keeping the one it builds there otherwise
-    /// ([`Tracer::new_reusing`]).
+    /// ([`TracerGeometry::reusing`]).
     pub fn render_reusing(
         scene: &Scene,
         images: &VisibilityChannels,
