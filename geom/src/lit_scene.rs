@@ -25,7 +25,8 @@ use crate::scene::{Scene, SceneMesh, triangles};
 pub struct LitScene {
     /// The scene file, or `<in memory>`.
     pub path: PathBuf,
-    /// The camera the renderers cast from (the warped world's under a distant light).
+    /// The camera the renderers cast from (the warped world's under a distant light); its
+    /// size is set with [`LitScene::set_size`], which keeps the world's camera in step.
     pub camera: Camera,
     /// The rectangle light the renderers render.
     pub light: RectLight,
@@ -102,6 +103,17 @@ impl LitScene {
         }
     }
 
+    /// Renders `width x height` pixels with the same view: the rendered camera and, under a
+    /// distant light, the world's camera alike.
+    pub fn set_size(&mut self, width: u32, height: u32) {
+        for camera in
+            std::iter::once(&mut self.camera).chain(self.distant.as_mut().map(|d| &mut d.camera))
+        {
+            camera.width = width;
+            camera.height = height;
+        }
+    }
+
     /// The light in the world: the rectangle, or the distant light.
     pub fn world_light(&self) -> Light {
         match &self.distant {
@@ -128,6 +140,12 @@ impl LitScene {
     /// Every triangle the renderers render, meshes in order.
     pub fn triangles(&self) -> Vec<[DVec3; 3]> {
         triangles(&self.meshes)
+    }
+
+    /// Every triangle in the world, meshes in order: [`LitScene::triangles`] under a rectangle
+    /// light.
+    pub fn world_triangles(&self) -> Vec<[DVec3; 3]> {
+        triangles(self.world_meshes())
     }
 
     /// Total number of triangles.

@@ -182,14 +182,13 @@ impl FrameCamera {
         }
     }
 
-    /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera,
+    /// The camera of a one-shot render of `scene` ([`crate::GpuRenderer::render`]): its camera
+    /// in the world (a [`crate::GpuScene`] under a distant light warps it, [`FrameCamera::warped`]),
     /// with the near plane a thousandth of the scene's extent around the eye, or half the
     /// distance to the nearest triangle where that is closer.
     pub fn of_scene(scene: &penumbra_geom::LitScene) -> Self {
-        Self::for_scene(
-            &scene.camera,
-            &eye_relative(scene.camera.eye, &scene.triangles()),
-        )
+        let camera = scene.world_camera();
+        Self::for_scene(camera, &eye_relative(camera.eye, &scene.world_triangles()))
     }
 
     /// [`FrameCamera::from_camera`] with the near plane the one-shot renderers use for a scene

@@ -19,8 +19,7 @@ use penumbra_volumes::{DepthComplexity, SamplePattern};
 
 /// `scene` at `w x h` pixels, the same view.
 fn at_size(mut scene: LitScene, (w, h): (u32, u32)) -> LitScene {
-    scene.camera.width = w;
-    scene.camera.height = h;
+    scene.set_size(w, h);
     scene
 }
 
@@ -172,14 +171,15 @@ fn size_the_edge_list(
     assert!(gpu_scene.edge_list_capacity() > 0);
 }
 
-/// A fixture's meshes in a [`GpuScene`] (each placed by the identity) with `samples` samples.
+/// A fixture's meshes in a [`GpuScene`] (each placed by the identity, in the world) under its
+/// light (a distant light warped by the scene itself) with `samples` samples.
 fn gpu_scene(r: &GpuRenderer, scene: &LitScene, samples: u32) -> GpuScene {
     let meshes: Vec<_> = scene
-        .meshes
+        .world_meshes()
         .iter()
         .map(|m| (&m.mesh, DMat4::IDENTITY))
         .collect();
-    let mut s = GpuScene::new(r, &meshes, scene.light);
+    let mut s = GpuScene::new(r, &meshes, scene.world_light());
     s.set_light_samples(samples).unwrap();
     s
 }

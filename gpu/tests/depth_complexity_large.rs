@@ -205,7 +205,7 @@ fn a_tiny_list_and_tiny_chunks_give_the_same_image() {
         .iter()
         .map(|m| (&m.mesh, DMat4::IDENTITY))
         .collect();
-    let mut gpu_scene = GpuScene::new(&r, &meshes, scene.lit(0).light);
+    let mut gpu_scene = GpuScene::new(&r, &meshes, scene.lit(0).world_light());
     gpu_scene.set_light_samples(64).unwrap();
     gpu_scene.set_edge_list_capacity(1 << 20);
     let (fitting, report) = frame(&ctx, &mut gpu_scene, &scene);

@@ -2,8 +2,8 @@
 //! ([`Warp`], `docs/scene-format.md`, "Distant lights"), kept from frame to frame while it holds
 //! the meshes and the eye, and the camera the passes then see.
 
-use glam::DVec3;
-use penumbra_geom::{DistantLight, Light, RectLight, Warp};
+use glam::{DMat4, DVec3};
+use penumbra_geom::{DistantLight, Light, LitScene, RectLight, Warp};
 
 use super::GpuScene;
 use super::meshes::{StoredMesh, world_corners};
@@ -22,6 +22,8 @@ pub(super) enum SceneLight {
         warp: Warp,
         /// The rectangle the warp makes of the light.
         rect: RectLight,
+        /// The eye and the meshes' transforms the warp was last found to hold for.
+        held: Option<(DVec3, Vec<DMat4>)>,
     },
 }
 
@@ -34,6 +36,23 @@ impl SceneLight {
         }
     }
 
+    /// The light of `scene`: under a distant light, with the scene's own warp, which holds its
+    /// meshes as they are in the world (placed by the identity) and its eye.
+    pub(super) fn of_scene(scene: &LitScene) -> Self {
+        match &scene.distant {
+            None => SceneLight::Rect(scene.light),
+            Some(d) => SceneLight::Distant {
+                light: d.light,
+                warp: d.warp,
+                rect: scene.light,
+                held: Some((
+                    d.camera.eye,
+                    vec![DMat4::IDENTITY; scene.world_meshes().len()],
+                )),
+            },
+        }
+    }
+
     /// The distant light `light` with the warp around `points`.
     fn distant(light: DistantLight, points: Vec<DVec3>) -> Self {
         let warp = Warp::around(points, light.direction);
@@ -41,6 +60,7 @@ impl SceneLight {
             light,
             warp,
             rect: warp.light(&light),
+            held: None,
         }
     }
 
@@ -80,16 +100,29 @@ impl GpuScene {
     /// The camera the passes see for the application's `camera`: itself under a rectangle
     /// light; under a distant light, the camera of the warped scene ([`FrameCamera::warped`]),
     /// the warp renewed first (and what was built for it dropped) where the meshes, as placed
-    /// now, or the eye have left it.
+    /// now, or the eye have left it. The warp is checked once for each eye and placement of the
+    /// meshes.
     pub(super) fn frame_camera(&mut self, camera: &FrameCamera) -> FrameCamera {
-        let SceneLight::Distant { light, warp, .. } = &self.light else {
+        let transforms: Vec<DMat4> = self.meshes.iter().map(|m| m.transform).collect();
+        let SceneLight::Distant {
+            light, warp, held, ..
+        } = &mut self.light
+        else {
             return *camera;
         };
-        let mut points = world_corners(&self.meshes);
-        points.push(camera.eye);
-        if !holds(warp, &points) {
-            self.light = SceneLight::distant(*light, points);
-            self.light_changed();
+        let now = (camera.eye, transforms);
+        if held.as_ref() != Some(&now) {
+            let mut points = world_corners(&self.meshes);
+            points.push(camera.eye);
+            if holds(warp, &points) {
+                *held = Some(now);
+            } else {
+                self.light = SceneLight::distant(*light, points);
+                if let SceneLight::Distant { held, .. } = &mut self.light {
+                    *held = Some(now);
+                }
+                self.light_changed();
+            }
         }
         camera.warped(self.light.warp().expect("a distant light"))
     }

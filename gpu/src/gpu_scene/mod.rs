@@ -19,7 +19,7 @@ mod uploads;
 use std::ops::Range;
 use std::sync::Arc;
 
-use glam::{DMat4, DVec3};
+use glam::DMat4;
 use penumbra_geom::{HalfEdgeMesh, Light, LitScene, RectLight, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::outward_sign;
@@ -129,33 +129,23 @@ impl GpuScene {
         meshes: &[(&TriangleMesh, DMat4)],
         light: impl Into<Light>,
     ) -> Self {
-        let meshes: Vec<(&TriangleMesh, DMat4, DVec3, f64)> = meshes
+        let stored: Vec<StoredMesh> = meshes
             .iter()
             .map(|&(m, t)| {
                 let outward = outward_sign(m, &HalfEdgeMesh::build(m));
-                (m, t, centre(&m.positions), outward)
+                StoredMesh::new(m, t, centre(&m.positions), outward)
             })
             .collect();
-        Self::with_origins(renderer, &meshes, light.into())
+        let light = SceneLight::new(light.into(), &stored);
+        Self::with_stored(renderer, stored, light)
     }
 
-    /// [`GpuScene::new`] with each mesh's vertices stored relative to the given origin, and its
-    /// outward sign given.
-    fn with_origins(
-        renderer: &GpuRenderer,
-        meshes: &[(&TriangleMesh, DMat4, DVec3, f64)],
-        light: Light,
-    ) -> Self {
+    /// [`GpuScene::new`] with the meshes stored and the light made.
+    fn with_stored(renderer: &GpuRenderer, stored: Vec<StoredMesh>, light: SceneLight) -> Self {
         let ctx = renderer.context();
         let device = &ctx.device;
-        let stored: Vec<StoredMesh> = meshes
-            .iter()
-            .map(|&(mesh, transform, origin, outward)| {
-                StoredMesh::new(mesh, transform, origin, outward)
-            })
-            .collect();
         let mut corners: Vec<[f32; 3]> = Vec::new();
-        let mut vertex_ranges = Vec::with_capacity(meshes.len());
+        let mut vertex_ranges = Vec::with_capacity(stored.len());
         for m in &stored {
             let start = corners.len() as u32;
             corners.extend(
@@ -200,7 +190,7 @@ impl GpuScene {
             pipelines,
             vertices,
             vertex_ranges,
-            light: SceneLight::new(light, &stored),
+            light,
             meshes: stored,
             shadows: None,
             kept: Vec::new(),
@@ -230,21 +220,23 @@ impl GpuScene {
         s
     }
 
-    /// The meshes of `scene` in the one-shot renderer's layout (world space, stored relative to
-    /// the eye), mesh `i` with the outward sign `outward(i)`; nothing built for the light yet.
+    /// The meshes of `scene` in the one-shot renderer's layout (in the world, placed by the
+    /// identity, stored relative to the eye), mesh `i` with the outward sign `outward(i)`, lit
+    /// by the scene's light: a distant light through the scene's own warp, as every frame of a
+    /// [`GpuScene`] renders one; nothing built for the light yet.
     pub(crate) fn of_scene(
         renderer: &GpuRenderer,
         scene: &LitScene,
         outward: impl Fn(usize) -> f64,
     ) -> Self {
-        let eye = scene.camera.eye;
-        let meshes: Vec<(&TriangleMesh, DMat4, DVec3, f64)> = scene
-            .meshes
+        let eye = scene.world_camera().eye;
+        let stored = scene
+            .world_meshes()
             .iter()
             .enumerate()
-            .map(|(i, m)| (&m.mesh, DMat4::IDENTITY, eye, outward(i)))
+            .map(|(i, m)| StoredMesh::new(&m.mesh, DMat4::IDENTITY, eye, outward(i)))
             .collect();
-        Self::with_origins(renderer, &meshes, Light::Rect(scene.light))
+        Self::with_stored(renderer, stored, SceneLight::of_scene(scene))
     }
 
     /// How many meshes it holds.
