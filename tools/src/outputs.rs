@@ -1,49 +1,83 @@
 //! The outputs of a run: refused before any work when they would overwrite an input or each
 //! other, or are not regular files.
 
-use std::path::{Path, PathBuf};
+use std::collections::HashMap;
+use std::path::{Component, Path, PathBuf};
 
 use anyhow::{Result, bail};
 
 /// Refuses outputs that would overwrite an input or each other, or that are not regular files
-/// (or links to one).
+/// (or links to one). Each path is resolved once ([`file_key`]), so a run of thousands of
+/// outputs is checked in time proportional to their number.
 pub(crate) fn check_outputs(inputs: &[PathBuf], outputs: &[&Path]) -> Result<()> {
-    for (k, out) in outputs.iter().enumerate() {
+    let inputs: HashMap<FileKey, &PathBuf> = inputs.iter().map(|i| (file_key(i), i)).collect();
+    let mut seen: HashMap<FileKey, &Path> = HashMap::with_capacity(outputs.len());
+    for out in outputs {
         // Before any work: a directory, device, FIFO or socket is refused, not replaced.
         penumbra::geom::output_target(out)?;
-        if let Some(i) = inputs.iter().find(|i| same_file(i, out)) {
+        let key = file_key(out);
+        if let Some(i) = inputs.get(&key) {
             bail!(
                 "output {} is an input of this run ({}); refusing to overwrite it",
                 out.display(),
                 i.display()
             );
         }
-        if outputs[..k].iter().any(|o| same_file(o, out)) {
-            bail!("output {} is named twice", out.display());
+        if let Some(first) = seen.insert(key, out) {
+            if first == *out {
+                bail!("output {} is named twice", out.display());
+            }
+            bail!(
+                "outputs {} and {} are the same file",
+                first.display(),
+                out.display()
+            );
         }
     }
     Ok(())
 }
 
-/// The same file, whether or not it exists yet. Two existing paths are the same file when they
-/// reach the same inode: through a symbolic link (the image writers write through links) or as
-/// two hard links of one file. A path that does not exist yet is compared by its canonical folder
-/// and name.
-fn same_file(a: &Path, b: &Path) -> bool {
-    if let (Some(x), Some(y)) = (identity(a), identity(b)) {
-        return x == y;
+/// What names a file whether or not it exists yet.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum FileKey {
+    /// An existing file's device and inode: one key for every link to it, hard or symbolic.
+    Inode(u64, u64),
+    /// Where a file that does not exist yet will be ([`resolved`]).
+    Path(PathBuf),
+}
+
+/// The key of the file `p` names (see [`FileKey`]).
+fn file_key(p: &Path) -> FileKey {
+    let at = resolved(p).unwrap_or_else(|| p.to_path_buf());
+    match identity(&at) {
+        Some((dev, ino)) => FileKey::Inode(dev, ino),
+        None => FileKey::Path(at),
     }
-    let canon = |p: &Path| -> Option<PathBuf> {
-        let parent = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        Some(parent.canonicalize().ok()?.join(p.file_name()?))
-    };
-    match (canon(a), canon(b)) {
-        (Some(x), Some(y)) => x == y,
-        _ => a == b,
+}
+
+/// Where `p` will be once the folders it names are made, taken component by component: `.`
+/// is dropped, `..` removes the folder before it, and wherever the path so far exists it is
+/// made canonical (symbolic links followed). A folder the writer makes is a real folder, so
+/// `new/..` is the folder that holds `new`: `new/../scene.toml` is `scene.toml`. `None` where
+/// the current folder cannot be read.
+fn resolved(p: &Path) -> Option<PathBuf> {
+    let mut at = std::env::current_dir().ok()?.canonicalize().ok()?;
+    for c in p.components() {
+        match c {
+            Component::Prefix(_) | Component::RootDir => at = PathBuf::from(c.as_os_str()),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                at.pop();
+            }
+            Component::Normal(name) => at.push(name),
+        }
+        // Wherever the path so far exists, links are followed: `..` after a link to a folder
+        // is taken from its target, and a link to a file is the file.
+        if let Ok(real) = at.canonicalize() {
+            at = real;
+        }
     }
+    Some(at)
 }
 
 /// The device and inode of the file a path reaches, following symbolic links; `None` where

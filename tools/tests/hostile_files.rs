@@ -4,7 +4,7 @@
 //! a blocked read.
 
 mod common;
-use common::{GOOD_OBJ, GOOD_SCENE, case_dir, penumbra, scratch};
+use common::{GOOD_OBJ, GOOD_SCENE, case_dir, files_in, penumbra, scratch};
 
 /// Rewrites the data and display windows in an EXR's header to declare `w x h` pixels: a small
 /// file whose header asks for far more than it holds.
@@ -324,5 +324,102 @@ fn a_reader_that_stops_early_ends_the_command_quietly() {
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("panicked"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Outputs resolved as they will be once their folders are made: `new/../s.toml` is the scene
+/// and `./n/v.png` is `n/v.png`, whether or not `new` and `n` exist, and through a link to a
+/// folder `..` is taken from the link's target. Every command's outputs are refused before any
+/// work, the inputs kept and no folder made.
+#[test]
+fn outputs_through_missing_folders_and_dot_dot_are_resolved_before_any_work() {
+    use std::os::unix::fs::symlink;
+    let d = case_dir("dot-dot", GOOD_SCENE, GOOD_OBJ);
+    let (a, b) = (d.join("a.exr"), d.join("b.exr"));
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.5)
+        .write_exr(&a)
+        .unwrap();
+    penumbra_geom::VisibilityImage::filled(3, 2, 0.25)
+        .write_exr(&b)
+        .unwrap();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    symlink(d.join("sub"), d.join("up")).unwrap();
+    let before = files_in(&d);
+    let render = |extra: &[&str]| {
+        let mut c = penumbra();
+        c.current_dir(&d)
+            .args([
+                "render",
+                "s.toml",
+                "--technique",
+                "hard",
+                "--backend",
+                "cpu",
+            ])
+            .args(extra);
+        c
+    };
+    let compare = |heatmap: &str| {
+        let mut c = penumbra();
+        c.current_dir(&d)
+            .args(["compare", "a.exr", "b.exr", "--heatmap", heatmap]);
+        c
+    };
+    let cases = [
+        (
+            render(&["--out", "v.exr", "--png", "nd/../s.toml"]),
+            "is an input of this run",
+        ),
+        (
+            render(&["--out", "nd/./deeper/../../m.obj"]),
+            "is an input of this run",
+        ),
+        (
+            render(&[
+                "--out",
+                "v.exr",
+                "--png",
+                "./n/v.png",
+                "--shaded",
+                "n/v.png",
+            ]),
+            "are the same file",
+        ),
+        (
+            render(&["--out", "n/x/../v.exr", "--png", "n/v.exr"]),
+            "are the same file",
+        ),
+        // `up` is a link to `sub`: `up/../s.toml` is `s.toml` beside `sub`, not beside `up`.
+        (
+            render(&["--out", "sub/v.exr", "--png", "up/nd/../v.exr"]),
+            "are the same file",
+        ),
+        (compare("nd/../a.exr"), "is an input of this run"),
+        (compare("./nd/../b.exr"), "is an input of this run"),
+    ];
+    for (mut c, want) in cases {
+        let out = c.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        let args: Vec<_> = c.get_args().collect();
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert_eq!(files_in(&d), before, "{args:?}: something was written");
+        assert!(files_in(&d.join("sub")).is_empty(), "{args:?}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(d.join("s.toml")).unwrap(),
+        GOOD_SCENE
+    );
+    assert_eq!(std::fs::read_to_string(d.join("m.obj")).unwrap(), GOOD_OBJ);
+    // The same outputs under distinct names are written, the missing folder made.
+    let out = render(&["--out", "nd/../v.exr", "--png", "n/v.png"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(d.join("v.exr").is_file() && d.join("n").join("v.png").is_file());
     let _ = std::fs::remove_dir_all(&d);
 }
