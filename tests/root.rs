@@ -9,6 +9,7 @@ mod far_light;
 mod fixtures;
 mod fuzz;
 mod layout;
+mod library_misuse;
 mod light_inside;
 mod light_plane;
 mod mesh_files;

@@ -15,9 +15,15 @@ use crate::output::write_atomically;
 /// The header attribute listing a file's channels in the scene's order of its lights.
 pub const LIGHTS_ATTRIBUTE: &str = "penumbraLights";
 
-/// Whether `name` is a visibility channel: `V`, or `<light>.V`.
+/// Whether `name` is a visibility channel: `V`, or `<light>.V` where `<light>` is a light's
+/// name ([`crate::check_light_name`]): a channel of another name, from another program or
+/// written by hand, is not read as visibility, so no name from a file reaches a terminal or a
+/// file name unchecked.
 pub fn is_visibility_channel(name: &str) -> bool {
-    name == CHANNEL || name.strip_suffix(".V").is_some_and(|l| !l.is_empty())
+    name == CHANNEL
+        || name
+            .strip_suffix(".V")
+            .is_some_and(|l| crate::lights::check_light_name(l).is_ok())
 }
 
 /// One light's image and the name of its channel.
@@ -76,12 +82,23 @@ impl VisibilityChannels {
             });
         };
         let size = (first.image.width, first.image.height);
-        for (k, c) in channels.iter().enumerate() {
+        let mut seen = std::collections::HashMap::with_capacity(channels.len());
+        for c in &channels {
             if !is_visibility_channel(&c.name) {
                 return Err(bad(c, "a channel is named `V` or `<light>.V`".to_string()));
             }
-            if channels[..k].iter().any(|o| o.name == c.name) {
-                return Err(bad(c, "named twice".to_string()));
+            if let Some(other) = seen.insert(c.name.to_ascii_lowercase(), c.name.as_str()) {
+                return Err(bad(
+                    c,
+                    if other == c.name {
+                        "named twice".to_string()
+                    } else {
+                        format!(
+                            "differs from channel {other} only in case: their files would \
+                             collide on a file system that ignores case"
+                        )
+                    },
+                ));
             }
             if (c.image.width, c.image.height) != size {
                 return Err(bad(
@@ -92,8 +109,8 @@ impl VisibilityChannels {
                     ),
                 ));
             }
-            if c.image.data.len() != c.image.width as usize * c.image.height as usize {
-                return Err(bad(c, "its data is not width x height values".to_string()));
+            if let Err(e) = c.image.check_shape() {
+                return Err(bad(c, e.to_string()));
             }
         }
         Ok(VisibilityChannels { channels })
@@ -133,15 +150,13 @@ impl VisibilityChannels {
         self.channels.len() == 1 && self.channels[0].name == CHANNEL
     }
 
-    /// The first non-finite pixel of any channel, with the channel's name.
-    pub fn check_finite(&self) -> Result<(), ImageError> {
+    /// The first channel that cannot be written ([`VisibilityImage::check`]), with its name.
+    pub fn check(&self) -> Result<(), ImageError> {
         for c in &self.channels {
-            c.image
-                .check_finite()
-                .map_err(|e| ImageError::BadChannels {
-                    channel: c.name.clone(),
-                    problem: e.to_string(),
-                })?;
+            c.image.check().map_err(|e| ImageError::BadChannels {
+                channel: c.name.clone(),
+                problem: e.to_string(),
+            })?;
         }
         Ok(())
     }
@@ -154,7 +169,7 @@ impl VisibilityChannels {
         if self.is_single() {
             return self.channels[0].image.write_exr(path);
         }
-        self.check_finite()?;
+        self.check()?;
         let (width, height) = self.size();
         write_atomically(path, |tmp| {
             let list: Vec<AnyChannel<FlatSamples>> = self
@@ -228,14 +243,9 @@ impl VisibilityChannels {
         if let Some(AttributeValue::TextVector(order)) =
             layer.attributes.other.get(&Text::from(LIGHTS_ATTRIBUTE))
         {
-            let order: Vec<String> = order.iter().map(|t| t.to_string()).collect();
             // The listed channels first, in the listed order; any others after them.
-            channels.sort_by_key(|c| {
-                order
-                    .iter()
-                    .position(|o| *o == c.name)
-                    .unwrap_or(usize::MAX)
-            });
+            let rank = ranks(order.iter().map(|t| t.to_string()));
+            channels.sort_by_key(|c| rank.get(&c.name).copied().unwrap_or(usize::MAX));
         }
         VisibilityChannels::new(channels).map_err(|e| io_err(path, e))
     }
@@ -271,8 +281,8 @@ impl VisibilityChannels {
                     .get(&exr::meta::attribute::Text::from(LIGHTS_ATTRIBUTE))
             })
         {
-            let order: Vec<String> = order.iter().map(|t| t.to_string()).collect();
-            names.sort_by_key(|n| order.iter().position(|o| o == n).unwrap_or(usize::MAX));
+            let rank = ranks(order.iter().map(|t| t.to_string()));
+            names.sort_by_key(|n| rank.get(n).copied().unwrap_or(usize::MAX));
         }
         Ok((w, h, names))
     }
@@ -289,6 +299,16 @@ impl VisibilityChannels {
             }),
         }
     }
+}
+
+/// Each name's first place in `order`: a light-order attribute of any length is applied in time
+/// proportional to it and to the channels.
+fn ranks(order: impl Iterator<Item = String>) -> std::collections::HashMap<String, usize> {
+    let mut rank = std::collections::HashMap::new();
+    for (k, name) in order.enumerate() {
+        rank.entry(name).or_insert(k);
+    }
+    rank
 }
 
 #[cfg(test)]

@@ -69,6 +69,19 @@ pub enum ImageError {
         /// What it does not fit.
         why: String,
     },
+    /// An image without pixels, or whose data is not one value per pixel.
+    #[error(
+        "an image of {width} x {height} pixels holding {values} values: an image has one value \
+         per pixel and one pixel at least"
+    )]
+    Shape {
+        /// Width.
+        width: u32,
+        /// Height.
+        height: u32,
+        /// How many values its data holds.
+        values: usize,
+    },
     /// A value is NaN or infinite.
     #[error("pixel ({x}, {y}) is not finite")]
     NonFinite {
@@ -124,6 +137,26 @@ impl VisibilityImage {
     /// Value at column `x`, row `y`.
     pub fn get(&self, x: u32, y: u32) -> f32 {
         self.data[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Whether the image can be written or compared: one pixel at least, one value per pixel
+    /// ([`ImageError::Shape`]), every value finite ([`ImageError::NonFinite`]).
+    pub fn check(&self) -> Result<(), ImageError> {
+        self.check_shape()?;
+        self.check_finite()
+    }
+
+    /// One pixel at least, and one value per pixel.
+    pub fn check_shape(&self) -> Result<(), ImageError> {
+        let pixels = (self.width as usize).checked_mul(self.height as usize);
+        if self.width == 0 || self.height == 0 || pixels != Some(self.data.len()) {
+            return Err(ImageError::Shape {
+                width: self.width,
+                height: self.height,
+                values: self.data.len(),
+            });
+        }
+        Ok(())
     }
 
     /// The first non-finite pixel, if any.

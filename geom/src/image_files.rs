@@ -13,7 +13,7 @@ impl VisibilityImage {
     /// Writes the image as an EXR with one `f32` channel `V` (atomically).
     pub fn write_exr(&self, path: &Path) -> Result<(), ImageError> {
         use exr::prelude::*;
-        self.check_finite()?;
+        self.check()?;
         write_atomically(path, |tmp| {
             let channel = AnyChannel::new(CHANNEL, FlatSamples::F32(self.data.clone()));
             let layer = Layer::new(
@@ -62,6 +62,7 @@ impl VisibilityImage {
 
     /// Writes V in `[0, 1]` as an 8-bit greyscale PNG (linear, atomically).
     pub fn write_png(&self, path: &Path) -> Result<(), ImageError> {
+        self.check_shape()?;
         let bytes: Vec<u8> = self
             .data
             .iter()
@@ -153,6 +154,15 @@ pub(crate) fn exr_layout(
             bytes = bytes.saturating_add(w.saturating_mul(ht).saturating_mul(per));
             let name = ch.name.to_string();
             if wanted(&name) {
+                if ch.sample_type == exr::meta::attribute::SampleType::U32 {
+                    return Err(io_err(
+                        path,
+                        format!(
+                            "channel {name} holds 32-bit unsigned integers; a visibility \
+                             channel holds floats (16 or 32 bit)"
+                        ),
+                    ));
+                }
                 size.get_or_insert((w, ht));
             } else if size.is_none() {
                 found.push(name);
@@ -174,10 +184,20 @@ pub fn write_png_bytes(
     color: PngColor,
     bytes: &[u8],
 ) -> Result<(), ImageError> {
-    let color = match color {
-        PngColor::Grey => png::ColorType::Grayscale,
-        PngColor::Rgb => png::ColorType::Rgb,
+    let (color, per_pixel) = match color {
+        PngColor::Grey => (png::ColorType::Grayscale, 1),
+        PngColor::Rgb => (png::ColorType::Rgb, 3),
     };
+    let values = (width as usize)
+        .checked_mul(height as usize)
+        .and_then(|n| n.checked_mul(per_pixel));
+    if width == 0 || height == 0 || values != Some(bytes.len()) {
+        return Err(ImageError::Shape {
+            width,
+            height,
+            values: bytes.len() / per_pixel,
+        });
+    }
     write_atomically(path, |tmp| {
         let file = std::fs::File::create(tmp).map_err(|e| io_err(tmp, e))?;
         let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);

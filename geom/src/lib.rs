@@ -75,7 +75,7 @@ pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
 pub use mesh_format::MeshFormat;
 pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatmap};
-pub use output::{output_target, remove_temporaries_in_progress, write_atomically};
+pub use output::{check_writable, output_target, remove_temporaries_in_progress, write_atomically};
 pub use range::RangeError;
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{

@@ -117,6 +117,22 @@ pub enum LightNameError {
         /// The 0-based position of the light that repeats it.
         index: usize,
     },
+    /// Two lights whose names differ only in case: their files (`OUT.<name>.png`) would be one
+    /// file on a file system that ignores case.
+    #[error(
+        "light {index}'s name {name:?} differs from light {first}'s {other:?} only in case: their \
+         files would collide on a file system that ignores case"
+    )]
+    SameButCase {
+        /// The name.
+        name: String,
+        /// The other light's name.
+        other: String,
+        /// The 0-based position of the first light.
+        first: usize,
+        /// The 0-based position of the light that repeats it.
+        index: usize,
+    },
     /// A scene of several lights given none.
     #[error("a scene of several lights needs at least one light")]
     NoLights,
@@ -145,20 +161,34 @@ pub fn check_light_name(name: &str) -> Result<(), LightNameError> {
     Ok(())
 }
 
-/// Whether `lights` can be a scene's lights: at least one, every name valid, no name twice.
+/// Whether `lights` can be a scene's lights: at least one, every name valid, no name twice,
+/// not even in another case.
 pub fn check_light_names(lights: &[NamedLight]) -> Result<(), LightNameError> {
     if lights.is_empty() {
         return Err(LightNameError::NoLights);
     }
+    let mut seen: std::collections::HashMap<String, usize> =
+        std::collections::HashMap::with_capacity(lights.len());
     for (index, l) in lights.iter().enumerate() {
         check_light_name(&l.name)?;
-        if let Some(first) = lights[..index].iter().position(|o| o.name == l.name) {
-            return Err(LightNameError::Duplicate {
-                name: l.name.clone(),
-                first,
-                index,
+        if let Some(&first) = seen.get(&l.name.to_ascii_lowercase()) {
+            let other = &lights[first].name;
+            return Err(if *other == l.name {
+                LightNameError::Duplicate {
+                    name: l.name.clone(),
+                    first,
+                    index,
+                }
+            } else {
+                LightNameError::SameButCase {
+                    name: l.name.clone(),
+                    other: other.clone(),
+                    first,
+                    index,
+                }
             });
         }
+        seen.insert(l.name.to_ascii_lowercase(), index);
     }
     Ok(())
 }

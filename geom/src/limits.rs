@@ -22,5 +22,5 @@ pub const MAX_FOV_DEG: f64 = 179.0;
 
 /// Whether every coordinate of `v` lies within [`MAX_COORDINATE`] (false for NaN).
 pub fn within_coordinates(v: DVec3) -> bool {
-    v.abs().max_element() <= MAX_COORDINATE
+    v.is_finite() && v.abs().max_element() <= MAX_COORDINATE
 }

@@ -91,8 +91,8 @@ pub fn compare(a: &VisibilityImage, b: &VisibilityImage) -> Result<Comparison, I
             b: (b.width, b.height),
         });
     }
-    a.check_finite()?;
-    b.check_finite()?;
+    a.check()?;
+    b.check()?;
     let mut all = Vec::with_capacity(a.data.len());
     let mut pen = Vec::new();
     let (mut signed, mut umbra, mut lit) = (0.0, 0usize, 0usize);

@@ -47,9 +47,24 @@ pub fn output_target(path: &Path) -> Result<std::path::PathBuf, ImageError> {
     }
 }
 
-/// The hidden temporary name beside `path` that process `pid` writes it through.
+/// The hidden temporary name beside `path` that process `pid` writes it through: `.NAME.tmp-PID`,
+/// NAME cut to its first [`TEMPORARY_NAME`] bytes so that any name a file system takes has a
+/// temporary it takes too.
 pub(crate) fn temporary(path: &Path, name: &std::ffi::OsStr, pid: u32) -> std::path::PathBuf {
-    path.with_file_name(format!(".{}.tmp-{pid}", name.to_string_lossy()))
+    path.with_file_name(format!("{}{pid}", temporary_prefix(name)))
+}
+
+/// The most bytes of an output's name that its temporary's name holds.
+const TEMPORARY_NAME: usize = 200;
+
+/// `.NAME.tmp-`, the start of every temporary of the output `name`.
+fn temporary_prefix(name: &std::ffi::OsStr) -> String {
+    let name = name.to_string_lossy();
+    let mut end = name.len().min(TEMPORARY_NAME);
+    while !name.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!(".{}.tmp-", &name[..end])
 }
 
 /// Removes the temporary files beside `path` left by runs that died while writing it (killed,
@@ -59,7 +74,7 @@ fn remove_stale_temporaries(path: &Path, name: &std::ffi::OsStr) {
     if !proc.join("self").exists() {
         return;
     }
-    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let prefix = temporary_prefix(name);
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -98,13 +113,48 @@ pub fn write_atomically(
     remove_stale_temporaries(&target, &name);
     let tmp = temporary(&target, &name, std::process::id());
     in_progress().push(tmp.clone());
-    let result =
-        write(&tmp).and_then(|()| std::fs::rename(&tmp, &target).map_err(|e| io_err(path, e)));
+    // The errors name the output, never the hidden temporary it is written through.
+    let result = write(&tmp)
+        .and_then(|()| std::fs::rename(&tmp, &target).map_err(|e| io_err(path, e)))
+        .map_err(|e| match e {
+            ImageError::Io { path: p, message } if p == tmp => io_err(path, message),
+            other => other,
+        });
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     in_progress().retain(|t| t != &tmp);
     result
+}
+
+/// Whether [`write_atomically`] can write `path`, found before any work: a name that does not
+/// end in a folder separator, its target a regular file or nothing ([`output_target`]), and
+/// its folder one where the temporary beside it can be made (not read-only, the temporary's
+/// name not too long). The temporary is made and removed again. The folder must exist.
+pub fn check_writable(path: &Path) -> Result<(), ImageError> {
+    let text = path.as_os_str().to_string_lossy();
+    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+        return Err(io_err(path, "names a folder, not a file"));
+    }
+    let target = output_target(path)?;
+    let name = target
+        .file_name()
+        .ok_or_else(|| io_err(path, "not a file path"))?
+        .to_os_string();
+    let tmp = temporary(&target, &name, std::process::id());
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&tmp);
+            Ok(())
+        }
+        // Left by this very process: it can be made.
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(io_err(path, format!("cannot be written: {e}"))),
+    }
 }
 
 /// The temporary files [`write_atomically`] is writing now.

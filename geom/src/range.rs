@@ -129,6 +129,22 @@ pub enum RangeError {
         /// The vertex.
         at: DVec3,
     },
+    /// A mesh triangle naming a vertex the mesh does not have.
+    #[error(
+        "mesh {mesh} ({name}): triangle {triangle} names vertex {index}, but the mesh has {vertices} vertices"
+    )]
+    Index {
+        /// The mesh's index in the scene.
+        mesh: usize,
+        /// The mesh's name.
+        name: String,
+        /// The triangle's index in the mesh.
+        triangle: usize,
+        /// The vertex index it names.
+        index: u32,
+        /// How many vertices the mesh has.
+        vertices: usize,
+    },
 }
 
 impl Scene {
@@ -261,6 +277,18 @@ fn out_of_range(
                 at,
             });
         }
+        let vertices = m.mesh.positions.len();
+        for (triangle, t) in m.mesh.triangles.iter().enumerate() {
+            if let Some(&index) = t.iter().find(|&&i| i as usize >= vertices) {
+                return Some(RangeError::Index {
+                    mesh,
+                    name: m.source.display().to_string(),
+                    triangle,
+                    index,
+                    vertices,
+                });
+            }
+        }
     }
     None
 }
@@ -294,7 +322,7 @@ mod tests {
                 Light::Distant(_) => unreachable!("a rectangle light"),
             }
         }
-        let cases: [(&str, Break); 11] = [
+        let cases: [(&str, Break); 15] = [
             ("normal", |s| rect(s).normal = DVec3::new(0., -1., 0.5)),
             ("tangent", |s| rect(s).tangent *= 2.0),
             ("not orthogonal", |s| {
@@ -308,6 +336,20 @@ mod tests {
             ("frame", |s| s.camera.forward = DVec3::new(0., 0., -2.)),
             ("frame", |s| s.camera.right = s.camera.true_up),
             ("pcss", |s| s.params.pcss.search = 0),
+            ("light", |s| rect(s).center.x = f64::NAN),
+            ("vertex", |s| {
+                *s = s.clone().with_mesh(
+                    "nan",
+                    &crate::mesh::TriangleMesh::quad(),
+                    glam::DMat4::from_translation(DVec3::new(f64::NAN, 0.0, 0.0)),
+                )
+            }),
+            ("eye", |s| s.camera.eye.y = f64::NAN),
+            ("names vertex 7", |s| {
+                let mut quad = crate::mesh::TriangleMesh::quad();
+                quad.triangles[1][2] = 7;
+                *s = s.clone().with_mesh("bad", &quad, glam::DMat4::IDENTITY)
+            }),
         ];
         for (want, break_it) in cases {
             let mut s = good();

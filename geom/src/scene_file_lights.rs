@@ -214,6 +214,9 @@ pub(crate) fn read_lights(
                 ));
             }
             let mut lights: Vec<NamedLight> = Vec::with_capacity(entries.len());
+            // Each name, in lower case, and the first light that has it.
+            let mut seen: std::collections::HashMap<String, usize> =
+                std::collections::HashMap::with_capacity(entries.len());
             for (k, entry) in entries.iter().enumerate() {
                 let l = &entry.get_ref().0;
                 let key = format!("light[{k}]");
@@ -225,18 +228,28 @@ pub(crate) fn read_lights(
                         n.get_ref().clone()
                     }
                 };
-                if let Some(first) = lights.iter().position(|o| o.name == name) {
+                if let Some(&first) = seen.get(&name.to_ascii_lowercase()) {
                     let (span, whose) = match &l.name {
                         Some(n) => (n.span(), format!("{key}.name: {name:?}")),
                         None => (entry.span(), format!("{key}'s default name {name:?}")),
                     };
+                    let other = &lights[first].name;
                     return Err(invalid(
                         span,
-                        format!(
-                            "{whose} is already the name of light[{first}]; light names are unique"
-                        ),
+                        if *other == name {
+                            format!(
+                                "{whose} is already the name of light[{first}]; light names are unique"
+                            )
+                        } else {
+                            format!(
+                                "{whose} differs from light[{first}]'s name {other:?} only in case; \
+                                 light names are unique in any case (their files would collide on a \
+                                 file system that ignores case)"
+                            )
+                        },
                     ));
                 }
+                seen.insert(name.to_ascii_lowercase(), k);
                 lights.push(NamedLight {
                     name,
                     light: read_light(l, &key, entry.span())?,

@@ -49,12 +49,14 @@ fn quiet_on_closed_stdout() {
 }
 
 /// On SIGINT, SIGTERM or SIGHUP, removes the temporary files of the outputs being written (their
-/// previous content stays) and exits with 130, as an interrupted command does.
+/// previous content stays) and the folders made for them, and exits with 130, as an
+/// interrupted command does.
 fn remove_temporaries_on_signal() {
     // Without a handler the signal ends the process as before; a temporary file it leaves is
     // then removed by the next run writing the same output.
     let _ = ctrlc::set_handler(|| {
         penumbra::geom::remove_temporaries_in_progress();
+        outputs::remove_folders_in_progress();
         std::process::exit(130);
     });
 }

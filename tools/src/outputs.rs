@@ -1,10 +1,12 @@
 //! The outputs of a run: refused before any work when they would overwrite an input or each
-//! other, or are not regular files.
+//! other, are not regular files or cannot be written; their missing folders made before the
+//! work and removed again when it fails or a signal ends it.
 
 use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 
 /// Refuses outputs that would overwrite an input or each other, or that are not regular files
 /// (or links to one). Each path is resolved once ([`file_key`]), so a run of thousands of
@@ -93,5 +95,81 @@ fn identity(p: &Path) -> Option<(u64, u64)> {
     {
         let _ = m;
         None
+    }
+}
+
+/// The missing folders of a run's outputs, made before its work ([`prepare`]): removed again
+/// (innermost first, each only if empty) when dropped, unless [`Prepared::keep`] kept them.
+pub(crate) struct Prepared {
+    created: Vec<PathBuf>,
+}
+
+/// Makes the missing folders of `outputs` (each said on success by [`Prepared::keep`]), then
+/// checks that each output can be written ([`penumbra::geom::check_writable`]): a read-only
+/// folder, a name the file system refuses or a name that ends in a folder separator is found
+/// before any work, not after it.
+pub(crate) fn prepare(outputs: &[&Path]) -> Result<Prepared> {
+    let mut prepared = Prepared {
+        created: Vec::new(),
+    };
+    for o in outputs {
+        let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) else {
+            continue;
+        };
+        let missing: Vec<&Path> = dir
+            .ancestors()
+            .filter(|a| !a.as_os_str().is_empty())
+            .take_while(|a| std::fs::symlink_metadata(a).is_err())
+            .collect();
+        for d in missing.into_iter().rev() {
+            match std::fs::create_dir(d) {
+                Ok(()) => {
+                    prepared.created.push(d.to_path_buf());
+                    made().push(d.to_path_buf());
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(e) => {
+                    return Err(e).with_context(|| {
+                        format!("creating the folder {} of {}", d.display(), o.display())
+                    });
+                }
+            }
+        }
+    }
+    for o in outputs {
+        penumbra::geom::check_writable(o)?;
+    }
+    Ok(prepared)
+}
+
+impl Prepared {
+    /// Keeps the folders made, and gives them (outermost first) to be said.
+    pub(crate) fn keep(mut self) -> Vec<PathBuf> {
+        let created = std::mem::take(&mut self.created);
+        made().retain(|d| !created.contains(d));
+        created
+    }
+}
+
+impl Drop for Prepared {
+    fn drop(&mut self) {
+        for d in self.created.iter().rev() {
+            let _ = std::fs::remove_dir(d);
+        }
+        made().retain(|d| !self.created.contains(d));
+    }
+}
+
+/// The folders made for outputs and not yet kept.
+fn made() -> MutexGuard<'static, Vec<PathBuf>> {
+    static MADE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    MADE.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes the folders made for outputs and not yet kept, innermost first and each only if
+/// empty: for a command about to exit on a signal, after its temporaries are removed.
+pub(crate) fn remove_folders_in_progress() {
+    for d in made().drain(..).rev() {
+        let _ = std::fs::remove_dir(d);
     }
 }

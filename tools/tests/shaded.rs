@@ -218,8 +218,7 @@ fn bad_shaded_paths_are_refused_before_the_render_leaving_nothing() {
 #[test]
 fn unwritable_shaded_paths_leave_no_output() {
     // A folder where the file would go; the PNG of V again; a folder that is a file; and a
-    // folder no one can write in, found only on writing (after the render): the EXR and the
-    // PNG of V written before it are removed.
+    // folder no one can write in, found before the render too: nothing is written.
     let d = case_dir("shaded-unwritable", GOOD_SCENE, GOOD_OBJ);
     std::fs::create_dir(d.join("dir.png")).unwrap();
     let mut cases = vec![
@@ -230,7 +229,7 @@ fn unwritable_shaded_paths_leave_no_output() {
     if Path::new("/proc/self").exists() {
         cases.push((
             Path::new("/proc/x.png").to_path_buf(),
-            "writing /proc/x.png",
+            "/proc/x.png: cannot be written",
         ));
     }
     for (path, want) in cases {

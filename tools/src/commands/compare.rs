@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use penumbra::geom::{self, Comparison, VisibilityChannels};
 
 use crate::commands::render::light_png;
-use crate::outputs::check_outputs;
+use crate::outputs::{check_outputs, prepare};
 
 pub(crate) fn compare(
     a: &Path,
@@ -71,6 +71,9 @@ pub(crate) fn compare(
         let outputs: Vec<&Path> = heatmaps.iter().map(PathBuf::as_path).collect();
         check_outputs(&[a.to_path_buf(), b.to_path_buf()], &outputs)?;
     }
+    // The heat maps' folders made and each checked writable before the images are read.
+    let outputs: Vec<&Path> = heatmaps.iter().map(PathBuf::as_path).collect();
+    let prepared = prepare(&outputs)?;
     let ia = VisibilityChannels::read_exr(a)?;
     let ib = VisibilityChannels::read_exr(b)?;
     let mut results: Vec<(String, Comparison)> = Vec::with_capacity(names.len());
@@ -82,7 +85,7 @@ pub(crate) fn compare(
         let (ca, cb) = (ca?, cb?);
         // A non-finite pixel is named with its file (and its channel, of several).
         for (img, path) in [(ca, a), (cb, b)] {
-            img.check_finite().with_context(|| {
+            img.check().with_context(|| {
                 if names.len() > 1 {
                     format!("{}, channel {name}", path.display())
                 } else {
@@ -96,6 +99,9 @@ pub(crate) fn compare(
             geom::write_png_bytes(h, ca.width, ca.height, geom::PngColor::Rgb, &rgb)?;
         }
         results.push((name.clone(), c));
+    }
+    for d in prepared.keep() {
+        eprintln!("created folder {}", d.display());
     }
     if json {
         if let [(_, c)] = &results[..] {

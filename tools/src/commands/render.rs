@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use penumbra::{Backend, Channel, RenderOptions, Renderer, Scene, Technique, VisibilityChannels};
 
 use crate::cli::ParamArgs;
-use crate::outputs::check_outputs;
+use crate::outputs::{check_outputs, prepare};
 use crate::words::InCommandWords;
 
 /// Where `penumbra render` writes its images: the EXR, and the PNGs asked for.
@@ -83,58 +83,20 @@ pub(crate) fn render(
     outputs.extend(pngs.iter().map(PathBuf::as_path));
     outputs.extend(shaded);
     check_outputs(&scene.input_files(), &outputs)?;
-    // Missing folders are made before the render (so that one that cannot be made fails
-    // early), said on success, and removed again on failure.
-    let mut created: Vec<PathBuf> = Vec::new();
-    let made = make_folders(&outputs, &mut created);
-    let result = made.and_then(|()| {
-        let outputs = DrawOutputs {
-            out,
-            pngs: &pngs,
-            shaded,
-        };
-        draw(scene_path, &scene, technique, outputs, options, backend)
-    });
-    match result {
-        Ok(summary) => {
-            for d in &created {
-                eprintln!("created folder {}", d.display());
-            }
-            eprintln!("{summary}");
-            Ok(())
-        }
-        Err(e) => {
-            for d in created.iter().rev() {
-                let _ = std::fs::remove_dir(d);
-            }
-            Err(e)
-        }
+    // Missing folders are made before the render and every output checked writable (so that
+    // what cannot be written fails early), the folders said on success and removed again on
+    // failure.
+    let prepared = prepare(&outputs)?;
+    let outputs = DrawOutputs {
+        out,
+        pngs: &pngs,
+        shaded,
+    };
+    let summary = draw(scene_path, &scene, technique, outputs, options, backend)?;
+    for d in prepared.keep() {
+        eprintln!("created folder {}", d.display());
     }
-}
-
-/// Makes the missing folders of `outputs`, recording each in `created` (outermost first).
-fn make_folders(outputs: &[&Path], created: &mut Vec<PathBuf>) -> Result<()> {
-    for o in outputs {
-        let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) else {
-            continue;
-        };
-        let missing: Vec<&Path> = dir
-            .ancestors()
-            .filter(|a| !a.as_os_str().is_empty())
-            .take_while(|a| std::fs::symlink_metadata(a).is_err())
-            .collect();
-        for d in missing.into_iter().rev() {
-            match std::fs::create_dir(d) {
-                Ok(()) => created.push(d.to_path_buf()),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
-                Err(e) => {
-                    return Err(e).with_context(|| {
-                        format!("creating the folder {} of {}", d.display(), o.display())
-                    });
-                }
-            }
-        }
-    }
+    eprintln!("{summary}");
     Ok(())
 }
 
