@@ -110,6 +110,34 @@ pub enum RenderError {
         /// The bytes available ([`penumbra_geom::available_memory`]).
         available: u64,
     },
+    /// Visibility at points asked of a technique that does not give it.
+    #[error(
+        "visibility at points is given by depth-complexity (exact for its samples) or reference (rays), not {technique}"
+    )]
+    SensorTechnique {
+        /// The technique.
+        technique: Technique,
+    },
+    /// A light index past the scene's lights.
+    #[error("light {light}: the scene has {lights} light(s), numbered from 0")]
+    NoSuchLight {
+        /// The index asked for.
+        light: usize,
+        /// The scene's lights.
+        lights: usize,
+    },
+    /// A sensor point or normal that cannot be used.
+    #[error("sensor {index}: {problem}")]
+    BadSensor {
+        /// Its index in the query.
+        index: u64,
+        /// What is wrong.
+        problem: String,
+    },
+    /// The render was interrupted ([`penumbra_geom::Interrupter`], Ctrl-C in Python)
+    /// before it finished: no image.
+    #[error("interrupted")]
+    Interrupted,
     /// The GPU failed.
     #[error(transparent)]
     Gpu {

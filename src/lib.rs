@@ -73,6 +73,7 @@ mod options;
 mod rendered_frame;
 mod renderer;
 mod runs;
+mod sensors;
 
 #[cfg(test)]
 mod backend_tests;
@@ -99,3 +100,4 @@ pub use options::{MAX_SAMPLES, RenderOptions};
 pub use rendered_frame::{Frame, Warning};
 pub use renderer::Renderer;
 pub use runs::Runs;
+pub use sensors::Sensors;

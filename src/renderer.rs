@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use penumbra_geom::{Channel, ImageError, ShadedImage, VisibilityChannels, VisibilityImage};
-use penumbra_geom::{LitScene, RangeError, Scene, Technique, TracerGeometry};
+use penumbra_geom::{Interruption, LitScene, RangeError, Scene, Technique, TracerGeometry};
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
 
@@ -116,7 +116,7 @@ pub struct Renderer {
     shadow_maps: Vec<ShadowMapRenderer>,
     counters: bool,
     /// The last CPU render's ray-casting hierarchy, for the next one over the same triangles.
-    kept: Option<TracerGeometry>,
+    pub(crate) kept: Option<TracerGeometry>,
 }
 
 impl Renderer {
@@ -265,6 +265,7 @@ impl Renderer {
             return Err(RenderError::OutOfRange { problem });
         }
         let pattern = options.pattern_for(technique)?;
+        let stop = Interruption::since();
         let request = Request {
             technique,
             backend: self.backend,
@@ -300,6 +301,9 @@ impl Renderer {
                 frame
             }
         };
+        if stop.happened() {
+            return Err(RenderError::Interrupted);
+        }
         frame.warnings = rendered_frame::warnings(scene, technique, choice.placement, extent);
         Ok(frame)
     }

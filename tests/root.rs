@@ -19,6 +19,7 @@ mod reference_vs_exact;
 mod renderer;
 mod repeated_faces;
 mod scene_building;
+mod sensors;
 mod several_lights;
 mod volumes;
 mod wedge_lookup;

@@ -22,6 +22,7 @@ mod halfedge;
 mod image;
 mod image_files;
 mod input;
+mod interrupt;
 mod light;
 mod light_error;
 #[cfg(test)]
@@ -63,6 +64,7 @@ pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
 pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeList, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
 pub use image_files::{CHANNEL, PngColor, write_png_bytes};
+pub use interrupt::{Interrupter, Interruption};
 pub use light::RectLight;
 pub use light_error::LightError;
 pub use lights::{

@@ -27,6 +27,7 @@ use crate::boxtree::BoxTree;
 use crate::camera::Camera;
 use crate::exact::exact_visibility;
 use crate::image::VisibilityImage;
+use crate::interrupt::Interruption;
 use crate::light::RectLight;
 use crate::lit_scene::LitScene;
 use crate::raycast::{Rays, SceneBvh};
@@ -383,7 +384,8 @@ impl Reference {
     }
 
     /// Visibility of every camera pixel by ray casting through `samples`. `progress` is called
-    /// with the number of rows finished so far, from any thread.
+    /// with the number of rows finished so far, from any thread. An interruption
+    /// ([`crate::Interrupter`]) leaves the rows not yet begun at 1.
     pub fn render(
         &self,
         samples: LightSamples,
@@ -393,10 +395,14 @@ impl Reference {
         let (w, h) = (cam.width, cam.height);
         let mut img = VisibilityImage::filled(w, h, 1.0);
         let done = std::sync::atomic::AtomicU64::new(0);
+        let stop = Interruption::since();
         img.data
             .par_chunks_mut(w as usize)
             .enumerate()
             .for_each(|(j, row)| {
+                if stop.happened() {
+                    return;
+                }
                 for (i, out) in row.iter_mut().enumerate() {
                     let dir = cam.ray_dir(i as u32, j as u32);
                     let Some(p) = tracer.surface_point(cam.eye, dir) else {

@@ -5,7 +5,8 @@ use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
 use penumbra_geom::{
-    Camera, LitScene, Rays, SurfacePoint, Technique, Tracer, TracerGeometry, VisibilityImage,
+    Camera, Interruption, LitScene, Rays, SurfacePoint, Technique, Tracer, TracerGeometry,
+    VisibilityImage,
 };
 use rayon::prelude::*;
 
@@ -464,7 +465,8 @@ impl CpuRenderer {
         crate::terminator::front_share(&self.volumes.light, p.position, n)
     }
 
-    /// Renders the whole image; `progress` gets the number of finished rows.
+    /// Renders the whole image; `progress` gets the number of finished rows. An interruption
+    /// ([`penumbra_geom::Interrupter`]) leaves the rows not yet begun at 1.
     ///
     /// # Panics
     ///
@@ -539,10 +541,14 @@ impl CpuRenderer {
             WedgeGrid::build_for(&self.volumes.wedges, cells)
         });
         let scratch = || Scratch::new(self.units);
+        let stop = Interruption::since();
         img.data
             .par_chunks_mut(w)
             .enumerate()
             .for_each_init(scratch, |scratch, (j, row)| {
+                if stop.happened() {
+                    return;
+                }
                 for (i, out) in row.iter_mut().enumerate() {
                     if let Some(p) = surface(i as u32, j as u32) {
                         *out = self.visibility_in(&p, technique, grid.as_ref(), scratch) as f32;

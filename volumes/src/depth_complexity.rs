@@ -54,7 +54,7 @@
 
 use glam::{DVec2, DVec3};
 use penumbra_geom::{
-    Camera, LitScene, Rays, SurfacePoint, Tracer, TracerGeometry, VisibilityImage,
+    Camera, Interruption, LitScene, Rays, SurfacePoint, Tracer, TracerGeometry, VisibilityImage,
 };
 use rayon::prelude::*;
 
@@ -347,7 +347,8 @@ impl DepthComplexity {
         self.tracer.share_seen(p, &scratch.near, &scratch.points)
     }
 
-    /// Renders the whole image; `progress` gets the number of finished rows.
+    /// Renders the whole image; `progress` gets the number of finished rows. An interruption
+    /// ([`penumbra_geom::Interrupter`]) leaves the tile rows not yet begun at 1.
     ///
     /// Pixels go in tiles of [`TILE`] x [`TILE`]: one query of the edge hierarchy finds the
     /// candidates of a whole tile (the union of its points' pyramids), and its pixels share them.
@@ -367,10 +368,14 @@ impl DepthComplexity {
         let done = std::sync::atomic::AtomicU64::new(0);
         self.cast_pixels
             .store(0, std::sync::atomic::Ordering::Relaxed);
+        let stop = Interruption::since();
         img.data
             .par_chunks_mut(w * TILE)
             .enumerate()
             .for_each(|(tile_row, block)| {
+                if stop.happened() {
+                    return;
+                }
                 let mut scratch = Scratch::default();
                 let mut lit: Vec<(usize, SurfacePoint, DVec3)> = Vec::new();
                 let mut at = Vec::new();
