@@ -87,7 +87,6 @@ impl Renderer {
     /// // Three points of the floor, facing up: under the roof, in its penumbra, far from it.
     /// let points = [DVec3::ZERO, DVec3::new(0.625, 0.0, 0.0), DVec3::new(3.0, 0.0, 0.0)];
     /// let up = [DVec3::Y; 3];
-
     /// let options = RenderOptions { samples: 256, jitter: false };
     /// let mut renderer = Renderer::new(Backend::Cpu);
     /// let v = renderer.visibility_at(&scene, 0, &points, &up, Technique::DepthComplexity, &options)?;
