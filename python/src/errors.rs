@@ -1,0 +1,41 @@
+//! The library's errors as Python exceptions: a missing file is `FileNotFoundError`, a bad
+//! value `ValueError`, what stood in the way of a sound request (no GPU) `RuntimeError`; the
+//! message is the library's, which names the file, line or value.
+
+use std::path::Path;
+
+use penumbra::RenderError;
+use pyo3::PyErr;
+use pyo3::exceptions::{PyFileNotFoundError, PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+
+/// A bad value: `ValueError` with `e`'s message.
+pub fn value(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// `FileNotFoundError` for `path` when it does not exist, else `ValueError` with `e`'s message
+/// (the file exists, and what it holds is wrong).
+pub fn file(path: &Path, e: impl std::fmt::Display) -> PyErr {
+    if !path.exists() {
+        PyFileNotFoundError::new_err((
+            2,
+            format!("{}: no such file", path.display()),
+            path.display().to_string(),
+        ))
+    } else {
+        value(e)
+    }
+}
+
+/// A render's error: a bad request is `ValueError`, an interruption `KeyboardInterrupt`, what
+/// the machine lacks (a GPU) or a GPU failure `RuntimeError`.
+pub fn render(e: RenderError) -> PyErr {
+    match e {
+        RenderError::Interrupted => PyKeyboardInterrupt::new_err("interrupted"),
+        RenderError::NeedsGpu { .. }
+        | RenderError::NoGpu { .. }
+        | RenderError::Gpu { .. }
+        | RenderError::OutOfMemory { .. } => PyRuntimeError::new_err(e.to_string()),
+        _ => value(e),
+    }
+}
