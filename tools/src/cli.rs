@@ -31,6 +31,19 @@ pub(crate) fn technique_parser() -> impl clap::builder::TypedValueParser<Value =
     })
 }
 
+/// Parses the techniques that give visibility at points (`depth-complexity`, `reference`) by
+/// name, listing them (with their descriptions) in the help.
+pub(crate) fn sensor_technique_parser() -> impl clap::builder::TypedValueParser<Value = Technique> {
+    const SENSORS: [Technique; 2] = [Technique::DepthComplexity, Technique::Reference];
+    clap::builder::PossibleValuesParser::new(
+        SENSORS.map(|t| clap::builder::PossibleValue::new(t.name()).help(t.description())),
+    )
+    .map(|name| {
+        name.parse::<Technique>()
+            .expect("one of the possible values")
+    })
+}
+
 /// Parameters of the shadow-map techniques, one flag per key of `penumbra::params::PARAMS`
 /// (`--pcf-kernel 5`, `--gaussian-dm 150`, ...): each overrides the key of the same name in the
 /// scene's optional table (`[shadow_map]`, `[pcf]`, `[pcss]`, `[fractional_disk]`, `[mdsm]`,
@@ -178,6 +191,46 @@ pub(crate) enum Command {
         backend: Backend,
         #[command(flatten)]
         params: ParamArgs,
+    },
+    /// Visibility at sensor points read from a .npy or .csv file: one value per point, or per
+    /// point and light.
+    ///
+    /// Each point sees the light samples on the side of its plane that its normal points to,
+    /// where nothing hides them (a grid on a facade, a courtyard's floor); a point on a surface
+    /// stands on it. Written as a float32 .npy array or a .csv file (docs/scene-format.md,
+    /// "Sensor points").
+    Points {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// The points: a NumPy `.npy` array of shape (n, 6), `<f8` or `<f4`, a row
+        /// x, y, z, nx, ny, nz per point, or a `.csv` file of such rows (an optional header
+        /// line of names; `#` comments and blank lines skipped). Of shape (n, 3), or 3
+        /// columns, positions only, with `--normal`.
+        #[arg(long)]
+        points: PathBuf,
+        /// Output: a float32 `.npy` array, shape (n,), or (n, lights) for several lights; or a
+        /// `.csv` file, a header line (`V`, or the lights' names) then a row per point.
+        /// Missing folders are created (and said on stderr).
+        #[arg(long)]
+        out: PathBuf,
+        /// Only the light of this name (of a scene of several; its names as in the scene
+        /// file); every light when not given.
+        #[arg(long)]
+        light: Option<String>,
+        /// The normal of every point, for a points file of positions only.
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+        normal: Option<String>,
+        /// Light samples per point: a perfect square up to 65536. Sensor k takes the samples
+        /// of camera pixel k.
+        #[arg(long, default_value_t = 256)]
+        samples: usize,
+        /// Technique.
+        #[arg(long, value_parser = sensor_technique_parser(), default_value = "depth-complexity")]
+        technique: Technique,
+        /// `depth-complexity`: the reference's own jittered samples, point for point, instead
+        /// of its correlated multi-jittered ones.
+        #[arg(long)]
+        jitter: bool,
     },
     /// Print the surface point seen through one pixel, its exact V and its reference V (of each
     /// light in turn, for a scene of several).

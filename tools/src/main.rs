@@ -1,10 +1,12 @@
-//! `penumbra`: render visibility images, probe single pixels, compare images, and generate the
-//! fixtures.
+//! `penumbra`: render visibility images, give the visibility at sensor points, probe single
+//! pixels, compare images, and generate the fixtures.
 
 mod cli;
 mod commands;
 mod fixtures;
+mod npy;
 mod outputs;
+mod points_file;
 mod words;
 
 use std::process::ExitCode;
@@ -14,7 +16,7 @@ use clap::Parser;
 use penumbra::RenderOptions;
 
 use cli::{Cli, Command};
-use commands::{accuracy, bench, compare, counters, geometry, probe, render};
+use commands::{accuracy, bench, compare, counters, geometry, points, probe, render};
 
 fn main() -> ExitCode {
     quiet_device_select();
@@ -101,6 +103,24 @@ fn run(cli: Cli) -> Result<()> {
             backend,
             &params,
         ),
+        Command::Points {
+            scene,
+            points,
+            out,
+            light,
+            normal,
+            samples,
+            technique,
+            jitter,
+        } => points::points(points::PointsArgs {
+            scene: &scene,
+            points: &points,
+            out: &out,
+            light: light.as_deref(),
+            normal: normal.as_deref(),
+            technique,
+            options: RenderOptions { samples, jitter },
+        }),
         Command::Probe {
             scene,
             pixel,

@@ -5,5 +5,6 @@ pub(crate) mod bench;
 pub(crate) mod compare;
 pub(crate) mod counters;
 pub(crate) mod geometry;
+pub(crate) mod points;
 pub(crate) mod probe;
 pub(crate) mod render;
