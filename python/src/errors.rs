@@ -4,7 +4,8 @@
 
 use std::path::Path;
 
-use penumbra::RenderError;
+use penumbra::geom::MeshError;
+use penumbra::{RenderError, SceneError};
 use pyo3::PyErr;
 use pyo3::exceptions::{PyFileNotFoundError, PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 
@@ -22,6 +23,25 @@ pub fn file(path: &Path, e: impl std::fmt::Display) -> PyErr {
             format!("{}: no such file", path.display()),
             path.display().to_string(),
         ))
+    } else {
+        value(e)
+    }
+}
+
+/// A scene file's error: `FileNotFoundError` where the scene file or one of its mesh files
+/// does not exist (the message names which, and the scene's line), else `ValueError`.
+pub fn scene(path: &Path, e: SceneError) -> PyErr {
+    let missing = |error: &std::io::Error| error.kind() == std::io::ErrorKind::NotFound;
+    let (file, not_found) = match &e {
+        SceneError::Io { error, .. } => (path.to_path_buf(), missing(error)),
+        SceneError::Mesh {
+            error: MeshError::Io { path, error },
+            ..
+        } => (path.clone(), missing(error)),
+        _ => (path.to_path_buf(), false),
+    };
+    if not_found {
+        PyFileNotFoundError::new_err((2, e.to_string(), file.display().to_string()))
     } else {
         value(e)
     }

@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::arrays::Rows;
-use crate::errors::{self, file, value};
+use crate::errors::{self, value};
 use crate::images::to_array;
 use crate::objects::{Camera, DistantLight, Mesh, RectLight};
 use crate::run::{Progress, off_interpreter};
@@ -208,7 +208,7 @@ impl Scene {
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let loaded = off_interpreter(py, None, || penumbra::Scene::load(&path))?;
-        Ok(Scene::of(loaded.map_err(|e| file(&path, e))?))
+        Ok(Scene::of(loaded.map_err(|e| errors::scene(&path, e))?))
     }
 
     /// The same scene seen at `width` x `height` pixels.
