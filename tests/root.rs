@@ -8,6 +8,7 @@ mod extreme_extents;
 mod far_light;
 mod fixtures;
 mod fuzz;
+mod fuzz_exr;
 mod layout;
 mod library_misuse;
 mod light_inside;

@@ -201,7 +201,8 @@ impl VisibilityChannels {
     }
 
     /// Reads the visibility channels of an EXR (`V`, `<light>.V`) from its first layer holding
-    /// one: in the order of [`LIGHTS_ATTRIBUTE`] where the header has it, else in the file's.
+    /// one: in the order of [`LIGHTS_ATTRIBUTE`] where the header has it, else in the file's. A
+    /// channel with a value that is not finite is refused, naming the file and the pixel.
     pub fn read_exr(path: &Path) -> Result<VisibilityChannels, ImageError> {
         use exr::prelude::*;
         let (width, height, bytes) =
@@ -246,6 +247,12 @@ impl VisibilityChannels {
             // The listed channels first, in the listed order; any others after them.
             let rank = ranks(order.iter().map(|t| t.to_string()));
             channels.sort_by_key(|c| rank.get(&c.name).copied().unwrap_or(usize::MAX));
+        }
+        // Visibility is a number: a channel holding NaN or an infinity is not one.
+        for c in &channels {
+            if let Err(e) = c.image.check() {
+                return Err(io_err(path, format_args!("channel {}: {e}", c.name)));
+            }
         }
         VisibilityChannels::new(channels).map_err(|e| io_err(path, e))
     }

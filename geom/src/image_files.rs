@@ -29,7 +29,8 @@ impl VisibilityImage {
         })
     }
 
-    /// Reads the `V` channel of an EXR file (its first layer holding one).
+    /// Reads the `V` channel of an EXR file (its first layer holding one); a value that is not
+    /// finite is refused, naming the file and the pixel.
     pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
         let (width, height, bytes) = exr_layout(path, |name| name == CHANNEL)?;
         fits_memory(path, width, height, bytes)?;
@@ -39,11 +40,13 @@ impl VisibilityImage {
             for ch in &layer.channel_data.list {
                 if ch.name.to_string() == CHANNEL {
                     let size = layer.size;
-                    return Ok(VisibilityImage {
+                    let image = VisibilityImage {
                         width: size.width() as u32,
                         height: size.height() as u32,
                         data: ch.sample_data.values_as_f32().collect(),
-                    });
+                    };
+                    image.check().map_err(|e| io_err(path, e))?;
+                    return Ok(image);
                 }
                 found.push(ch.name.to_string());
             }
