@@ -7,7 +7,9 @@ use std::path::Path;
 use penumbra::geom::MeshError;
 use penumbra::{RenderError, SceneError};
 use pyo3::PyErr;
-use pyo3::exceptions::{PyFileNotFoundError, PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyKeyboardInterrupt, PyMemoryError, PyRuntimeError, PyValueError,
+};
 
 /// A bad value: `ValueError` with `e`'s message.
 pub fn value(e: impl std::fmt::Display) -> PyErr {
@@ -47,15 +49,16 @@ pub fn scene(path: &Path, e: SceneError) -> PyErr {
     }
 }
 
-/// A render's error: a bad request is `ValueError`, an interruption `KeyboardInterrupt`, what
-/// the machine lacks (a GPU) or a GPU failure `RuntimeError`.
+/// A render's error: a bad request is `ValueError`, an interruption `KeyboardInterrupt`, an
+/// image larger than the memory `MemoryError`, what the machine lacks (a GPU) or a GPU failure
+/// `RuntimeError`.
 pub fn render(e: RenderError) -> PyErr {
     match e {
         RenderError::Interrupted => PyKeyboardInterrupt::new_err("interrupted"),
-        RenderError::NeedsGpu { .. }
-        | RenderError::NoGpu { .. }
-        | RenderError::Gpu { .. }
-        | RenderError::OutOfMemory { .. } => PyRuntimeError::new_err(e.to_string()),
+        RenderError::OutOfMemory { .. } => PyMemoryError::new_err(e.to_string()),
+        RenderError::NeedsGpu { .. } | RenderError::NoGpu { .. } | RenderError::Gpu { .. } => {
+            PyRuntimeError::new_err(e.to_string())
+        }
         _ => value(e),
     }
 }

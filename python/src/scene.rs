@@ -8,7 +8,7 @@ use glam::{DMat4, DVec3};
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use penumbra::geom::NamedLight;
 use penumbra::{Backend, RenderError, RenderOptions, Renderer, Technique};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -326,6 +326,18 @@ impl Scene {
         }
         let lights = self.lights(light)?;
         let count = p.len();
+        // The results, a float32 per point and light, and a slice of points and normals.
+        let needed = (count as u64)
+            .saturating_mul(4 * lights.len() as u64)
+            .saturating_add(48 * SLICE as u64);
+        let available = penumbra::geom::available_memory().unwrap_or(u64::MAX);
+        if needed > available {
+            return Err(PyMemoryError::new_err(format!(
+                "{count} points: their results need {:.1} GB and {:.1} GB of memory are available",
+                needed as f64 / 1e9,
+                available as f64 / 1e9
+            )));
+        }
         let (pv, nv) = (p.view(), n.view());
         let mut renderer = self.take(Backend::Cpu);
         let progress = Progress::new("sensors".to_string(), (count * lights.len()) as u64);

@@ -100,3 +100,37 @@ def test_the_examples_run(tmp_path):
         r = subprocess.run([sys.executable, str(e), str(tmp_path)], cwd=ROOT, capture_output=True,
                            text=True, env={**os.environ, "PENUMBRA_EXAMPLE_SMALL": "1"})
         assert r.returncode == 0, f"{e.name}: {r.stderr}"
+
+
+def test_work_beyond_the_memory_is_refused_before_it_starts():
+    scene = pb.Scene.load(FIXTURES / "quad-over-plane.toml")
+    # Ten billion points that numpy holds in 24 bytes (a view repeating one row).
+    huge = np.broadcast_to(np.zeros(3), (10**10, 3))
+    with pytest.raises(MemoryError, match="10000000000 points"):
+        scene.visibility_at(huge, (0, 1, 0))
+    with pytest.raises(MemoryError):
+        scene.with_size(200_000, 200_000).render("hard", backend="cpu")
+
+
+def test_one_scene_serves_threads_that_render_and_query_at_once():
+    scene = pb.Scene.load(FIXTURES / "sphere-over-plane.toml").with_size(64, 48)
+    p = np.column_stack([np.linspace(-2, 2, 500), np.zeros(500), np.zeros(500)])
+    want_image = scene.render("depth-complexity", samples=64, backend="cpu")
+    want_points = scene.visibility_at(p, (0, 1, 0), samples=64)
+    results, errors = [], []
+
+    def work(k):
+        try:
+            if k % 2:
+                results.append(np.array_equal(scene.render("depth-complexity", samples=64, backend="cpu"), want_image))
+            else:
+                results.append(np.array_equal(scene.visibility_at(p, (0, 1, 0), samples=64), want_points))
+        except Exception as e:  # noqa: BLE001 - reported below
+            errors.append(e)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors and results == [True] * 6
