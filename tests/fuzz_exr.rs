@@ -28,7 +28,7 @@ const WORDS: [u32; 10] = [
 /// The seeds: the files the writers make.
 fn seeds(dir: &Path) -> Vec<Vec<u8>> {
     let mut out = Vec::new();
-    let mut image = |w: u32, h: u32| {
+    let image = |w: u32, h: u32| {
         let data = (0..w * h).map(|k| (k % 7) as f32 / 6.0).collect();
         VisibilityImage {
             width: w,

@@ -2,8 +2,8 @@
 
 - the binding's overhead: `Scene.render` against the `penumbra render` command on the same
   scene (load, render, write the EXR, in one process each), as a ratio of medians;
-- two threads rendering at once against one, with each render on all cores and on one
-  (RAYON_NUM_THREADS=1 in a child process);
+- two threads rendering at once against one, the renders sharing the process's pool (a thread
+  per core) or each on a pool of one thread of its own (`threads=1`);
 - the memory a million-point `visibility_at` adds to the process beyond its arrays.
 
 Run from the repository's root after `pip install ./python`, with the command built in release
@@ -56,8 +56,9 @@ def overhead(cli, rounds):
 THREADS = """
 import sys, threading, time, penumbra as pb
 scene = pb.Scene.load(sys.argv[1])
+threads = int(sys.argv[2]) or None
 def render():
-    scene.render("depth-complexity", samples=1024, backend="cpu")
+    scene.render("depth-complexity", samples=1024, backend="cpu", threads=threads)
 render()
 t = time.perf_counter(); render(); one = time.perf_counter() - t
 ts = [threading.Thread(target=render) for _ in range(2)]
@@ -68,15 +69,12 @@ print(one, time.perf_counter() - t)
 """
 
 
-def threads(rayon):
-    env = dict(os.environ)
-    if rayon:
-        env["RAYON_NUM_THREADS"] = str(rayon)
-    out = subprocess.run([sys.executable, "-c", THREADS, str(SCENE)], env=env, check=True,
-                         capture_output=True, text=True).stdout.split()
+def threads(per_render):
+    out = subprocess.run([sys.executable, "-c", THREADS, str(SCENE), str(per_render or 0)],
+                         check=True, capture_output=True, text=True).stdout.split()
     one, two = float(out[0]), float(out[1])
-    return {"threads_per_render": rayon or os.cpu_count(), "one_s": one, "two_at_once_s": two,
-            "ratio": two / one}
+    return {"threads_per_render": per_render or "shared pool", "one_s": one,
+            "two_at_once_s": two, "ratio": two / one}
 
 
 def memory():

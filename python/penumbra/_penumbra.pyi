@@ -139,9 +139,11 @@ class Scene:
         backend: str = "auto",
         jitter: bool = False,
         light: Optional[str] = None,
+        threads: Optional[int] = None,
     ) -> Images:
         """The visibility image by `technique`: (height, width) float32, or a dict from light
-        name to image for a scene of several lights."""
+        name to image for a scene of several lights. `threads`: a pool of that many threads
+        of the render's own (by default renders share a thread per core)."""
     def visibility_at(
         self,
         points: npt.ArrayLike,
@@ -150,6 +152,7 @@ class Scene:
         samples: int = 1024,
         technique: str = "depth-complexity",
         jitter: bool = False,
+        threads: Optional[int] = None,
     ) -> Union[npt.NDArray[np.float32], Dict[str, npt.NDArray[np.float32]]]:
         """The visibility of sensor points with normals: (n,) float32."""
 

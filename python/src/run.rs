@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use penumbra::geom::Interrupter;
-use pyo3::exceptions::PyRuntimeError;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 /// How often the waiting thread looks for a signal.
@@ -58,15 +58,31 @@ impl Progress {
 
 /// Runs `f` on a thread of its own, the GIL released, under an interrupter that a signal
 /// (Ctrl-C: `KeyboardInterrupt`) trips; `f` must not touch Python objects. A panic in `f`
-/// becomes `RuntimeError`.
+/// becomes `RuntimeError`. With `threads`, `f`'s parallel work runs on a pool of its own of that
+/// many threads rather than on the process's, which every render shares.
 pub fn off_interpreter<T: Send>(
     py: Python<'_>,
     progress: Option<&Progress>,
+    threads: Option<usize>,
     f: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
+    let pool = match threads {
+        Some(0) => return Err(PyValueError::new_err("threads must be 1 or more")),
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))?,
+        ),
+        None => None,
+    };
     let interrupter = Interrupter::new();
     let result = std::thread::scope(|s| {
-        let worker = s.spawn(|| interrupter.run(|| catch_unwind(AssertUnwindSafe(f))));
+        let guarded = || interrupter.run(|| catch_unwind(AssertUnwindSafe(f)));
+        let worker = s.spawn(|| match &pool {
+            Some(p) => p.install(guarded),
+            None => guarded(),
+        });
         loop {
             let finished = py.detach(|| {
                 let until = Instant::now() + POLL;

@@ -207,7 +207,7 @@ impl Scene {
     /// naming the file and line.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let loaded = off_interpreter(py, None, || penumbra::Scene::load(&path))?;
+        let loaded = off_interpreter(py, None, None, || penumbra::Scene::load(&path))?;
         Ok(Scene::of(loaded.map_err(|e| errors::scene(&path, e))?))
     }
 
@@ -255,7 +255,11 @@ impl Scene {
     /// several (named) lights; `light` renders that light alone. `samples` (a perfect square)
     /// and `jitter` as the command's; `backend` is `"auto"` (the GPU where there is one for the
     /// techniques that can use it), `"cpu"` or `"gpu"`. The same pixels as `penumbra render`.
-    #[pyo3(signature = (technique="wedges-blend", samples=256, backend="auto", jitter=false, light=None))]
+    /// `threads` gives the render a pool of that many threads of its own (a batch of renders on
+    /// as many Python threads, one thread each); by default every render shares one pool of a
+    /// thread per core.
+    #[pyo3(signature = (technique="wedges-blend", samples=256, backend="auto", jitter=false, light=None, threads=None))]
+    #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
         py: Python<'py>,
@@ -264,6 +268,7 @@ impl Scene {
         backend: &str,
         jitter: bool,
         light: Option<&str>,
+        threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let t = self::technique(technique)?;
         let b = self::backend(backend)?;
@@ -274,7 +279,7 @@ impl Scene {
         let rows = u64::from(self.inner.camera.height);
         let progress = Progress::new(technique.to_string(), rows * lights.len() as u64);
         let scene = &self.inner;
-        let result = off_interpreter(py, Some(&progress), || {
+        let result = off_interpreter(py, Some(&progress), threads, || {
             let mut images = Vec::new();
             for (n, &k) in lights.iter().enumerate() {
                 let base = n as u64 * rows;
@@ -300,8 +305,8 @@ impl Scene {
     /// `light` names one). A sensor sees the light samples in front of its plane that nothing
     /// hides; one within 1e-5 of the scene's extent of a surface stands on it. `technique` is
     /// `"depth-complexity"` (exact for its samples) or `"reference"` (rays); sensor `k` takes
-    /// the samples of camera pixel `k`.
-    #[pyo3(signature = (points, normals, light=None, samples=1024, technique="depth-complexity", jitter=false))]
+    /// the samples of camera pixel `k`. `threads` as for `render`.
+    #[pyo3(signature = (points, normals, light=None, samples=1024, technique="depth-complexity", jitter=false, threads=None))]
     #[allow(clippy::too_many_arguments)]
     fn visibility_at<'py>(
         &self,
@@ -312,6 +317,7 @@ impl Scene {
         samples: usize,
         technique: &str,
         jitter: bool,
+        threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let t = self::technique(technique)?;
         let options = RenderOptions { samples, jitter };
@@ -342,7 +348,7 @@ impl Scene {
         let mut renderer = self.take(Backend::Cpu);
         let progress = Progress::new("sensors".to_string(), (count * lights.len()) as u64);
         let scene = &self.inner;
-        let result = off_interpreter(py, Some(&progress), || {
+        let result = off_interpreter(py, Some(&progress), threads, || {
             let mut outs = Vec::new();
             for (l, &k) in lights.iter().enumerate() {
                 let sensors = renderer.sensors(scene, k, t, &options)?;

@@ -35,6 +35,37 @@ def test_two_threads_render_at_once_and_get_what_one_gets():
     # The two renders ran at the same time: each began before the other ended.
     (a0, a1), (b0, b1) = spans[0], spans[1]
     assert a0 < b1 and b0 < a1
+    # On pools of their own, one thread each: the same pixels.
+    assert np.array_equal(scene.render("reference", samples=64, backend="cpu", threads=1), want)
+    with pytest.raises(ValueError, match="threads"):
+        scene.render("hard", threads=0)
+
+
+def test_a_long_render_shows_its_progress_on_a_terminal():
+    import pty
+
+    script = textwrap.dedent(f"""
+        import penumbra as pb
+        scene = pb.Scene.load({str(FIXTURES / "spheres-9x9.toml")!r}).with_size(80, 60)
+        scene.render("reference", samples=4096, backend="cpu", threads=1)  # seconds
+        print("done")
+    """)
+    main, sub = pty.openpty()
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=sub)
+    os.close(sub)
+    out, _ = p.communicate(timeout=300)
+    shown = b""
+    while True:
+        try:
+            chunk = os.read(main, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        shown += chunk
+    os.close(main)
+    assert p.returncode == 0 and out.strip() == b"done"
+    assert b"reference" in shown and b"%" in shown, shown
 
 
 def test_ctrl_c_stops_a_long_render_with_keyboard_interrupt():
