@@ -52,11 +52,18 @@ impl Sensors {
             let bad = |problem: String| Err(RenderError::BadSensor { index, problem });
             if !within_coordinates(*p) {
                 return bad(format!(
-                    "point {p} is not finite or beyond the supported coordinates"
+                    "point [{:?}, {:?}, {:?}] is not finite or beyond the supported coordinates (up to {:e})",
+                    p.x,
+                    p.y,
+                    p.z,
+                    penumbra_geom::MAX_COORDINATE
                 ));
             }
             if !n.is_finite() || n.length_squared() == 0.0 || !n.length_squared().is_normal() {
-                return bad(format!("normal {n} has no direction"));
+                return bad(format!(
+                    "normal [{:?}, {:?}, {:?}] has no direction",
+                    n.x, n.y, n.z
+                ));
             }
         }
         let stop = Interruption::since();

@@ -56,6 +56,11 @@ pub fn from_array(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<VisibilityImag
 #[pyfunction]
 pub fn write_exr(path: PathBuf, v: &Bound<'_, PyAny>) -> PyResult<()> {
     let written = if let Ok(d) = v.cast::<PyDict>() {
+        if d.is_empty() {
+            return Err(PyValueError::new_err(
+                "write_exr: the dict holds no channel (one array per light)",
+            ));
+        }
         let mut channels = Vec::new();
         for (k, a) in d.iter() {
             let key: String = k
