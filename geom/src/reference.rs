@@ -385,7 +385,7 @@ impl Reference {
 
     /// Visibility of every camera pixel by ray casting through `samples`. `progress` is called
     /// with the number of rows finished so far, from any thread. An interruption
-    /// ([`crate::Interrupter`]) leaves the rows not yet begun at 1.
+    /// ([`crate::Interrupter`]) stops it at the next pixel, the rest left at 1.
     pub fn render(
         &self,
         samples: LightSamples,
@@ -404,6 +404,10 @@ impl Reference {
                     return;
                 }
                 for (i, out) in row.iter_mut().enumerate() {
+                    // Pixel by pixel: a row of many samples takes seconds.
+                    if stop.happened() {
+                        return;
+                    }
                     let dir = cam.ray_dir(i as u32, j as u32);
                     let Some(p) = tracer.surface_point(cam.eye, dir) else {
                         continue;

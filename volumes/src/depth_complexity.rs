@@ -348,7 +348,7 @@ impl DepthComplexity {
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows. An interruption
-    /// ([`penumbra_geom::Interrupter`]) leaves the tile rows not yet begun at 1.
+    /// ([`penumbra_geom::Interrupter`]) stops it at the next pixel, the rest left at 1.
     ///
     /// Pixels go in tiles of [`TILE`] x [`TILE`]: one query of the edge hierarchy finds the
     /// candidates of a whole tile (the union of its points' pyramids), and its pixels share them.
@@ -407,6 +407,9 @@ impl DepthComplexity {
                             .fetch_add(lit.len() as u64, std::sync::atomic::Ordering::Relaxed);
                     }
                     for (k, p, pl) in &lit {
+                        if stop.happened() {
+                            return;
+                        }
                         let pixel = (tile_row * TILE * w + k) as u64;
                         if tile_casts {
                             self.tracer.near_triangles(p, &mut scratch.near);

@@ -132,6 +132,9 @@ impl SensorVisibility {
                 }
                 let start = c * CHUNK;
                 for (k, v) in chunk.iter_mut().enumerate() {
+                    if stop.happened() {
+                        return;
+                    }
                     let i = start + k;
                     *v =
                         self.visibility(positions[i], normals[i], first + i as u64, scratch) as f32;
