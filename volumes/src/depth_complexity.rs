@@ -234,6 +234,28 @@ impl DepthComplexity {
         hits.len() as u32
     }
 
+    /// Whether the segment from `p` to the light's centre meets one of the triangles `hits`
+    /// (those [`DepthComplexity::centre_count`] counted) within rounding of its boundary: on
+    /// an edge two triangles share, or at a vertex, where the count at the centre, from which
+    /// every sample's count follows, hangs on rounding.
+    fn centre_on_an_edge(&self, p: &SurfacePoint, hits: &[u32]) -> bool {
+        let t = &self.tracer;
+        let d = t.light.center - p.position;
+        hits.iter().any(|&k| {
+            let [a, b, c] = t.triangles[k as usize];
+            let (e1, e2) = (b - a, c - a);
+            let q = d.cross(e2);
+            let det = e1.dot(q);
+            if det == 0.0 {
+                return true;
+            }
+            let s = p.position - a;
+            let u = s.dot(q) / det;
+            let v = d.dot(s.cross(e1)) / det;
+            u.min(v).min(1.0 - u - v) < CENTRE_ON_EDGE
+        })
+    }
+
     /// Visibility of the surface point `p` seen through camera pixel `pixel` (`y * width + x`,
     /// which seeds the jittered pattern).
     pub fn visibility(
@@ -278,13 +300,32 @@ impl DepthComplexity {
         candidates.pretest(pl, self.reach2);
         let regions = &mut scratch.regions;
         regions.clear();
+        let mut degenerate = false;
         for &k in &candidates.kept {
             let (e, two) = &candidates.edges[k as usize];
             let faces = match e.face_count {
                 2 => &two[..],
                 _ => self.edges.faces_of(e),
             };
-            regions.extend(edge_region(e, faces, pl, &pyramid, p.triangle));
+            regions.extend(edge_region(
+                e,
+                faces,
+                pl,
+                &pyramid,
+                p.triangle,
+                &mut degenerate,
+            ));
+        }
+        if degenerate || self.centre_on_an_edge(p, &scratch.hits) {
+            // A silhouette in one plane with P and the light's centre, or the centre seen
+            // through an edge: its samples are cast, by the reference's rule (`scratch.near`
+            // holds P's near triangles).
+            let visibility = self.cast(p, pattern, pixel, scratch);
+            return PointVisibility {
+                visibility,
+                centre_count,
+                edges: 0,
+            };
         }
         regions.extend(
             self.edges
@@ -434,6 +475,10 @@ impl DepthComplexity {
         img
     }
 }
+
+/// The barycentric coordinate under which the segment to the light's centre meets a triangle
+/// on its boundary ([`DepthComplexity::centre_on_an_edge`]).
+const CENTRE_ON_EDGE: f64 = 1e-9;
 
 /// Side of the square tiles of pixels that share one query of the edge hierarchy.
 pub const TILE: usize = 8;

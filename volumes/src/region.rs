@@ -183,9 +183,14 @@ fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
     (t0, t1)
 }
 
+/// The relative size of the triple product of an edge, the light's centre and P below which
+/// [`edge_region`] calls the three coplanar (an angle of about 1e-9 radians).
+const DEGENERATE: f64 = 1e-9;
+
 /// The samples the potential silhouette edge `e` (its faces `faces`) separates from the centre
 /// as seen from the light-space point `pl` on triangle `receiver`, and the change of their
-/// counts; `None` when it changes none.
+/// counts; `None` when it changes none, or when it lies in one plane with P and the light's
+/// centre, within rounding (then `degenerate` is set, and P's samples are to be cast).
 #[inline(always)]
 pub(crate) fn edge_region(
     e: &PotentialEdge,
@@ -193,6 +198,7 @@ pub(crate) fn edge_region(
     pl: DVec3,
     pyramid: &[Plane; 5],
     receiver: u32,
+    degenerate: &mut bool,
 ) -> Option<Region> {
     let (a, b) = (e.a, e.b);
     let c = DVec3::ZERO;
@@ -206,12 +212,10 @@ pub(crate) fn edge_region(
     // The plane through P and the edge: the sides of c and of each face, each the sign of
     // the plane through the edge and that point (or that face) at P.
     let d = pl - a;
-    let side_c = e.toward_centre.dot(d);
-    if side_c == 0.0 {
-        return None;
-    }
     let d2 = d.length_squared();
-    let mut delta = 0i32;
+    // The faces' sides of the plane through P and the edge, summed: zero where the edge is no
+    // silhouette from P.
+    let mut sides = 0i32;
     for f in faces {
         if f.triangle == receiver {
             continue;
@@ -222,13 +226,9 @@ pub(crate) fn edge_region(
         if s * s <= EDGE_ON * EDGE_ON * f.normal_length2 * d2 {
             continue;
         }
-        if s * side_c < 0.0 {
-            delta += 1;
-        } else {
-            delta -= 1;
-        }
+        sides += if s > 0.0 { 1 } else { -1 };
     }
-    if delta == 0 {
+    if sides == 0 {
         return None;
     }
     // Only the part of the edge between the light's plane and P's depth can cross a
@@ -237,6 +237,16 @@ pub(crate) fn edge_region(
     if !(t0 < t1) {
         return None;
     }
+    // A silhouette whose plane with P holds the light's centre, within rounding (the centre on
+    // the edge's line, or P, the edge and the centre in one plane): which samples it changes
+    // hangs on that rounding, and the count at the centre with it. The caller casts P's
+    // samples instead.
+    let side_c = e.toward_centre.dot(d);
+    if side_c.abs() <= DEGENERATE * (b - a).length() * a.length() * d2.sqrt() {
+        *degenerate = true;
+        return None;
+    }
+    let delta = if side_c > 0.0 { -sides } else { sides };
     // The segment-triangle test's four functions of s.
     let l = b - a;
     let o1 = l.cross(pl - a).dot(c - a);

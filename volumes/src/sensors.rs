@@ -13,9 +13,6 @@
 //! the samples behind it count as unseen, and those in front are cast by the reference's rule:
 //! the same samples, the same answer.
 //!
-//! A sensor is evaluated a hundred-thousandth of the scene's extent off its given point (see
-//! [`OFFSET`]), so that no line from it to the light's centre runs exactly through an edge.
-//!
 //! Under a distant light the points and normals are carried to the rendered scene by its warp
 //! (normals by the inverse transpose of its derivative).
 
@@ -29,14 +26,6 @@ use crate::depth_complexity::{DepthComplexity, SamplePattern, Scratch};
 
 /// The triangle index of a sensor that stands on no triangle.
 const NO_TRIANGLE: u32 = u32::MAX;
-
-/// A sensor is evaluated this many [`Tracer::epsilon`]s (1e-5 of the scene's extent) from
-/// where it was given, half of it along its normal and the rest sideways in no particular
-/// direction: sensors come at round coordinates, as edges of modelled scenes do, and a line
-/// from a sensor to the light's centre that runs exactly through an edge would make the count
-/// at the centre, on which depth-complexity sampling builds every sample's, ambiguous. The
-/// visibility moves by far less than its samples resolve.
-const OFFSET: f64 = 1.0;
 
 /// Sensors per task of the parallel loop, and between two looks for an interruption.
 const CHUNK: usize = 256;
@@ -182,10 +171,6 @@ impl SensorVisibility {
             })
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map_or(free, |(_, point)| point);
-        // Off the plane, and sideways in no particular direction: see [`OFFSET`].
-        let (t1, t2) = n.any_orthonormal_pair();
-        let mut point = point;
-        point.position += (n * 0.5 + t1 * 0.37 + t2 * 0.23) * (OFFSET * t.epsilon);
         Placed { point, normal: n }
     }
 
