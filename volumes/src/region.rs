@@ -242,7 +242,8 @@ pub(crate) fn edge_region(
     // hangs on that rounding, and the count at the centre with it. The caller casts P's
     // samples instead.
     let side_c = e.toward_centre.dot(d);
-    if side_c.abs() <= DEGENERATE * (b - a).length() * a.length() * d2.sqrt() {
+    let scale = DEGENERATE * DEGENERATE * (b - a).length_squared() * a.length_squared() * d2;
+    if side_c * side_c <= scale {
         *degenerate = true;
         return None;
     }
