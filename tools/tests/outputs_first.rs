@@ -246,3 +246,67 @@ fn light_names_equal_but_for_case_are_refused() {
     assert_eq!(files_in(&d), ["m.obj", "s.toml"]);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Work in proportion to the file: two images of 2,000 lights each, one with a light-order
+/// attribute of 300,000 entries (most naming no channel), are compared channel by channel,
+/// in the attribute's order where it lists them. Each channel and each entry is looked up
+/// once (a lookup per pair took minutes).
+#[test]
+fn thousands_of_channels_and_a_long_light_order_are_compared() {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::prelude::*;
+    let d = scratch("first-thousands");
+    let n = 2000;
+    let write = |name: &str, order: Option<Vec<Text>>| {
+        let list: Vec<AnyChannel<FlatSamples>> = (0..n)
+            .map(|k| AnyChannel::new(format!("l{k}.V").as_str(), FlatSamples::F32(vec![0.5; 6])))
+            .collect();
+        let mut attributes = LayerAttributes::default();
+        if let Some(order) = order {
+            attributes.other.insert(
+                Text::from(penumbra_geom::LIGHTS_ATTRIBUTE),
+                AttributeValue::TextVector(order),
+            );
+        }
+        let layer = Layer::new(
+            (3, 2),
+            attributes,
+            Encoding::UNCOMPRESSED,
+            AnyChannels::sort(SmallVec::from_vec(list)),
+        );
+        Image::from_layer(layer)
+            .write()
+            .to_file(d.join(name))
+            .unwrap();
+    };
+    // Lights listed from the last to the first, among 298,000 names of no channel.
+    let order: Vec<Text> = (0..300_000)
+        .map(|k| {
+            let name = if k % 150 == 0 && k / 150 < n {
+                format!("l{}.V", n - 1 - k / 150)
+            } else {
+                format!("m{k}.V")
+            };
+            Text::from(name.as_str())
+        })
+        .collect();
+    write("a.exr", Some(order));
+    write("b.exr", None);
+    let out = penumbra()
+        .current_dir(&d)
+        .args(["compare", "a.exr", "b.exr", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), n);
+    assert_eq!(rows[0]["channel"], format!("l{}.V", n - 1));
+    assert_eq!(rows[n - 1]["channel"], "l0.V");
+    assert!(rows.iter().all(|r| r["all"]["mae"] == 0.0));
+    let _ = std::fs::remove_dir_all(&d);
+}
