@@ -1,6 +1,8 @@
 //! Helpers shared by the command's test binaries.
 #![allow(dead_code, reason = "each test binary uses a part of them")]
 
+pub mod points;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
