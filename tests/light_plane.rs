@@ -178,3 +178,59 @@ fn faces_and_rings_on_the_light_plane() {
         );
     }
 }
+
+/// A box whose top face is the light's plane, the light's centre on that face's edge, on its
+/// vertex, or 1e-7 outside the edge: the count at the centre and the crossings through it hang
+/// on rounding there, and depth complexity, given the reference's samples, stays its equal.
+#[test]
+fn depth_complexity_with_the_lights_centre_on_a_face_in_its_plane() {
+    use penumbra::glam::{DMat4, DVec2};
+    use penumbra::{Backend, Camera, RectLight, RenderOptions, Renderer, Scene, TriangleMesh};
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 5.0, 7.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        45.0,
+        64,
+        48,
+    )
+    .unwrap();
+    // From y = 1 to y = 3, the light's height.
+    let block = DMat4::from_translation(DVec3::new(0.0, 2.0, 0.0))
+        * DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0));
+    let options = RenderOptions {
+        samples: 256,
+        jitter: true,
+    };
+    for (case, centre) in [
+        ("the edge", DVec3::new(0.5, 3.0, 0.0)),
+        ("the vertex", DVec3::new(0.5, 3.0, 0.5)),
+        ("1e-7 outside the edge", DVec3::new(0.5 + 1e-7, 3.0, 0.0)),
+    ] {
+        let light = RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).unwrap();
+        let scene = Scene::new(camera)
+            .with_light(light)
+            .with_mesh(
+                "ground",
+                &TriangleMesh::quad(),
+                DMat4::from_scale(DVec3::splat(12.0)),
+            )
+            .with_mesh("block", &TriangleMesh::cube(), block);
+        let mut r = Renderer::new(Backend::Cpu);
+        let counted = r
+            .render(&scene, Technique::DepthComplexity, &options)
+            .unwrap();
+        let cast = r.render(&scene, Technique::Reference, &options).unwrap();
+        let c = compare(&counted, &cast).unwrap();
+        assert!(
+            c.penumbra.pixels > 100,
+            "{case}: {} penumbra pixels",
+            c.penumbra.pixels
+        );
+        assert!(
+            c.all.equal >= 0.999,
+            "centre on {case}: {:.4} equal",
+            c.all.equal
+        );
+    }
+}

@@ -316,9 +316,16 @@ impl DepthComplexity {
                 &mut degenerate,
             ));
         }
+        regions.extend(
+            self.edges
+                .crossings
+                .iter()
+                .filter_map(|x| crossing_region(x, pl, p.triangle, &mut degenerate)),
+        );
         if degenerate || self.centre_on_an_edge(p, &scratch.hits) {
-            // A silhouette in one plane with P and the light's centre, or the centre seen
-            // through an edge: its samples are cast, by the reference's rule (`scratch.near`
+            // A silhouette in one plane with P and the light's centre, the centre on a
+            // triangle's crossing of the light's plane, or the centre seen through an edge: its
+            // samples are cast, by the reference's rule (`scratch.near`
             // holds P's near triangles).
             let visibility = self.cast(p, pattern, pixel, scratch);
             return PointVisibility {
@@ -327,12 +334,6 @@ impl DepthComplexity {
                 edges: 0,
             };
         }
-        regions.extend(
-            self.edges
-                .crossings
-                .iter()
-                .filter_map(|x| crossing_region(x, pl, p.triangle)),
-        );
         let edges = scratch.apply_regions(pattern, pixel);
         let base = centre_count as i32;
         let counts = &scratch.counts;

@@ -122,17 +122,35 @@ fn add(k: &[glam::Vec3; 4], delta: i32, xs: &[f32], ys: &[f32], counts: &mut [i3
 }
 
 /// The samples whose count a triangle through the light's plane changes, as seen from `pl`
-/// on triangle `receiver`: the triangle `P c s` meets the light's plane in the segment `c s`,
+/// on triangle `receiver` (`None` too where the light's centre lies on the segment, within
+/// rounding: `degenerate` is set): the triangle `P c s` meets the light's plane in the segment `c s`,
 /// so it meets the triangle's crossing segment `a b` where `c s` does (in the plane), and the
 /// samples beyond it from `c` enter the triangle's projection, or leave it, by the side the
 /// projection of a point of the triangle next to the segment lies on.
-pub(crate) fn crossing_region(x: &LightCrossing, pl: DVec3, receiver: u32) -> Option<Region> {
+pub(crate) fn crossing_region(
+    x: &LightCrossing,
+    pl: DVec3,
+    receiver: u32,
+    degenerate: &mut bool,
+) -> Option<Region> {
     if x.triangle == receiver || !(x.inside.z < pl.z) {
         return None;
     }
     let (a, b) = (x.a.truncate(), x.b.truncate());
     let side = |s: DVec2| cross(b - a, s - a);
     let side_c = side(DVec2::ZERO);
+    // The light's centre on the segment, within rounding: which samples it changes, and the
+    // count at the centre, hang on that rounding. The caller casts P's samples instead.
+    let l2 = (b - a).length_squared();
+    let along = (-a).dot(b - a);
+    let near = CENTRE_NEAR_CROSSING;
+    if side_c * side_c <= near * near * l2 * a.length_squared().max(l2)
+        && along >= -near * l2
+        && along <= (1.0 + near) * l2
+    {
+        *degenerate = true;
+        return None;
+    }
     let q = pl + (x.inside - pl) * (pl.z / (pl.z - x.inside.z));
     let side_q = side(q.truncate());
     if side_c == 0.0 || side_q == 0.0 {
@@ -182,6 +200,11 @@ fn slab(za: f64, zb: f64, zp: f64) -> (f64, f64) {
     }
     (t0, t1)
 }
+
+/// How near the light's centre, relative to a crossing's length, lies to the crossing for
+/// [`crossing_region`] to leave it to rays: the samples' lines are evaluated in `f32`, whose
+/// rounding (6e-8) puts the centre on either side of a line nearer than this.
+const CENTRE_NEAR_CROSSING: f64 = 1e-6;
 
 /// The relative size of the triple product of an edge, the light's centre and P below which
 /// [`edge_region`] calls the three coplanar (an angle of about 1e-9 radians).
