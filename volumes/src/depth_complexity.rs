@@ -50,7 +50,10 @@
 //! samples. Where the first outnumber the second many times over (a tile of pixels under a
 //! light as large as a group of detailed meshes, see [`DepthComplexity::render`]), the samples
 //! of that tile are cast by the reference's rule instead: the same samples, the same answer up
-//! to the rounding above.
+//! to the rounding above. So are a point's samples where its count at the centre would hang on
+//! rounding: the segment to the centre through an edge or a vertex, a silhouette in one plane
+//! with the point and the centre, the centre on a triangle's crossing of the light's plane (a
+//! face in the light's plane, the centre on its edge).
 
 use glam::{DVec2, DVec3};
 use penumbra_geom::{
