@@ -9,6 +9,7 @@ mod far_light;
 mod fixtures;
 mod fuzz;
 mod fuzz_exr;
+mod interiors;
 mod layout;
 mod library_misuse;
 mod light_inside;

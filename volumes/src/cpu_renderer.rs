@@ -76,6 +76,9 @@ pub struct CpuRenderer {
     receivers: (DVec3, DVec3),
     /// Occluder of each scene triangle, with the top bit set for casters.
     triangle_occluder: Vec<u32>,
+    /// Per occluder, whether it is a closed mesh around the light (a room lit from inside):
+    /// its surfaces are seen from their inner side.
+    encloses_light: Vec<bool>,
     /// Blending unit of each caster triangle (`Wedge::unit`).
     triangle_unit: Vec<u32>,
     /// The camera whose pixels [`CpuRenderer::render`] renders.
@@ -258,11 +261,18 @@ impl CpuRenderer {
             }));
             first_unit += o.silhouette.patches;
         }
+        let encloses_light = crate::terminator::enclosing_light(
+            &tracer,
+            &triangle_occluder,
+            volumes.occluders.len(),
+            CASTER_BIT,
+        );
         CpuRenderer {
             tracer,
             volumes,
             grid: OnceLock::new(),
             receivers,
+            encloses_light,
             triangle_occluder,
             triangle_unit,
             camera: scene.camera,
@@ -450,15 +460,20 @@ impl CpuRenderer {
     }
 
     /// The share of the light in front of `p`'s tangent plane when `p` lies on a closed mesh
-    /// ([`crate::terminator::front_share`]), else 1 (on an open mesh, or on no triangle).
+    /// ([`crate::terminator::front_share`]; the plane's side that faces out of the solid, or
+    /// into it for a mesh around the light), else 1 (on an open mesh, or on no triangle).
     pub fn front_share(&self, p: &SurfacePoint) -> f64 {
         let Some(&o) = self.triangle_occluder.get(p.triangle as usize) else {
             return 1.0;
         };
         let o = o & !CASTER_BIT;
-        let sign = self.volumes.occluders[o as usize].outward;
+        let mut sign = self.volumes.occluders[o as usize].outward;
         if sign == 0.0 {
             return 1.0;
+        }
+        if self.encloses_light[o as usize] {
+            // The light inside the solid: its surfaces face the light from within.
+            sign = -sign;
         }
         let [a, b, c] = self.tracer.triangles[p.triangle as usize];
         let n = (b - a).cross(c - a) * sign;

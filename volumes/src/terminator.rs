@@ -70,6 +70,39 @@ pub fn front_share(light: &RectLight, p: DVec3, n: DVec3) -> f64 {
     (0.5 * twice / 4.0).clamp(0.0, 1.0)
 }
 
+/// Per occluder (of `count`, each triangle's in `triangle_occluder`, `caster_bit` masked off),
+/// whether its triangles wind around a point just in front of the light's centre: a closed
+/// mesh that encloses the light, such as a room lit from its ceiling. The generalised winding
+/// number (the triangles' signed solid angles over 4 pi, Van Oosterom & Strackee, "The Solid
+/// Angle of a Plane Triangle", 1983) is about +-1 inside and 0 outside, whichever way the mesh
+/// is wound; the point stands 1e-4 of the scene's extent in front of the centre, so that a
+/// light flush with a ceiling is inside the room it lights.
+pub(crate) fn enclosing_light(
+    tracer: &penumbra_geom::Tracer,
+    triangle_occluder: &[u32],
+    count: usize,
+    caster_bit: u32,
+) -> Vec<bool> {
+    let light = &tracer.light;
+    let at = light.center + light.normal * (10.0 * tracer.epsilon);
+    let mut winding = vec![0.0f64; count];
+    for (t, tri) in tracer.triangles.iter().enumerate() {
+        let o = (triangle_occluder[t] & !caster_bit) as usize;
+        let Some(w) = winding.get_mut(o) else {
+            continue;
+        };
+        let [a, b, c] = tri.map(|v| v - at);
+        let (la, lb, lc) = (a.length(), b.length(), c.length());
+        let num = a.dot(b.cross(c));
+        let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+        *w += 2.0 * num.atan2(den);
+    }
+    winding
+        .into_iter()
+        .map(|w| (w / (4.0 * std::f64::consts::PI)).abs() > 0.5)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
