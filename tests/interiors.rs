@@ -91,3 +91,59 @@ fn a_room_lit_from_its_ceiling_on_the_cpu() {
         }
     }
 }
+
+/// The same on the GPU: its terminator takes a closed mesh around the lamp from inside too.
+#[test]
+fn a_room_lit_from_its_ceiling_on_the_gpu() {
+    let camera = Camera::look_at(
+        DVec3::new(2.5, 1.6, 2.0),
+        DVec3::new(-1.0, 0.6, -1.5),
+        DVec3::Y,
+        60.0,
+        64,
+        48,
+    )
+    .unwrap();
+    let panel = RectLight::new(
+        DVec3::new(0.0, 3.0, 0.0),
+        DVec3::NEG_Y,
+        DVec3::X,
+        DVec2::new(1.2, 0.6),
+    )
+    .unwrap();
+    let room = block(DVec3::new(-3.0, 0.0, -2.5), DVec3::new(3.0, 3.0, 2.5), true);
+    let table = block(
+        DVec3::new(-0.8, 0.7, -0.5),
+        DVec3::new(0.8, 0.75, 0.5),
+        false,
+    );
+    let scene = Scene::new(camera)
+        .with_light(panel)
+        .with_mesh("room", &room, DMat4::IDENTITY)
+        .with_mesh("table", &table, DMat4::IDENTITY);
+    let options = RenderOptions::default();
+    let mut gpu = Renderer::new(Backend::Gpu);
+    let soft = match gpu.render(&scene, Technique::WedgesBlend, &options) {
+        Ok(v) => v,
+        Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
+            println!("SKIPPED (no adapter): {e}");
+            return;
+        }
+        Err(e) => panic!("{e}"),
+    };
+    let reference = Renderer::new(Backend::Cpu)
+        .render(&scene, Technique::Reference, &options)
+        .unwrap();
+    let c = compare(&soft, &reference).unwrap();
+    assert!(
+        c.penumbra.pixels > 50,
+        "{} penumbra pixels",
+        c.penumbra.pixels
+    );
+    assert!(
+        c.all.mae <= 0.05 && c.penumbra.mae <= 0.05,
+        "GPU wedges-blend MAE {:.3}, penumbra {:.3}",
+        c.all.mae,
+        c.penumbra.mae
+    );
+}

@@ -70,12 +70,28 @@ pub fn front_share(light: &RectLight, p: DVec3, n: DVec3) -> f64 {
     (0.5 * twice / 4.0).clamp(0.0, 1.0)
 }
 
-/// Per occluder (of `count`, each triangle's in `triangle_occluder`, `caster_bit` masked off),
-/// whether its triangles wind around a point just in front of the light's centre: a closed
-/// mesh that encloses the light, such as a room lit from its ceiling. The generalised winding
-/// number (the triangles' signed solid angles over 4 pi, Van Oosterom & Strackee, "The Solid
+/// Whether `triangles` (a closed mesh) wind around `point`: their generalised winding number
+/// about it (the triangles' signed solid angles over 4 pi, Van Oosterom & Strackee, "The Solid
 /// Angle of a Plane Triangle", 1983) is about +-1 inside and 0 outside, whichever way the mesh
-/// is wound; the point stands 1e-4 of the scene's extent in front of the centre, so that a
+/// is wound.
+pub fn winds_around(triangles: impl IntoIterator<Item = [DVec3; 3]>, point: DVec3) -> bool {
+    let w: f64 = triangles.into_iter().map(|t| solid_angle(t, point)).sum();
+    (w / (4.0 * std::f64::consts::PI)).abs() > 0.5
+}
+
+/// The signed solid angle of triangle `t` seen from `p`.
+fn solid_angle(t: [DVec3; 3], p: DVec3) -> f64 {
+    let [a, b, c] = t.map(|v| v - p);
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let num = a.dot(b.cross(c));
+    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    2.0 * num.atan2(den)
+}
+
+/// Per occluder (of `count`, each triangle's in `triangle_occluder`, `caster_bit` masked off),
+/// whether its triangles wind around a point just in front of the light's centre
+/// ([`winds_around`]): a closed mesh that encloses the light, such as a room lit from its
+/// ceiling. The point stands 1e-4 of the scene's extent in front of the centre, so that a
 /// light flush with a ceiling is inside the room it lights.
 pub(crate) fn enclosing_light(
     tracer: &penumbra_geom::Tracer,
@@ -91,11 +107,7 @@ pub(crate) fn enclosing_light(
         let Some(w) = winding.get_mut(o) else {
             continue;
         };
-        let [a, b, c] = tri.map(|v| v - at);
-        let (la, lb, lc) = (a.length(), b.length(), c.length());
-        let num = a.dot(b.cross(c));
-        let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-        *w += 2.0 * num.atan2(den);
+        *w += solid_angle(*tri, at);
     }
     winding
         .into_iter()

@@ -15,6 +15,9 @@ pub(super) struct StoredMesh {
     pub(super) bounds: (DVec3, DVec3),
     pub(super) transform: DMat4,
     pub(super) stored: Vec<[f32; 3]>,
+    /// For the last transform and point in front of the light: whether the mesh (closed)
+    /// winds around that point, a room around its light, seen from inside.
+    pub(super) around_light: Option<(DMat4, DVec3, bool)>,
 }
 
 impl StoredMesh {
@@ -31,7 +34,29 @@ impl StoredMesh {
             origin,
             bounds: bounds(&mesh.positions),
             transform,
+            around_light: None,
         }
+    }
+
+    /// Whether this closed mesh, where it is, winds around `point` (in front of the light's
+    /// centre), remembered for the same transform and point.
+    pub(super) fn winds_around(&mut self, point: DVec3) -> bool {
+        if let Some((t, p, around)) = self.around_light
+            && t == self.transform
+            && p == point
+        {
+            return around;
+        }
+        let world = self.mesh.transformed(&self.transform);
+        let around = penumbra_volumes::winds_around(
+            world
+                .triangles
+                .iter()
+                .map(|t| t.map(|i| world.positions[i as usize])),
+            point,
+        );
+        self.around_light = Some((self.transform, point, around));
+        around
     }
 }
 

@@ -347,12 +347,24 @@ impl GpuScene {
         if let Some(warp) = self.light.warp() {
             uniforms = uniforms.with_warp(warp, world.eye, camera);
         }
+        // A point just in front of a lamp's centre: a closed mesh around it is a room lit from
+        // inside, whose surfaces face the light from within (a distant light is in no room).
+        let in_front = match self.light.warp() {
+            Some(_) => None,
+            None => {
+                let l = self.light.rect();
+                Some(l.center + l.normal * (1e-4 * (l.center.length() + l.size.max_element())))
+            }
+        };
         let models: Vec<ModelMatrix> = self
             .meshes
-            .iter()
+            .iter_mut()
             .map(|m| {
                 // A mirroring transform turns an outward winding inwards.
-                let sign = m.outward * m.transform.determinant().signum();
+                let mut sign = m.outward * m.transform.determinant().signum();
+                if sign != 0.0 && in_front.is_some_and(|p| m.winds_around(p)) {
+                    sign = -sign;
+                }
                 model_matrix(world.eye, &m.transform, m.origin, sign)
             })
             .collect();
