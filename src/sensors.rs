@@ -5,7 +5,7 @@
 //! of its plane that nothing hides, and one within rounding of a surface stands on it.
 
 use glam::DVec3;
-use penumbra_geom::{Interruption, Scene, Technique, within_coordinates};
+use penumbra_geom::{Scene, Technique, within_coordinates};
 use penumbra_volumes::{SensorSamples, SensorVisibility};
 
 use crate::error::RenderError;
@@ -59,16 +59,15 @@ impl Sensors {
                     penumbra_geom::MAX_COORDINATE
                 ));
             }
-            if !n.is_finite() || n.length_squared() == 0.0 || !n.length_squared().is_normal() {
+            // Not normal: zero, subnormal, infinite or NaN.
+            if !n.length_squared().is_normal() {
                 return bad(format!(
                     "normal [{:?}, {:?}, {:?}] has no direction",
                     n.x, n.y, n.z
                 ));
             }
         }
-        let stop = Interruption::since();
-        let finished = self.inner.fill(positions, normals, first, out, progress);
-        if !finished || stop.happened() {
+        if !self.inner.fill(positions, normals, first, out, progress) {
             return Err(RenderError::Interrupted);
         }
         Ok(())

@@ -21,8 +21,9 @@ fn block(lo: DVec3, hi: DVec3, inward: bool) -> TriangleMesh {
     m
 }
 
-#[test]
-fn a_room_lit_from_its_ceiling_on_the_cpu() {
+/// The room, wound inwards where `inward`, with a table on a leg, lit by a 1.2 x 0.6 panel
+/// facing down at `height` (the ceiling is at 3), seen at 64 x 48.
+fn room(inward: bool, height: f64) -> Scene {
     let camera = Camera::look_at(
         DVec3::new(2.5, 1.6, 2.0),
         DVec3::new(-1.0, 0.6, -1.5),
@@ -32,36 +33,41 @@ fn a_room_lit_from_its_ceiling_on_the_cpu() {
         48,
     )
     .unwrap();
+    let panel = RectLight::new(
+        DVec3::new(0.0, height, 0.0),
+        DVec3::NEG_Y,
+        DVec3::X,
+        DVec2::new(1.2, 0.6),
+    )
+    .unwrap();
+    let room = block(
+        DVec3::new(-3.0, 0.0, -2.5),
+        DVec3::new(3.0, 3.0, 2.5),
+        inward,
+    );
+    let table = block(
+        DVec3::new(-0.8, 0.7, -0.5),
+        DVec3::new(0.8, 0.75, 0.5),
+        false,
+    );
+    let leg = block(
+        DVec3::new(-0.7, 0.0, -0.4),
+        DVec3::new(-0.6, 0.7, -0.3),
+        false,
+    );
+    Scene::new(camera)
+        .with_light(panel)
+        .with_mesh("room", &room, DMat4::IDENTITY)
+        .with_mesh("table", &table, DMat4::IDENTITY)
+        .with_mesh("leg", &leg, DMat4::IDENTITY)
+}
+
+#[test]
+fn a_room_lit_from_its_ceiling_on_the_cpu() {
     let options = RenderOptions::default();
     for inward in [false, true] {
         for height in [2.97, 3.0] {
-            let panel = RectLight::new(
-                DVec3::new(0.0, height, 0.0),
-                DVec3::NEG_Y,
-                DVec3::X,
-                DVec2::new(1.2, 0.6),
-            )
-            .unwrap();
-            let room = block(
-                DVec3::new(-3.0, 0.0, -2.5),
-                DVec3::new(3.0, 3.0, 2.5),
-                inward,
-            );
-            let table = block(
-                DVec3::new(-0.8, 0.7, -0.5),
-                DVec3::new(0.8, 0.75, 0.5),
-                false,
-            );
-            let leg = block(
-                DVec3::new(-0.7, 0.0, -0.4),
-                DVec3::new(-0.6, 0.7, -0.3),
-                false,
-            );
-            let scene = Scene::new(camera)
-                .with_light(panel)
-                .with_mesh("room", &room, DMat4::IDENTITY)
-                .with_mesh("table", &table, DMat4::IDENTITY)
-                .with_mesh("leg", &leg, DMat4::IDENTITY);
+            let scene = room(inward, height);
             let case = format!(
                 "room wound {}, panel at {height}",
                 if inward { "in" } else { "out" }
@@ -95,32 +101,7 @@ fn a_room_lit_from_its_ceiling_on_the_cpu() {
 /// The same on the GPU: its terminator takes a closed mesh around the lamp from inside too.
 #[test]
 fn a_room_lit_from_its_ceiling_on_the_gpu() {
-    let camera = Camera::look_at(
-        DVec3::new(2.5, 1.6, 2.0),
-        DVec3::new(-1.0, 0.6, -1.5),
-        DVec3::Y,
-        60.0,
-        64,
-        48,
-    )
-    .unwrap();
-    let panel = RectLight::new(
-        DVec3::new(0.0, 3.0, 0.0),
-        DVec3::NEG_Y,
-        DVec3::X,
-        DVec2::new(1.2, 0.6),
-    )
-    .unwrap();
-    let room = block(DVec3::new(-3.0, 0.0, -2.5), DVec3::new(3.0, 3.0, 2.5), true);
-    let table = block(
-        DVec3::new(-0.8, 0.7, -0.5),
-        DVec3::new(0.8, 0.75, 0.5),
-        false,
-    );
-    let scene = Scene::new(camera)
-        .with_light(panel)
-        .with_mesh("room", &room, DMat4::IDENTITY)
-        .with_mesh("table", &table, DMat4::IDENTITY);
+    let scene = room(true, 3.0);
     let options = RenderOptions::default();
     let mut gpu = Renderer::new(Backend::Gpu);
     let soft = match gpu.render(&scene, Technique::WedgesBlend, &options) {

@@ -82,7 +82,7 @@ pub use range::RangeError;
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{
     LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,
-    TracerGeometry,
+    TracerGeometry, segment_meets_plane,
 };
 pub use rng::Rng;
 pub use scene::{Scene, SceneMesh};

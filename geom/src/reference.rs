@@ -239,23 +239,14 @@ impl Tracer {
         if !self.in_front[t as usize] {
             return false;
         }
-        let [a, b, c] = self.triangles[t as usize];
-        let d = l - p;
-        let dist = d.length();
-        let (e1, e2) = (b - a, c - a);
-        let q = d.cross(e2);
-        let det = e1.dot(q);
-        if det == 0.0 {
+        let Some((u, v, along)) = segment_meets_plane(p, l, self.triangles[t as usize]) else {
             return false;
-        }
-        let s = p - a;
-        let u = s.dot(q) / det;
-        let r = s.cross(e1);
-        let v = d.dot(r) / det;
+        };
         if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
             return false;
         }
-        let at = e2.dot(r) / det * dist;
+        let dist = (l - p).length();
+        let at = along * dist;
         at > self.touch && at < dist - self.touch
     }
 
@@ -333,6 +324,26 @@ impl Tracer {
     }
 }
 
+/// Where the line through `p` and `l` meets the plane of the triangle `[a, b, c]` (Möller &
+/// Trumbore, "Fast, Minimum Storage Ray/Triangle Intersection", 1997): the meeting point's
+/// barycentric coordinates `(u, v)` of `b` and `c`, and its parameter along the segment (0 at
+/// `p`, 1 at `l`); `None` where the line runs parallel to the plane.
+#[inline]
+pub fn segment_meets_plane(p: DVec3, l: DVec3, [a, b, c]: [DVec3; 3]) -> Option<(f64, f64, f64)> {
+    let d = l - p;
+    let (e1, e2) = (b - a, c - a);
+    let q = d.cross(e2);
+    let det = e1.dot(q);
+    if det == 0.0 {
+        return None;
+    }
+    let s = p - a;
+    let u = s.dot(q) / det;
+    let r = s.cross(e1);
+    let v = d.dot(r) / det;
+    Some((u, v, e2.dot(r) / det))
+}
+
 /// Which light points the reference samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LightSamples {
@@ -400,9 +411,6 @@ impl Reference {
             .par_chunks_mut(w as usize)
             .enumerate()
             .for_each(|(j, row)| {
-                if stop.happened() {
-                    return;
-                }
                 for (i, out) in row.iter_mut().enumerate() {
                     // Pixel by pixel: a row of many samples takes seconds.
                     if stop.happened() {

@@ -40,21 +40,13 @@ fn rows_of_three(what: &str, shape: &[usize]) -> PyResult<usize> {
     }
 }
 
-/// An `(n, 3)` array of floats (anything numpy takes) as points.
+/// An `(n, 3)` array of floats (anything numpy converts to `float64`) as points, read as
+/// [`Rows`].
 pub fn points(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
-    let a = asarray(obj, Some("float64"))?;
-    let a: PyReadonlyArray2<f64> = a.extract().map_err(|_| {
-        PyValueError::new_err(format!(
-            "{what} must have the shape (n, 3), not {}",
-            shape_of(obj)
-        ))
-    })?;
-    rows_of_three(what, a.shape())?;
-    Ok(a.as_array()
-        .rows()
-        .into_iter()
-        .map(|r| DVec3::new(r[0], r[1], r[2]))
-        .collect())
+    let rows = Rows::new(what, &asarray(obj, Some("float64"))?, None)?;
+    let mut out = vec![DVec3::ZERO; rows.len()];
+    rows.view().read(0, &mut out);
+    Ok(out)
 }
 
 /// An `(m, 3)` array of integers as triangles' vertex indices.

@@ -4,7 +4,7 @@
 //! channel names reach neither the terminal nor a file name unless they are lights' names.
 
 mod common;
-use common::{GOOD_OBJ, GOOD_SCENE, case_dir, files_in, penumbra, scratch};
+use common::{GOOD_OBJ, GOOD_SCENE, case_dir, files_in, penumbra, scratch, stdout_of};
 
 use std::path::Path;
 
@@ -297,12 +297,7 @@ fn thousands_of_channels_and_a_long_light_order_are_compared() {
         .args(["compare", "a.exr", "b.exr", "--json"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows: serde_json::Value = serde_json::from_str(&stdout_of(&out)).unwrap();
     let rows = rows.as_array().unwrap();
     assert_eq!(rows.len(), n);
     assert_eq!(rows[0]["channel"], format!("l{}.V", n - 1));

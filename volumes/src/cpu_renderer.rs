@@ -261,12 +261,9 @@ impl CpuRenderer {
             }));
             first_unit += o.silhouette.patches;
         }
-        let encloses_light = crate::terminator::enclosing_light(
-            &tracer,
-            &triangle_occluder,
-            volumes.occluders.len(),
-            CASTER_BIT,
-        );
+        let closed: Vec<bool> = volumes.occluders.iter().map(|o| o.outward != 0.0).collect();
+        let encloses_light =
+            crate::terminator::enclosing_light(&tracer, &triangle_occluder, &closed, CASTER_BIT);
         CpuRenderer {
             tracer,
             volumes,

@@ -58,6 +58,7 @@
 use glam::{DVec2, DVec3};
 use penumbra_geom::{
     Camera, Interruption, LitScene, Rays, SurfacePoint, Tracer, TracerGeometry, VisibilityImage,
+    segment_meets_plane,
 };
 use rayon::prelude::*;
 
@@ -243,19 +244,10 @@ impl DepthComplexity {
     /// every sample's count follows, hangs on rounding.
     fn centre_on_an_edge(&self, p: &SurfacePoint, hits: &[u32]) -> bool {
         let t = &self.tracer;
-        let d = t.light.center - p.position;
         hits.iter().any(|&k| {
-            let [a, b, c] = t.triangles[k as usize];
-            let (e1, e2) = (b - a, c - a);
-            let q = d.cross(e2);
-            let det = e1.dot(q);
-            if det == 0.0 {
-                return true;
-            }
-            let s = p.position - a;
-            let u = s.dot(q) / det;
-            let v = d.dot(s.cross(e1)) / det;
-            u.min(v).min(1.0 - u - v) < CENTRE_ON_EDGE
+            // Parallel to the triangle's plane: as ambiguous.
+            segment_meets_plane(p.position, t.light.center, t.triangles[k as usize])
+                .is_none_or(|(u, v, _)| u.min(v).min(1.0 - u - v) < CENTRE_ON_EDGE)
         })
     }
 

@@ -116,9 +116,6 @@ impl SensorVisibility {
         out.par_chunks_mut(CHUNK).enumerate().for_each_init(
             Scratch::default,
             |scratch, (c, chunk)| {
-                if stop.happened() {
-                    return;
-                }
                 let start = c * CHUNK;
                 for (k, v) in chunk.iter_mut().enumerate() {
                     if stop.happened() {

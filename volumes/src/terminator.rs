@@ -88,26 +88,26 @@ fn solid_angle(t: [DVec3; 3], p: DVec3) -> f64 {
     2.0 * num.atan2(den)
 }
 
-/// Per occluder (of `count`, each triangle's in `triangle_occluder`, `caster_bit` masked off),
-/// whether its triangles wind around a point just in front of the light's centre
-/// ([`winds_around`]): a closed mesh that encloses the light, such as a room lit from its
-/// ceiling. The point stands 1e-4 of the scene's extent in front of the centre, so that a
-/// light flush with a ceiling is inside the room it lights.
+/// Per occluder (`closed` says which are closed meshes; each triangle's occluder in
+/// `triangle_occluder`, `caster_bit` masked off), whether it is a closed mesh whose triangles
+/// wind around a point just in front of the light's centre ([`winds_around`]): one that
+/// encloses the light, such as a room lit from its ceiling. Open meshes have no inside, and
+/// their triangles are not visited. The point stands 1e-4 of the scene's extent in front of the
+/// centre, so that a light flush with a ceiling is inside the room it lights.
 pub(crate) fn enclosing_light(
     tracer: &penumbra_geom::Tracer,
     triangle_occluder: &[u32],
-    count: usize,
+    closed: &[bool],
     caster_bit: u32,
 ) -> Vec<bool> {
     let light = &tracer.light;
     let at = light.center + light.normal * (10.0 * tracer.epsilon);
-    let mut winding = vec![0.0f64; count];
+    let mut winding = vec![0.0f64; closed.len()];
     for (t, tri) in tracer.triangles.iter().enumerate() {
         let o = (triangle_occluder[t] & !caster_bit) as usize;
-        let Some(w) = winding.get_mut(o) else {
-            continue;
-        };
-        *w += solid_angle(*tri, at);
+        if closed.get(o) == Some(&true) {
+            winding[o] += solid_angle(*tri, at);
+        }
     }
     winding
         .into_iter()
