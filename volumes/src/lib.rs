@@ -45,7 +45,7 @@ pub use samples::SamplePattern;
 pub use sensors::{SensorSamples, SensorVisibility};
 pub use shadow_volume::{FaceKind, OpenVolume, ShadowVolume, VolumeVertex, caps, side};
 pub use silhouette::{Silhouette, SilhouetteEdge};
-pub use terminator::{front_share, outward_sign, winds_around};
+pub use terminator::{front_share, in_front_of, outward_sign, winds_around};
 pub use volumes::{GeometryCounts, Occluder, Volumes};
 pub use wedge::Wedge;
 pub use wedge_grid::{ReceiverCells, WedgeGrid};

@@ -79,6 +79,13 @@ pub fn winds_around(triangles: impl IntoIterator<Item = [DVec3; 3]>, point: DVec
     (w / (4.0 * std::f64::consts::PI)).abs() > 0.5
 }
 
+/// The point just in front of a lamp's centre about which [`winds_around`] asks whether a
+/// closed mesh encloses the lamp: 1e-4 of the lamp's distance from the origin and its size
+/// along its normal, so that a lamp flush with a ceiling is inside the room it lights.
+pub fn in_front_of(light: &RectLight) -> DVec3 {
+    light.center + light.normal * (1e-4 * (light.center.length() + light.size.max_element()))
+}
+
 /// The signed solid angle of triangle `t` seen from `p`.
 fn solid_angle(t: [DVec3; 3], p: DVec3) -> f64 {
     let [a, b, c] = t.map(|v| v - p);

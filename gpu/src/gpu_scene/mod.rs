@@ -351,10 +351,7 @@ impl GpuScene {
         // inside, whose surfaces face the light from within (a distant light is in no room).
         let in_front = match self.light.warp() {
             Some(_) => None,
-            None => {
-                let l = self.light.rect();
-                Some(l.center + l.normal * (1e-4 * (l.center.length() + l.size.max_element())))
-            }
+            None => Some(penumbra_volumes::in_front_of(&self.light.rect())),
         };
         let models: Vec<ModelMatrix> = self
             .meshes

@@ -55,6 +55,17 @@ fn to_light(rel: vec3<f32>) -> vec3<f32> {
     );
 }
 
+// Whether eye-relative receiver `rel`, at light depth `side` (`dot(rel - c, n)`), lies strictly
+// on the light's emitting side beyond the rounding of its f32 position: a surface in the light's
+// plane (a ceiling flush with its lamp) reads a few ulps either side of 0, and is not lit, as
+// the exact rule of the scene format has it.
+fn strictly_in_front(rel: vec3<f32>, side: f32) -> bool {
+    return side > PLANE_ROUNDING * (length(rel) + length(frame.light_center.xyz));
+}
+
+// Relative rounding of a receiver's light depth: a few ulps of f32.
+const PLANE_ROUNDING: f32 = 1e-6;
+
 // Light space to eye-relative world.
 fn from_light(l: vec3<f32>) -> vec3<f32> {
     return frame.light_center.xyz

@@ -159,7 +159,7 @@ fn count_setup(@builtin(global_invocation_id) id: vec3<u32>) {
         base = 0u;
         recount = RECOUNT;
     }
-    if (!(pl.z > 0.0)) {
+    if (!strictly_in_front(p.xyz, pl.z)) {
         visibility[pixel] = bitcast<u32>(0.0);
         return;
     }

@@ -17,7 +17,7 @@ fn lit(pixel: vec4<f32>) -> vec2<f32> {
     let p = textureLoad(position, vec2<i32>(pixel.xy), 0);
     let side = dot(p.xyz - frame.light_center.xyz, frame.light_normal.xyz);
     // x: hit something, y: strictly on the emitting side.
-    return vec2<f32>(p.w, select(0.0, 1.0, side > 0.0));
+    return vec2<f32>(p.w, select(0.0, 1.0, strictly_in_front(p.xyz, side)));
 }
 
 // Stencil count zero: lit unless behind the light's plane.

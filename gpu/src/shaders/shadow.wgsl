@@ -136,7 +136,7 @@ fn receiver(pixel: vec2<i32>) -> Receiver {
     r.uv = map_uv(r.l);
     r.kind = 1u;
     // The scene format's rule: only points strictly on the emitting side are lit.
-    if (r.l.z <= 0.0) {
+    if (!strictly_in_front(p.xyz, r.l.z)) {
         r.kind = 2u;
     }
     // A point of a closed mesh whose outward normal faces away from every point of the light
