@@ -3,8 +3,9 @@
 
 use std::fmt;
 
-use penumbra_geom::{LitScene, Technique, VisibilityImage};
+use penumbra_geom::{HalfEdgeMesh, LitScene, Technique, VisibilityImage};
 use penumbra_gpu::{PassCounters, PassTimes};
+use penumbra_volumes::Enclosure;
 
 use crate::backend::Placement;
 use crate::runs::Runs;
@@ -26,10 +27,23 @@ pub struct Frame {
 /// What makes an image wrong though it rendered.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Warning {
-    /// A mesh whose cut by the light's plane holds the light's centre
-    /// ([`penumbra_volumes::encloses_light_centre`]), under a technique that builds
-    /// its shadow from that centre (hard, wedges, shadow maps).
-    HoldsLightCentre {
+    /// A closed mesh around the light's centre with the eye outside it
+    /// ([`penumbra_volumes::Enclosure::Sealed`]: a lamp shut in a box, seen from outside), under
+    /// a soft technique built from that centre (wedges, shadow maps). A room around the light
+    /// and the eye is right; `hard` is taken from the hard reference here.
+    SealedLight {
+        /// The mesh's index in the scene.
+        mesh: usize,
+        /// The mesh's name (its file, or the name it was given in code).
+        name: String,
+        /// The technique.
+        technique: Technique,
+    },
+    /// A mesh that passes through the light's own rectangle
+    /// ([`penumbra_volumes::passes_through_light`]), under a soft technique built from the
+    /// silhouette seen from the light's centre (wedges, shadow maps), which is far from the
+    /// silhouette seen from the rest of the light there.
+    ThroughLight {
         /// The mesh's index in the scene.
         mesh: usize,
         /// The mesh's name (its file, or the name it was given in code).
@@ -51,15 +65,27 @@ pub enum Warning {
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Warning::HoldsLightCentre {
+            Warning::SealedLight {
                 mesh,
                 name,
                 technique,
             } => write!(
                 f,
-                "mesh {mesh} ({name}) holds the light's centre where the light's plane cuts it: {technique} \
-                 builds its shadow from that centre and cannot be right here (see docs/accuracy.md); \
-                 depth-complexity is exact there for its samples"
+                "mesh {mesh} ({name}) closes round the light's centre and the eye is outside it: \
+                 {technique} builds its shadow from that centre, and is right for a light inside \
+                 a closed mesh only with the eye inside it too (a room lit from its ceiling; see \
+                 docs/accuracy.md); hard, depth-complexity and the reference are exact here"
+            ),
+            Warning::ThroughLight {
+                mesh,
+                name,
+                technique,
+            } => write!(
+                f,
+                "mesh {mesh} ({name}) passes through the light's rectangle: {technique} builds \
+                 its shadow from the silhouette seen from the light's centre, which is far from \
+                 the one seen from the rest of the light here (see docs/accuracy.md); hard, \
+                 depth-complexity and the reference are exact here"
             ),
             Warning::GpuExtent { ratio, technique } => write!(
                 f,
@@ -72,14 +98,16 @@ impl fmt::Display for Warning {
     }
 }
 
-/// The warnings of a frame of `technique` rendered where `placement` says: each mesh whose cut
-/// by the light's plane holds the light's centre, for the techniques built from the light's
-/// centre (hard, wedges, shadow maps); on the GPU, a triangle wider than its floats hold
-/// (`extent`, the scene's [`crate::backend::extent_ratio`] where already measured).
+/// The warnings of a frame of `technique` rendered where `placement` says: for the soft
+/// techniques built from the light's centre (wedges, shadow maps), each closed mesh that shuts
+/// the light's centre in from the eye (`sealing`, [`sealing_meshes`]) and each other mesh that
+/// passes through the light's rectangle; on the GPU, a triangle wider
+/// than its floats hold (`extent`, the scene's [`crate::backend::extent_ratio`] where already
+/// measured).
 pub(crate) fn warnings(
     scene: &LitScene,
     technique: Technique,
-    placement: Placement,
+    (placement, sealing): (Placement, &[usize]),
     extent: Option<f64>,
 ) -> Vec<Warning> {
     let mut out = Vec::new();
@@ -89,26 +117,47 @@ pub(crate) fn warnings(
             out.push(Warning::GpuExtent { ratio, technique });
         }
     }
-    if !(technique.is_volume() || Runs::of(technique) == Runs::GpuOnly) {
+    let soft = matches!(technique, Technique::Wedges | Technique::WedgesBlend)
+        || Runs::of(technique) == Runs::GpuOnly;
+    if !soft {
         return out;
     }
-    out.extend(
-        scene
-            .meshes
-            .iter()
-            .enumerate()
-            .filter(|(_, m)| {
-                penumbra_volumes::encloses_light_centre(
-                    &m.mesh.positions,
-                    &m.mesh.triangles,
-                    &scene.light,
-                )
-            })
-            .map(|(mesh, m)| Warning::HoldsLightCentre {
+    for (mesh, m) in scene.meshes.iter().enumerate() {
+        let name = m.source.display().to_string();
+        let tris = (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t));
+        if sealing.contains(&mesh) {
+            out.push(Warning::SealedLight {
                 mesh,
-                name: m.source.display().to_string(),
+                name,
                 technique,
-            }),
-    );
+            });
+        } else if scene.distant.is_none()
+            && penumbra_volumes::passes_through_light(tris, &scene.light)
+        {
+            out.push(Warning::ThroughLight {
+                mesh,
+                name,
+                technique,
+            });
+        }
+    }
     out
+}
+
+/// The closed meshes of `scene` that shut its lamp in from the eye
+/// ([`penumbra_volumes::Enclosure::Sealed`]); none under a distant light.
+pub(crate) fn sealing_meshes(scene: &LitScene) -> Vec<usize> {
+    if scene.distant.is_some() {
+        return Vec::new();
+    }
+    let sealed = |m: &penumbra_geom::SceneMesh| {
+        let mesh = &m.mesh;
+        let tris = (0..mesh.triangles.len()).map(|t| mesh.triangle(t));
+        penumbra_volumes::enclosure(tris, &scene.light, scene.camera.eye) == Enclosure::Sealed
+            && penumbra_volumes::outward_sign(mesh, &HalfEdgeMesh::build(mesh)) != 0.0
+    };
+    (scene.meshes.iter().enumerate())
+        .filter(|(_, m)| sealed(m))
+        .map(|(i, _)| i)
+        .collect()
 }

@@ -266,6 +266,26 @@ impl Renderer {
         }
         let pattern = options.pattern_for(technique)?;
         let stop = Interruption::since();
+        let sealing = rendered_frame::sealing_meshes(scene);
+        if technique == Technique::Hard && !sealing.is_empty() {
+            // Every point in view is outside a closed mesh the light's centre is shut in: the
+            // hard shadow is the hard reference's, one ray a pixel.
+            let mut frame = crate::cpu::render(
+                scene,
+                Technique::HardReference,
+                pattern,
+                progress,
+                &mut self.kept,
+            );
+            frame.detail = format!(
+                "{}: the hard reference, the light's centre being shut in mesh {} seen from outside",
+                frame.detail, sealing[0]
+            );
+            if stop.happened() {
+                return Err(RenderError::Interrupted);
+            }
+            return Ok(frame);
+        }
         let request = Request {
             technique,
             backend: self.backend,
@@ -304,7 +324,8 @@ impl Renderer {
         if stop.happened() {
             return Err(RenderError::Interrupted);
         }
-        frame.warnings = rendered_frame::warnings(scene, technique, choice.placement, extent);
+        frame.warnings =
+            rendered_frame::warnings(scene, technique, (choice.placement, &sealing), extent);
         Ok(frame)
     }
 

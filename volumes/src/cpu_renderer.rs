@@ -76,9 +76,9 @@ pub struct CpuRenderer {
     receivers: (DVec3, DVec3),
     /// Occluder of each scene triangle, with the top bit set for casters.
     triangle_occluder: Vec<u32>,
-    /// Per occluder, whether it is a closed mesh around the light (a room lit from inside):
-    /// its surfaces are seen from their inner side.
-    encloses_light: Vec<bool>,
+    /// Per occluder, whether it is a closed mesh around the light and the eye (a room lit
+    /// from inside, [`crate::Enclosure::Room`]): its surfaces are seen from their inner side.
+    rooms: Vec<bool>,
     /// Blending unit of each caster triangle (`Wedge::unit`).
     triangle_unit: Vec<u32>,
     /// The camera whose pixels [`CpuRenderer::render`] renders.
@@ -262,14 +262,19 @@ impl CpuRenderer {
             first_unit += o.silhouette.patches;
         }
         let closed: Vec<bool> = volumes.occluders.iter().map(|o| o.outward != 0.0).collect();
-        let encloses_light =
-            crate::terminator::enclosing_light(&tracer, &triangle_occluder, &closed, CASTER_BIT);
+        let rooms = crate::light_centre::rooms(
+            &tracer,
+            &triangle_occluder,
+            &closed,
+            CASTER_BIT,
+            scene.camera.eye,
+        );
         CpuRenderer {
             tracer,
             volumes,
             grid: OnceLock::new(),
             receivers,
-            encloses_light,
+            rooms,
             triangle_occluder,
             triangle_unit,
             camera: scene.camera,
@@ -468,7 +473,7 @@ impl CpuRenderer {
         if sign == 0.0 {
             return 1.0;
         }
-        if self.encloses_light[o as usize] {
+        if self.rooms[o as usize] {
             // The light inside the solid: its surfaces face the light from within.
             sign = -sign;
         }

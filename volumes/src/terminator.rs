@@ -70,58 +70,6 @@ pub fn front_share(light: &RectLight, p: DVec3, n: DVec3) -> f64 {
     (0.5 * twice / 4.0).clamp(0.0, 1.0)
 }
 
-/// Whether `triangles` (a closed mesh) wind around `point`: their generalised winding number
-/// about it (the triangles' signed solid angles over 4 pi, Van Oosterom & Strackee, "The Solid
-/// Angle of a Plane Triangle", 1983) is about +-1 inside and 0 outside, whichever way the mesh
-/// is wound.
-pub fn winds_around(triangles: impl IntoIterator<Item = [DVec3; 3]>, point: DVec3) -> bool {
-    let w: f64 = triangles.into_iter().map(|t| solid_angle(t, point)).sum();
-    (w / (4.0 * std::f64::consts::PI)).abs() > 0.5
-}
-
-/// The point just in front of a lamp's centre about which [`winds_around`] asks whether a
-/// closed mesh encloses the lamp: 1e-4 of the lamp's distance from the origin and its size
-/// along its normal, so that a lamp flush with a ceiling is inside the room it lights.
-pub fn in_front_of(light: &RectLight) -> DVec3 {
-    light.center + light.normal * (1e-4 * (light.center.length() + light.size.max_element()))
-}
-
-/// The signed solid angle of triangle `t` seen from `p`.
-fn solid_angle(t: [DVec3; 3], p: DVec3) -> f64 {
-    let [a, b, c] = t.map(|v| v - p);
-    let (la, lb, lc) = (a.length(), b.length(), c.length());
-    let num = a.dot(b.cross(c));
-    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-    2.0 * num.atan2(den)
-}
-
-/// Per occluder (`closed` says which are closed meshes; each triangle's occluder in
-/// `triangle_occluder`, `caster_bit` masked off), whether it is a closed mesh whose triangles
-/// wind around a point just in front of the light's centre ([`winds_around`]): one that
-/// encloses the light, such as a room lit from its ceiling. Open meshes have no inside, and
-/// their triangles are not visited. The point stands 1e-4 of the scene's extent in front of the
-/// centre, so that a light flush with a ceiling is inside the room it lights.
-pub(crate) fn enclosing_light(
-    tracer: &penumbra_geom::Tracer,
-    triangle_occluder: &[u32],
-    closed: &[bool],
-    caster_bit: u32,
-) -> Vec<bool> {
-    let light = &tracer.light;
-    let at = light.center + light.normal * (10.0 * tracer.epsilon);
-    let mut winding = vec![0.0f64; closed.len()];
-    for (t, tri) in tracer.triangles.iter().enumerate() {
-        let o = (triangle_occluder[t] & !caster_bit) as usize;
-        if closed.get(o) == Some(&true) {
-            winding[o] += solid_angle(*tri, at);
-        }
-    }
-    winding
-        .into_iter()
-        .map(|w| (w / (4.0 * std::f64::consts::PI)).abs() > 0.5)
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -15,9 +15,10 @@ pub(super) struct StoredMesh {
     pub(super) bounds: (DVec3, DVec3),
     pub(super) transform: DMat4,
     pub(super) stored: Vec<[f32; 3]>,
-    /// For the last transform and point in front of the light: whether the mesh (closed)
-    /// winds around that point, a room around its light, seen from inside.
-    pub(super) around_light: Option<(DMat4, DVec3, bool)>,
+    /// For the last transform and point in front of the light, and for the last transform and
+    /// eye: whether the mesh (closed) winds around that point. Around both, it is a room
+    /// around its light, seen from inside.
+    pub(super) around: [Option<(DMat4, DVec3, bool)>; 2],
 }
 
 impl StoredMesh {
@@ -34,14 +35,21 @@ impl StoredMesh {
             origin,
             bounds: bounds(&mesh.positions),
             transform,
-            around_light: None,
+            around: [None; 2],
         }
     }
 
-    /// Whether this closed mesh, where it is, winds around `point` (in front of the light's
-    /// centre), remembered for the same transform and point.
-    pub(super) fn winds_around(&mut self, point: DVec3) -> bool {
-        if let Some((t, p, around)) = self.around_light
+    /// Whether this closed mesh, where it is, is a room around the light seen from inside: it
+    /// winds around `lamp` (a point just in front of the light's centre) and `eye`, each
+    /// remembered for the same transform and point (the eye is asked only of a mesh around
+    /// the lamp, so that a moving camera costs nothing in scenes without rooms).
+    pub(super) fn is_room(&mut self, lamp: DVec3, eye: DVec3) -> bool {
+        self.winds_around(0, lamp) && self.winds_around(1, eye)
+    }
+
+    /// Whether the mesh winds around `point`, remembered in slot `slot`.
+    fn winds_around(&mut self, slot: usize, point: DVec3) -> bool {
+        if let Some((t, p, around)) = self.around[slot]
             && t == self.transform
             && p == point
         {
@@ -55,7 +63,7 @@ impl StoredMesh {
                 .map(|t| t.map(|i| world.positions[i as usize])),
             point,
         );
-        self.around_light = Some((self.transform, point, around));
+        self.around[slot] = Some((self.transform, point, around));
         around
     }
 }

@@ -347,8 +347,10 @@ impl GpuScene {
         if let Some(warp) = self.light.warp() {
             uniforms = uniforms.with_warp(warp, world.eye, camera);
         }
-        // A point just in front of a lamp's centre: a closed mesh around it is a room lit from
-        // inside, whose surfaces face the light from within (a distant light is in no room).
+        // A point just in front of a lamp's centre: a closed mesh around it and the eye is a
+        // room lit from inside, whose surfaces face the light from within (a distant light is
+        // in no room).
+        let eye = world.eye;
         let in_front = match self.light.warp() {
             Some(_) => None,
             None => Some(penumbra_volumes::in_front_of(&self.light.rect())),
@@ -359,7 +361,7 @@ impl GpuScene {
             .map(|m| {
                 // A mirroring transform turns an outward winding inwards.
                 let mut sign = m.outward * m.transform.determinant().signum();
-                if sign != 0.0 && in_front.is_some_and(|p| m.winds_around(p)) {
+                if sign != 0.0 && in_front.is_some_and(|p| m.is_room(p, eye)) {
                     sign = -sign;
                 }
                 model_matrix(world.eye, &m.transform, m.origin, sign)

@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, DVec3};
 use penumbra_geom::{HalfEdgeMesh, LitScene, Rng};
 use penumbra_params::{TechniqueParams, equal_area_radius};
-use penumbra_volumes::{in_front_of, outward_sign, winds_around};
+use penumbra_volumes::{Enclosure, enclosure, outward_sign};
 
 use super::light_frustum::LightFrustum;
 use crate::constants::MAX_TAPS;
@@ -37,18 +37,18 @@ const _: () = assert!(std::mem::size_of::<ShadowUniforms>() == 96 + 16 * MAX_TAP
 
 /// The triangles of `scene`, those of closed and consistently oriented meshes first and wound
 /// outwards (counter-clockwise seen from outside; the signed volume says which way is out), then
-/// the others; and how many are closed. A closed mesh around a lamp (a room lit from its
-/// ceiling: it winds around a point just in front of the lamp's centre) is seen from inside, as
-/// the complement of a solid: it is wound inwards, so that its faces' outer side is the room's.
+/// the others; and how many are closed. A closed mesh around a lamp and the eye (a room lit from
+/// its ceiling, [`penumbra_volumes::Enclosure::Room`]) is seen from inside, as the complement of
+/// a solid: it is wound inwards, so that its faces' outer side is the room's.
 pub(super) fn closed_first(scene: &LitScene) -> (Vec<[DVec3; 3]>, usize) {
     let (mut closed, mut open) = (Vec::new(), Vec::new());
     // A distant light is in no room.
-    let lamp = scene.distant.is_none().then(|| in_front_of(&scene.light));
+    let (room, eye) = (scene.distant.is_none(), scene.camera.eye);
     for m in scene.meshes.iter() {
         let mesh = &m.mesh;
         let tris = (0..mesh.triangles.len()).map(|t| mesh.triangle(t));
         let mut sign = outward_sign(mesh, &HalfEdgeMesh::build(mesh));
-        if sign != 0.0 && lamp.is_some_and(|p| winds_around(tris.clone(), p)) {
+        if sign != 0.0 && room && enclosure(tris.clone(), &scene.light, eye) == Enclosure::Room {
             sign = -sign;
         }
         if sign == 0.0 {
