@@ -1,11 +1,13 @@
 //! A room lit from its ceiling: a closed room around the light (wound outwards or inwards), a
-//! table on a leg, and a panel 3 cm below the ceiling or flush with it. On the CPU, `hard`
-//! is the hard reference and `wedges-blend` the soft one: a closed mesh around the light is
-//! seen from inside, not as a solid whose outside faces the light.
+//! table on a leg, and a panel 3 cm below the ceiling or flush with it; and the interior
+//! fixtures (`fixtures/interiors/`), every technique on the CPU and the GPU. A closed mesh
+//! around the light and the eye is seen from inside, not as a solid whose outside faces the
+//! light.
 
 use penumbra::glam::{DMat4, DVec2, DVec3};
 use penumbra::{
-    Backend, Camera, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh, compare,
+    Backend, Camera, LitScene, RectLight, RenderOptions, Renderer, Scene, Technique, TriangleMesh,
+    VisibilityImage, compare,
 };
 
 /// The box from `lo` to `hi`, wound outwards, or inwards where `inward`.
@@ -127,4 +129,136 @@ fn a_room_lit_from_its_ceiling_on_the_gpu() {
         c.all.mae,
         c.penumbra.mae
     );
+}
+
+/// The interior fixture `name`, at 96 x 72.
+fn interior(name: &str) -> LitScene {
+    let path = format!(
+        "{}/fixtures/interiors/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut scene = Scene::load(std::path::Path::new(&path)).unwrap().lit(0);
+    scene.set_size(96, 72);
+    scene
+}
+
+/// `technique`'s image of `scene` on `backend`, with no warning.
+fn rendered(
+    r: &mut Renderer,
+    scene: &LitScene,
+    technique: Technique,
+    options: &RenderOptions,
+) -> Result<VisibilityImage, penumbra::RenderError> {
+    let frame = r.render_frame(scene, technique, options, None, &|_| {})?;
+    assert!(
+        frame.warnings.is_empty(),
+        "{technique}: {:?}",
+        frame.warnings
+    );
+    Ok(frame.image)
+}
+
+const INTERIORS: [&str; 2] = ["interior", "interior-flush"];
+
+/// On the CPU: `hard` the hard reference, `wedges-blend` within 0.05 of the reference over its
+/// penumbra, and `depth-complexity` given the reference's samples the reference itself.
+#[test]
+fn the_interiors_on_the_cpu() {
+    let options = RenderOptions::default();
+    for name in INTERIORS {
+        let scene = interior(name);
+        let mut r = Renderer::new(Backend::Cpu);
+        let mut render = |t, o: &RenderOptions| rendered(&mut r, &scene, t, o).unwrap();
+        let truth = render(Technique::Reference, &options);
+        let hard = compare(
+            &render(Technique::Hard, &options),
+            &render(Technique::HardReference, &options),
+        )
+        .unwrap();
+        assert!(
+            hard.all.equal >= 0.995,
+            "{name}: hard {:.4} equal",
+            hard.all.equal
+        );
+        let soft = compare(&render(Technique::WedgesBlend, &options), &truth).unwrap();
+        assert!(
+            soft.penumbra.pixels > 300,
+            "{name}: {} penumbra pixels",
+            soft.penumbra.pixels
+        );
+        assert!(
+            soft.penumbra.mae <= 0.05 && soft.umbra_lit <= 0.02,
+            "{name}: wedges-blend penumbra MAE {:.3}, umbra lit {:.3}",
+            soft.penumbra.mae,
+            soft.umbra_lit
+        );
+        let jittered = RenderOptions {
+            jitter: true,
+            ..options
+        };
+        let exact = compare(&render(Technique::DepthComplexity, &jittered), &truth).unwrap();
+        assert!(
+            exact.all.equal >= 0.999,
+            "{name}: depth-complexity {:.4} equal to the reference",
+            exact.all.equal
+        );
+    }
+}
+
+/// On the GPU: `hard` the hard reference, `wedges-blend` and `depth-complexity` as on the CPU,
+/// and every shadow-map technique within 0.05 of the reference over the whole image with at
+/// most 2% of the umbra lit.
+#[test]
+fn the_interiors_on_the_gpu() {
+    let options = RenderOptions::default();
+    let mut gpu = Renderer::new(Backend::Gpu);
+    let mut cpu = Renderer::new(Backend::Cpu);
+    for name in INTERIORS {
+        let scene = interior(name);
+        let hard = match rendered(&mut gpu, &scene, Technique::Hard, &options) {
+            Ok(v) => v,
+            Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
+                println!("SKIPPED (no adapter): {e}");
+                return;
+            }
+            Err(e) => panic!("{e}"),
+        };
+        let mut on_cpu = |t| rendered(&mut cpu, &scene, t, &options).unwrap();
+        let truth = on_cpu(Technique::Reference);
+        let c = compare(&hard, &on_cpu(Technique::HardReference)).unwrap();
+        assert!(
+            c.all.equal >= 0.995,
+            "{name}: GPU hard {:.4} equal",
+            c.all.equal
+        );
+        let mut on_gpu = |t| rendered(&mut gpu, &scene, t, &options).unwrap();
+        for t in [Technique::WedgesBlend, Technique::DepthComplexity] {
+            let c = compare(&on_gpu(t), &truth).unwrap();
+            assert!(
+                c.penumbra.mae <= 0.05 && c.umbra_lit <= 0.02,
+                "{name}: GPU {t} penumbra MAE {:.3}, umbra lit {:.3}",
+                c.penumbra.mae,
+                c.umbra_lit
+            );
+        }
+        for t in [
+            Technique::Pcf,
+            Technique::Pcss,
+            Technique::FractionalDisk,
+            Technique::Mdsm,
+            Technique::Gaussian,
+        ] {
+            let c = compare(&on_gpu(t), &truth).unwrap();
+            println!(
+                "{name}: {t} MAE {:.4}, umbra lit {:.4}",
+                c.all.mae, c.umbra_lit
+            );
+            assert!(
+                c.all.mae <= 0.05 && c.umbra_lit <= 0.02,
+                "{name}: {t} MAE {:.3}, umbra lit {:.3}",
+                c.all.mae,
+                c.umbra_lit
+            );
+        }
+    }
 }

@@ -7,6 +7,8 @@
 //! into `fixtures/meshes/` from the public collection common-3d-test-models, and the generator
 //! writes only their scenes.
 
+mod interiors;
+
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -496,6 +498,40 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     let scale = dir.join("scale");
     std::fs::create_dir_all(&scale).with_context(|| format!("creating {}", scale.display()))?;
     write(scale.join("scale.toml"), scale_scene().0)?;
+
+    // The interiors: a room lit from its ceiling, in a folder of its own.
+    write(
+        meshes.join("cube.obj"),
+        TriangleMesh::cube().to_obj_string(&format!(
+            "Unit cube centred on the origin, wound outwards. {gen_note}"
+        )),
+    )?;
+    write(
+        meshes.join("cube-inward.obj"),
+        TriangleMesh::cube().flipped().to_obj_string(&format!(
+            "Unit cube centred on the origin, wound inwards (a room as interiors are often exported). {gen_note}"
+        )),
+    )?;
+    let rooms = dir.join("interiors");
+    std::fs::create_dir_all(&rooms).with_context(|| format!("creating {}", rooms.display()))?;
+    let s = interiors::room(
+        &format!(
+            "A room 6 x 3 x 5 seen from inside, lit by a 1.2 x 0.6 ceiling panel 3 cm below its\nceiling: a closed room wound outwards, a table on four legs, a cabinet, a shelf, Spot on the\ntable and Cheburashka on the floor.\n{}",
+            interiors::SOURCES
+        ),
+        "cube.obj",
+        2.97,
+    );
+    write(rooms.join("interior.toml"), s.0)?;
+    let s = interiors::room(
+        &format!(
+            "The interior's twin: the panel flush with the ceiling (the light's plane is the ceiling's)\nand the room's faces pointing inward, as interiors are often exported.\n{}",
+            interiors::SOURCES
+        ),
+        "cube-inward.obj",
+        3.0,
+    );
+    write(rooms.join("interior-flush.toml"), s.0)?;
 
     // One scene per real mesh; the meshes themselves are copied data, not written here.
     for m in &REAL_SCENES {
