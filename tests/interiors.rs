@@ -262,3 +262,71 @@ fn the_interiors_on_the_gpu() {
         }
     }
 }
+
+/// A lamp flush with a ceiling at 3.3, the room's vertices rounded to `f32` as OBJ, PLY and
+/// glTF store them: the ceiling then lies 5e-8 in front of the lamp, where it would hide the
+/// whole lamp (the reference 0.6 at random, the exact evaluator 0). Within `PLANE_SNAP` of the
+/// lamp's plane it is in that plane.
+#[test]
+fn a_lamp_flush_with_a_ceiling_stored_in_f32() {
+    let mut scene = room(true, 3.3);
+    let room = {
+        let m = &scene.meshes[0].mesh;
+        let mut m = m.clone();
+        for p in &mut m.positions {
+            if p.y > 2.0 {
+                p.y = 3.3f32 as f64;
+            }
+        }
+        m
+    };
+    assert!(
+        (3.3f32 as f64) < 3.3,
+        "the ceiling should lie in front of the lamp"
+    );
+    scene.meshes = std::sync::Arc::new(
+        scene
+            .meshes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let mut m = m.clone();
+                if i == 0 {
+                    m.mesh = room.clone();
+                }
+                m
+            })
+            .collect(),
+    );
+    let options = RenderOptions {
+        samples: 64,
+        jitter: true,
+    };
+    let mut r = Renderer::new(Backend::Cpu);
+    let truth = r.render(&scene, Technique::Reference, &options).unwrap();
+    let lit = truth.data.iter().filter(|&&v| v > 0.99).count();
+    assert!(
+        lit * 2 > truth.data.len(),
+        "{lit} of {} pixels lit",
+        truth.data.len()
+    );
+    for (t, o) in [
+        (Technique::DepthComplexity, options),
+        (Technique::WedgesBlend, RenderOptions::default()),
+    ] {
+        let c = compare(&r.render(&scene, t, &o).unwrap(), &truth).unwrap();
+        assert!(
+            c.all.mae <= 0.01,
+            "{t}: MAE {:.3} against the reference",
+            c.all.mae
+        );
+    }
+    let defaults = RenderOptions::default();
+    let hard = compare(
+        &r.render(&scene, Technique::Hard, &defaults).unwrap(),
+        &r.render(&scene, Technique::HardReference, &defaults)
+            .unwrap(),
+    )
+    .unwrap();
+    assert!(hard.all.equal >= 0.995, "hard {:.4} equal", hard.all.equal);
+}

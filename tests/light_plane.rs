@@ -234,3 +234,65 @@ fn depth_complexity_with_the_lights_centre_on_a_face_in_its_plane() {
         );
     }
 }
+
+/// The exact evaluator (`penumbra probe`'s `V exact`) with the light's centre on a face in the
+/// light's plane, on that face's edge, on its vertex and 1e-7 outside the edge: at every
+/// fourth pixel of the box's scene, within the 1024-sample reference's sampling error
+/// (`5 sigma + 1/N`, as `tests/reference_vs_exact.rs` argues).
+#[test]
+fn the_exact_evaluator_with_the_lights_centre_on_a_face_in_its_plane() {
+    use penumbra::geom::{Camera, REFERENCE_SEED, RectLight, Scene, Tracer, TriangleMesh};
+    use penumbra::glam::{DMat4, DVec2};
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 5.0, 7.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        45.0,
+        48,
+        36,
+    )
+    .unwrap();
+    let block = DMat4::from_translation(DVec3::new(0.0, 2.0, 0.0))
+        * DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0));
+    let n = 32usize;
+    for (case, centre) in [
+        ("the face", DVec3::new(0.0, 3.0, 0.0)),
+        ("the edge", DVec3::new(0.5, 3.0, 0.0)),
+        ("the vertex", DVec3::new(0.5, 3.0, 0.5)),
+        ("1e-7 outside the edge", DVec3::new(0.5 + 1e-7, 3.0, 0.0)),
+    ] {
+        let light = RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).unwrap();
+        let scene = Scene::new(camera)
+            .with_light(light)
+            .with_mesh(
+                "ground",
+                &TriangleMesh::quad(),
+                DMat4::from_scale(DVec3::splat(12.0)),
+            )
+            .with_mesh("block", &TriangleMesh::cube(), block);
+        let lit = scene.lit(0);
+        let tracer = Tracer::new(&lit);
+        let mut penumbra = 0;
+        for j in (0..camera.height).step_by(2) {
+            for i in (0..camera.width).step_by(2) {
+                let Some(p) = tracer.surface_point(camera.eye, camera.ray_dir(i, j)) else {
+                    continue;
+                };
+                let exact = tracer.exact_visibility(&p);
+                let mut rng = Rng::stream(REFERENCE_SEED, (j * camera.width + i) as u64);
+                let sampled = tracer.sampled_visibility(&p, n, &mut rng);
+                let sigma = (exact * (1.0 - exact) / (n * n) as f64).sqrt();
+                assert!(
+                    (exact - sampled).abs() <= 5.0 * sigma + 1.0 / (n * n) as f64,
+                    "centre on {case}: pixel {i},{j} at {}: exact {exact}, reference {sampled}",
+                    p.position
+                );
+                penumbra += usize::from(sigma > 0.0);
+            }
+        }
+        assert!(
+            penumbra > 30,
+            "centre on {case}: {penumbra} penumbra points"
+        );
+    }
+}

@@ -72,7 +72,7 @@ pub use lights::{
     default_light_name, light_channel,
 };
 pub use limits::{MAX_COORDINATE, MAX_FOV_DEG, MIN_FOV_DEG, UNIT_TOLERANCE, within_coordinates};
-pub use lit_scene::{DistantView, LitScene};
+pub use lit_scene::{DistantView, LitScene, PLANE_SNAP};
 pub use memory::available_memory;
 pub use mesh::{MeshError, TriangleMesh};
 pub use mesh_format::MeshFormat;

@@ -60,7 +60,7 @@ impl LitScene {
                 path: scene.path.clone(),
                 camera: scene.camera,
                 light: l,
-                meshes: Arc::clone(&scene.meshes),
+                meshes: onto_the_light_plane(&scene.meshes, &l),
                 params: scene.params,
                 distant: None,
             },
@@ -154,10 +154,53 @@ impl LitScene {
     }
 }
 
+/// Relative distance in front of a light's plane within which a vertex lies in that plane:
+/// `PLANE_SNAP * (|v| + |c|)`, `c` the light's centre. Meshes stored in `f32` (OBJ, PLY, glTF)
+/// put a ceiling meant to hold its lamp (both at 3.3, say) within rounding of the lamp's plane,
+/// on either side; in front, it would hide the whole lamp.
+pub const PLANE_SNAP: f64 = 1e-6;
+
+/// `meshes` with every vertex strictly in front of `light`'s plane by at most [`PLANE_SNAP`]
+/// moved along the light's normal onto the plane (or within rounding behind it): such a vertex
+/// is one of a surface flush with the light, which hides none of it. The meshes are shared,
+/// not copied, where no vertex moves.
+fn onto_the_light_plane(meshes: &Arc<Vec<SceneMesh>>, light: &RectLight) -> Arc<Vec<SceneMesh>> {
+    let c = light.center;
+    let near = |v: DVec3| {
+        let d = light.signed_distance(v);
+        d > 0.0 && d <= PLANE_SNAP * (v.length() + c.length())
+    };
+    if !meshes
+        .iter()
+        .any(|m| m.mesh.positions.iter().any(|&v| near(v)))
+    {
+        return Arc::clone(meshes);
+    }
+    let snapped = meshes
+        .iter()
+        .map(|m| {
+            let mut m = m.clone();
+            for v in m.mesh.positions.iter_mut().filter(|v| near(**v)) {
+                // Onto the plane, then past it by the rounding left over, if any.
+                for _ in 0..4 {
+                    let d = light.signed_distance(*v);
+                    if d <= 0.0 {
+                        break;
+                    }
+                    *v -= light.normal * d.max(f64::EPSILON * v.abs().max_element());
+                }
+            }
+            m
+        })
+        .collect();
+    Arc::new(snapped)
+}
+
 impl Scene {
     /// The scene under its light `k` (0-based, of [`Scene::light_count`]) in the form every
     /// renderer renders: the camera, the rectangle to render, the meshes (shared, not copied,
-    /// under a rectangle light) and, for a distant light, its [`crate::Warp`] with the warped
+    /// under a rectangle light, but for vertices within rounding in front of its plane, which
+    /// move onto it: [`PLANE_SNAP`]) and, for a distant light, its [`crate::Warp`] with the warped
     /// meshes and camera (see `docs/scene-format.md`, "Distant lights").
     ///
     /// # Panics
