@@ -48,7 +48,8 @@ pub use pipelines::GpuRenderer;
 pub use readback::{read_r32f, read_texels};
 pub use renderer::ComplexityImage;
 pub use shadow_maps::{
-    LightFrustum, MAX_SLOPE, ShadowMapRenderer, ShadowUniforms, multi_pass_kernel,
+    CORE_SLOPE, LightFrustum, MAX_SLOPE, ShadowMapRenderer, ShadowUniforms, Window,
+    multi_pass_kernel, windows,
 };
 pub use timing::{PassTimes, Rendered};
 /// The wgpu this crate is built with: an application's device must come from the same version.

@@ -130,5 +130,9 @@ fn fs_multi(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
 // penumbra with intensity S."
 @fragment
 fn fs_readout(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
+    let r = receiver(vec2<i32>(pixel.xy));
+    if (r.kind == 1u && !in_core(r)) {
+        return vec4<f32>(NOT_MINE, 0.0, 0.0, 0.0);
+    }
     return vec4<f32>(1.0 - clamp(image_load(vec2<i32>(pixel.xy)).r, 0.0, 1.0), 0.0, 0.0, 0.0);
 }

@@ -79,6 +79,9 @@ fn fs_pcss(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     if (r.kind != 1u) {
         return vec4<f32>(select(0.0, 1.0, r.kind == 0u), 0.0, 0.0, 0.0);
     }
+    if (!in_core(r)) {
+        return vec4<f32>(NOT_MINE, 0.0, 0.0, 0.0);
+    }
     let zr = r.l.z;
     let h = shadow.light.xy;
     // 1. Blocker search over nested regions. A blocker at depth z hides part of the light from

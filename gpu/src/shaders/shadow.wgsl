@@ -19,6 +19,10 @@ struct Shadow {
     // Technique parameters (each shader names its lanes).
     params: vec4<f32>,
     iparams: vec4<u32>,
+    // The slopes whose receivers this render decides (min x/z, min y/z, max x/z, max y/z): a
+    // light that lights a room is rendered as several maps (`shadow_maps::windows`), each
+    // receiver by the one whose core holds its slopes.
+    core: vec4<f32>,
     // Per-pass filter taps (gaussian multi): offset in pixels (xy), weight (z).
     taps: array<vec4<f32>, MAX_TAPS>,
 }
@@ -235,14 +239,27 @@ fn footprint_origin(t: vec2<f32>, kernel: i32) -> vec2<i32> {
     return vec2<i32>(floor(t)) - (kernel - 1) / 2;
 }
 
+// What a render writes for a receiver in another map's core (read back as "not mine").
+const NOT_MINE: f32 = 2.0;
+
+// Whether the receiver (in front of the light) lies in this map's core of slopes.
+fn in_core(r: Receiver) -> bool {
+    let s = r.l.xy / r.l.z;
+    return all(s >= shadow.core.xy) && all(s < shadow.core.zw);
+}
+
 // V where the map has no say: 1 where nothing was hit or outside the map, 0 behind the light's
-// plane (and on closed meshes facing away from the light); -1 where the technique decides.
+// plane (and on closed meshes facing away from the light), NOT_MINE in another map's core; -1
+// where the technique decides.
 fn settled_v(r: Receiver) -> f32 {
     if (r.kind == 0u) {
         return 1.0;
     }
     if (r.kind == 2u) {
         return 0.0;
+    }
+    if (!in_core(r)) {
+        return NOT_MINE;
     }
     return select(1.0, -1.0, inside_map(r.uv));
 }

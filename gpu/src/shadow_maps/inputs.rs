@@ -29,11 +29,14 @@ pub struct ShadowUniforms {
     pub params: [f32; 4],
     /// Technique integer parameters (see each shader).
     pub iparams: [u32; 4],
+    /// The slopes whose receivers this render decides (min x/z, min y/z, max x/z, max y/z;
+    /// [`super::windows::Window::core`]); the others read 2.
+    pub core: [f32; 4],
     /// `gaussian` multi taps: offset in pixels, weight.
     pub taps: [[f32; 4]; MAX_TAPS],
 }
 
-const _: () = assert!(std::mem::size_of::<ShadowUniforms>() == 96 + 16 * MAX_TAPS);
+const _: () = assert!(std::mem::size_of::<ShadowUniforms>() == 112 + 16 * MAX_TAPS);
 
 /// The triangles of `scene`, those of closed and consistently oriented meshes first and wound
 /// outwards (counter-clockwise seen from outside; the signed volume says which way is out), then
@@ -151,6 +154,7 @@ impl ShadowUniforms {
             ],
             params: lanes.params,
             iparams: lanes.iparams,
+            core: [-f32::MAX, -f32::MAX, f32::MAX, f32::MAX],
             taps: [[0.0; 4]; MAX_TAPS],
         }
     }

@@ -20,9 +20,10 @@ pub struct LightFrustum {
     pub z_max: f64,
 }
 
-/// Largest slope of the frustum, |x/z| and |y/z| (about 83 degrees off the normal): beyond, a
-/// map of finite resolution would spend its texels on grazing geometry.
-pub const MAX_SLOPE: f64 = 8.0;
+/// Largest slope of a frustum, |x/z| and |y/z| (about 89.1 degrees off the normal): beyond lies
+/// a sliver along the light's plane. A frustum that reaches past [`super::windows::CORE_SLOPE`]
+/// is rendered as several maps ([`super::windows`]).
+pub const MAX_SLOPE: f64 = 64.0;
 
 /// Light-space coordinates of world point `p`: along the tangent, the bitangent and the normal,
 /// in world units.

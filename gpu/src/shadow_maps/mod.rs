@@ -19,6 +19,7 @@ mod pcss;
 mod pipelines;
 mod probe;
 mod resources;
+mod windows;
 
 use glam::DVec2;
 use penumbra_geom::VisibilityImage;
@@ -32,6 +33,7 @@ use inputs::{TechniqueLanes, closed_first};
 pub use light_frustum::{LightFrustum, MAX_SLOPE};
 use pipelines::{ShadowPipelines, TechniquePasses};
 use resources::{ShadowFrame, back_face_casters};
+pub use windows::{CORE_SLOPE, Window, windows};
 
 /// The pipelines of one shadow-map technique, built once per device; each
 /// [`ShadowMapRenderer::render`] renders a scene with the parameters of its `params`.
@@ -119,14 +121,50 @@ impl ShadowMapRenderer {
     /// read-out), and their counts when [`ShadowMapRenderer::set_counters`] turned them on.
     pub fn render_timed(&self, scene: &LitScene) -> Result<Rendered, GpuError> {
         let (world, closed) = closed_first(scene);
-        let frustum =
+        let fit =
             LightFrustum::fit_view(&scene.light, &world, &scene.camera).unwrap_or(EMPTY_FRUSTUM);
-        let base = self.uniforms(scene, &frustum);
+        // One render per window of the light's directions, each receiver V from its own.
+        let mut out: Option<Rendered> = None;
+        for w in windows(&fit) {
+            let mut base = self.uniforms(scene, &w.frustum);
+            base.core = w.core;
+            let r = self.render_window(scene, (&world, closed), base)?;
+            out = Some(match out {
+                None => r,
+                Some(mut prev) => {
+                    for (v, &n) in prev.image.data.iter_mut().zip(&r.image.data) {
+                        if *v > NOT_MINE {
+                            *v = n;
+                        }
+                    }
+                    prev.times = prev.times.zip(r.times).map(|(a, b)| a.plus(&b));
+                    prev
+                }
+            });
+        }
+        let mut r = out.expect("every frustum has a window");
+        // Every slope lies in some window's core; a receiver in none would be lit.
+        for v in &mut r.image.data {
+            if *v > NOT_MINE {
+                *v = 1.0;
+            }
+        }
+        Ok(r)
+    }
+
+    /// Renders the receivers of one window of the light's directions (`base.core`), its map
+    /// fitted to `base.frustum`; the others read above [`NOT_MINE`].
+    fn render_window(
+        &self,
+        scene: &LitScene,
+        (world, closed): (&[[glam::DVec3; 3]], usize),
+        base: ShadowUniforms,
+    ) -> Result<Rendered, GpuError> {
         let f = ShadowFrame::new(
             &self.ctx,
             &self.pipelines,
             scene,
-            (&world, closed),
+            (world, closed),
             base,
             self.counters,
         );
@@ -134,7 +172,7 @@ impl ShadowMapRenderer {
         f.record_depth(&mut enc);
         // The light map: every triangle, or the back faces for fractional-disk.
         if self.technique == Technique::FractionalDisk {
-            let casters = back_face_casters(scene, (&world, closed));
+            let casters = back_face_casters(scene, (world, closed));
             let buffer = f.vertex_buffer("light map triangles", &casters);
             f.record_light_map(&mut enc, (&buffer, casters.len() as u32), &f.map);
         } else {
@@ -155,3 +193,7 @@ impl ShadowMapRenderer {
         frame
     }
 }
+
+/// What a window's render writes where the receiver lies in another window's core (`NOT_MINE`
+/// in `shadow.wgsl` is 2): any V above this is not its own.
+const NOT_MINE: f32 = 1.5;
