@@ -174,3 +174,94 @@ fn the_cpu_techniques_render_a_distant_light() {
     scene.camera.height /= 2;
     check_techniques("sun", &scene, 0.05);
 }
+
+/// The sun exactly on the horizon (its centre's direction in the ground's plane, the sun's
+/// angular size) over a ground of 200 triangles, a sphere on it. Every segment from a point of
+/// the ground to the sun's centre runs along the ground: it grazes the other triangles of the
+/// ground without crossing them, so the ground sees the whole sun (it is open: the half of the
+/// sun below the horizon shines through the sheet P lies on). The hard shadow is the hard
+/// reference's on the CPU and the GPU, `depth-complexity` given the reference's samples is the
+/// reference, and `wedges-blend` is within 0.01 of it.
+#[test]
+fn the_sun_exactly_on_the_horizon_over_a_tessellated_ground() {
+    let n = 10u32;
+    let positions: Vec<DVec3> = (0..=n)
+        .flat_map(|j| {
+            (0..=n).map(move |i| {
+                DVec3::new(
+                    -3.0 + 6.0 * i as f64 / n as f64,
+                    0.0,
+                    -3.0 + 6.0 * j as f64 / n as f64,
+                )
+            })
+        })
+        .collect();
+    let triangles: Vec<[u32; 3]> = (0..n)
+        .flat_map(|j| {
+            (0..n).flat_map(move |i| {
+                let a = j * (n + 1) + i;
+                let (b, c) = (a + 1, a + n + 1);
+                [[a, c, b], [b, c, c + 1]]
+            })
+        })
+        .collect();
+    let ground = penumbra::TriangleMesh::from_raw("grid", &positions, &triangles).unwrap();
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 3.0, 6.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        50.0,
+        64,
+        48,
+    )
+    .unwrap();
+    let sun = DistantLight::new(DVec3::X, DVec3::Z, DVec2::splat(0.53)).unwrap();
+    let scene = Scene::new(camera)
+        .with_light(sun)
+        .with_mesh("ground", &ground, DMat4::IDENTITY)
+        .with_mesh(
+            "sphere",
+            &penumbra::TriangleMesh::uv_sphere(12, 16),
+            DMat4::from_translation(DVec3::new(0.0, 0.5, 0.0))
+                * DMat4::from_scale(DVec3::splat(0.5)),
+        );
+    let lit = scene.lit(0);
+    let cpu = CpuRenderer::new(&lit);
+    let hard_reference = Reference::new(&lit).render(LightSamples::Centre, &|_| {});
+    let lit_share = hard_reference.data.iter().filter(|&&v| v == 1.0).count() as f64
+        / hard_reference.data.len() as f64;
+    assert!(
+        lit_share > 0.8,
+        "hard reference lit on {lit_share:.3} of the image"
+    );
+    let hard = compare(&cpu.render(Technique::Hard, &|_| {}), &hard_reference).unwrap();
+    assert_eq!(hard.all.equal, 1.0, "CPU hard against the hard reference");
+    let truth = Reference::new(&lit).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+    let exact = DepthComplexity::new(&lit).render(
+        SamplePattern {
+            per_axis: 16,
+            jitter: true,
+        },
+        &|_| {},
+    );
+    let c = compare(&exact, &truth).unwrap();
+    assert!(
+        c.all.equal >= 0.995 && c.all.max <= 1.0 / 64.0,
+        "depth-complexity: {:.4} equal, max {}",
+        c.all.equal,
+        c.all.max
+    );
+    let soft = compare(&cpu.render(Technique::WedgesBlend, &|_| {}), &truth).unwrap();
+    assert!(soft.all.mae <= 0.01, "wedges-blend MAE {}", soft.all.mae);
+    let mut gpu = penumbra::Renderer::new(penumbra::Backend::Gpu);
+    match gpu.render(&scene, Technique::Hard, &penumbra::RenderOptions::default()) {
+        Ok(v) => {
+            let c = compare(&v, &hard_reference).unwrap();
+            assert!(c.all.equal >= 0.995, "GPU hard {:.4} equal", c.all.equal);
+        }
+        Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
+            println!("SKIPPED the GPU (no adapter): {e}");
+        }
+        Err(e) => panic!("{e}"),
+    }
+}

@@ -81,8 +81,8 @@ pub use output::{check_writable, output_target, remove_temporaries_in_progress, 
 pub use range::RangeError;
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{
-    LightSamples, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer,
-    TracerGeometry, segment_meets_plane,
+    LightSamples, PLANE_HOLDS, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint,
+    TOUCH_EPSILON, Tracer, TracerGeometry, segment_meets_plane,
 };
 pub use rng::Rng;
 pub use scene::{Scene, SceneMesh};

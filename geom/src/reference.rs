@@ -45,6 +45,10 @@ pub const SHADOW_EPSILON: f64 = 1e-5;
 /// plane in `f64`, so a neighbour in that plane lies within rounding of it (about 1e-16).
 pub const TOUCH_EPSILON: f64 = 1e-9;
 
+/// A segment lies in a triangle's plane when both its ends lie within this much of it,
+/// relative to their distance from the triangle: rounding, far below any gap a scene can mean.
+pub const PLANE_HOLDS: f64 = 1e-9;
+
 /// The surface point seen through a pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
@@ -236,7 +240,7 @@ impl Tracer {
     /// "Fast, Minimum Storage Ray/Triangle Intersection", 1997, edges included); never for a
     /// triangle with no vertex in front of the light's plane.
     pub fn crosses(&self, p: DVec3, l: DVec3, t: u32) -> bool {
-        if !self.in_front[t as usize] {
+        if !self.in_front[t as usize] || self.holds_segment(t, p, l) {
             return false;
         }
         let Some((u, v, along)) = segment_meets_plane(p, l, self.triangles[t as usize]) else {
@@ -277,8 +281,24 @@ impl Tracer {
             dir.as_vec3().into(),
             self.epsilon as f32,
             (dist - self.touch) as f32,
-            |t| t != p.triangle && self.in_front[t as usize],
+            |t| {
+                t != p.triangle
+                    && self.in_front[t as usize]
+                    && !self.holds_segment(t, p.position, l)
+            },
         )
+    }
+
+    /// Whether the plane of triangle `t` holds the segment from `p` to `l`, within
+    /// [`PLANE_HOLDS`] of the segment's reach: the segment runs along the triangle's surface
+    /// (a sun on the horizon over a tessellated ground, seen from a point of that ground) and
+    /// grazes it without crossing it, as it grazes the triangle `p` lies on.
+    pub fn holds_segment(&self, t: u32, p: DVec3, l: DVec3) -> bool {
+        let [a, b, c] = self.triangles[t as usize];
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        let reach = PLANE_HOLDS * ((p - a).length() + (l - a).length()) * len;
+        len > 0.0 && n.dot(p - a).abs() <= reach && n.dot(l - a).abs() <= reach
     }
 
     /// Sampled visibility at `p` from `n x n` stratified-jittered light points drawn from `rng`.

@@ -311,7 +311,10 @@ impl CpuRenderer {
                 (dist - eps) as f32,
                 p.triangle,
                 |t| {
-                    if self.triangle_occluder[t as usize] & CASTER_BIT != 0 {
+                    // A caster whose plane holds the segment grazes it (the reference's rule).
+                    if self.triangle_occluder[t as usize] & CASTER_BIT != 0
+                        && !self.tracer.holds_segment(t, p.position, c)
+                    {
                         out.push(t);
                     }
                 },

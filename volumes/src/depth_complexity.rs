@@ -225,7 +225,7 @@ impl DepthComplexity {
                 (dist - t.touch) as f32,
                 p.triangle,
                 |tri| {
-                    if t.in_front(tri) {
+                    if t.in_front(tri) && !t.holds_segment(tri, p.position, c) {
                         hits.push(tri);
                     }
                 },

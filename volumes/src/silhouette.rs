@@ -83,13 +83,21 @@ impl Silhouette {
     /// cuts is open where it can occlude.
     pub fn build_as(mesh: &HalfEdgeMesh, c: DVec3, closed: bool) -> Self {
         let p = &mesh.positions;
-        // Orientation of each face as seen from c: +1 facing, -1 away, 0 edge-on.
+        // Orientation of each face as seen from c: +1 facing, -1 away, 0 edge-on (its plane
+        // within rounding of c, `PLANE_HOLDS`: a sun on the horizon over a tessellated ground
+        // sees the ground edge-on, whichever way the warp rounds it).
         let facing: Vec<i8> = mesh
             .faces
             .iter()
             .map(|f| {
-                let o = orient3d(p[f[0] as usize], p[f[1] as usize], p[f[2] as usize], c);
-                if o > 0.0 {
+                let [a, b, d] = f.map(|v| p[v as usize]);
+                let o = orient3d(a, b, d, c);
+                let edge_on = penumbra_geom::PLANE_HOLDS
+                    * (b - a).cross(d - a).length()
+                    * (c - a).length().max((c - b).length()).max((c - d).length());
+                if o.abs() <= edge_on {
+                    0
+                } else if o > 0.0 {
                     1
                 } else if o < 0.0 {
                     -1
