@@ -265,7 +265,7 @@ fn the_interiors_on_the_gpu() {
 
 /// A lamp flush with a ceiling at 3.3, the room's vertices rounded to `f32` as OBJ, PLY and
 /// glTF store them: the ceiling then lies 5e-8 in front of the lamp, where it would hide the
-/// whole lamp (the reference 0.6 at random, the exact evaluator 0). Within `PLANE_SNAP` of the
+/// whole lamp (the reference 0.6 at random, the exact evaluator 0). Within `f32` rounding of the
 /// lamp's plane it is in that plane.
 #[test]
 fn a_lamp_flush_with_a_ceiling_stored_in_f32() {

@@ -154,25 +154,35 @@ impl LitScene {
     }
 }
 
-/// Relative distance in front of a light's plane within which a vertex lies in that plane:
-/// `PLANE_SNAP * (|v| + |c|)`, `c` the light's centre. Meshes stored in `f32` (OBJ, PLY, glTF)
-/// put a ceiling meant to hold its lamp (both at 3.3, say) within rounding of the lamp's plane,
-/// on either side; in front, it would hide the whole lamp.
+/// How far, relative to the scene's extent (its bounding box's diagonal), a vertex may lie in
+/// front of a light's plane and be taken as in it ([`onto_the_light_plane`]), at most.
 pub const PLANE_SNAP: f64 = 1e-6;
 
-/// `meshes` with every vertex strictly in front of `light`'s plane by at most [`PLANE_SNAP`]
-/// moved along the light's normal onto the plane (or within rounding behind it): such a vertex
-/// is one of a surface flush with the light, which hides none of it. The meshes are shared,
-/// not copied, where no vertex moves.
+/// `meshes` with every vertex that lies strictly in front of `light`'s plane by no more than
+/// the rounding of `f32` coordinates (4 ulps of each coordinate and of the light's centre's,
+/// along the light's normal; at most [`PLANE_SNAP`] of the scene's extent) moved along the
+/// normal onto the plane (or within rounding behind it). Meshes stored in `f32` (OBJ, PLY, glTF)
+/// put a ceiling meant to hold its lamp (both at 3.3, say) within rounding of the lamp's plane,
+/// on either side; in front, it would hide the whole lamp. The meshes are shared, not copied,
+/// where no vertex moves.
 fn onto_the_light_plane(meshes: &Arc<Vec<SceneMesh>>, light: &RectLight) -> Arc<Vec<SceneMesh>> {
-    let c = light.center;
+    let (c, n) = (light.center, light.normal);
+    let (lo, hi) = meshes
+        .iter()
+        .flat_map(|m| m.mesh.positions.iter())
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    let cap = PLANE_SNAP * (hi - lo).length();
     let near = |v: DVec3| {
         let d = light.signed_distance(v);
-        d > 0.0 && d <= PLANE_SNAP * (v.length() + c.length())
+        let rounding = 4.0 * f64::from(f32::EPSILON) * n.abs().dot(v.abs() + c.abs());
+        d > 0.0 && d <= rounding.min(cap)
     };
-    if !meshes
-        .iter()
-        .any(|m| m.mesh.positions.iter().any(|&v| near(v)))
+    if !(cap > 0.0)
+        || !meshes
+            .iter()
+            .any(|m| m.mesh.positions.iter().any(|&v| near(v)))
     {
         return Arc::clone(meshes);
     }
@@ -187,7 +197,7 @@ fn onto_the_light_plane(meshes: &Arc<Vec<SceneMesh>>, light: &RectLight) -> Arc<
                     if d <= 0.0 {
                         break;
                     }
-                    *v -= light.normal * d.max(f64::EPSILON * v.abs().max_element());
+                    *v -= n * d.max(f64::EPSILON * v.abs().max_element());
                 }
             }
             m
@@ -199,8 +209,8 @@ fn onto_the_light_plane(meshes: &Arc<Vec<SceneMesh>>, light: &RectLight) -> Arc<
 impl Scene {
     /// The scene under its light `k` (0-based, of [`Scene::light_count`]) in the form every
     /// renderer renders: the camera, the rectangle to render, the meshes (shared, not copied,
-    /// under a rectangle light, but for vertices within rounding in front of its plane, which
-    /// move onto it: [`PLANE_SNAP`]) and, for a distant light, its [`crate::Warp`] with the warped
+    /// under a rectangle light, but for vertices within `f32` rounding in front of its plane,
+    /// which move onto it: [`PLANE_SNAP`]) and, for a distant light, its [`crate::Warp`] with the warped
     /// meshes and camera (see `docs/scene-format.md`, "Distant lights").
     ///
     /// # Panics
