@@ -265,3 +265,32 @@ fn the_sun_exactly_on_the_horizon_over_a_tessellated_ground() {
         Err(e) => panic!("{e}"),
     }
 }
+
+/// A sun 90 degrees long and 1e-9 degrees wide over the quad: its samples lie within rounding
+/// of one line in light space, where the edges' crossings between them hang on rounding.
+/// `depth-complexity` casts them ([`penumbra::volumes::THIN_LIGHT`]) and, given the
+/// reference's samples, is the reference.
+#[test]
+fn a_sun_one_billionth_of_a_degree_wide() {
+    let d = DVec3::new(0.3, 1.0, 0.2).normalize();
+    let t = d.cross(DVec3::Z).normalize();
+    let scene = world().with_light(DistantLight::new(d, t, DVec2::new(90.0, 1e-9)).unwrap());
+    let lit = scene.lit(0);
+    let truth = Reference::new(&lit).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+    let dc = DepthComplexity::new(&lit);
+    let exact = dc.render(
+        SamplePattern {
+            per_axis: 16,
+            jitter: true,
+        },
+        &|_| {},
+    );
+    let c = compare(&exact, &truth).unwrap();
+    assert!(
+        c.penumbra.pixels > 100,
+        "{} penumbra pixels",
+        c.penumbra.pixels
+    );
+    assert_eq!(c.all.equal, 1.0, "max difference {}", c.all.max);
+    assert!(dc.cast_pixels() > 0);
+}

@@ -38,7 +38,7 @@ mod wedge_tests;
 
 pub use clip::Rect;
 pub use cpu_renderer::CpuRenderer;
-pub use depth_complexity::{DepthComplexity, PointVisibility, Scratch, TILE};
+pub use depth_complexity::{DepthComplexity, PointVisibility, Scratch, THIN_LIGHT, TILE};
 pub use light_centre::{Enclosure, enclosure, in_front_of, passes_through_light, winds_around};
 pub use potential::{EdgeFace, LightCrossing, PotentialEdge, PotentialEdges};
 pub use samples::SamplePattern;
