@@ -353,7 +353,7 @@ impl GpuScene {
         let eye = world.eye;
         let in_front = match self.light.warp() {
             Some(_) => None,
-            None => Some(penumbra_volumes::in_front_of(&self.light.rect())),
+            None => Some(penumbra_volumes::in_front_of(self.light.rect())),
         };
         let models: Vec<ModelMatrix> = self
             .meshes
