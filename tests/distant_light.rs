@@ -294,3 +294,48 @@ fn a_sun_one_billionth_of_a_degree_wide() {
     assert_eq!(c.all.equal, 1.0, "max difference {}", c.all.max);
     assert!(dc.cast_pixels() > 0);
 }
+
+/// A sun below the horizon, and a lamp below the ground facing up, under a plain ground (two
+/// triangles) with a sphere above it: the open ground sees the light through itself, and the
+/// GPU's `hard` and `wedges-blend` draw what the CPU's do, with no band of false shadow.
+#[test]
+fn lights_below_a_plain_ground_on_the_gpu() {
+    let d = DVec3::new(0.6, -0.3, 0.5).normalize();
+    let t = DVec3::new(d.z, 0.0, -d.x).normalize();
+    let below = DistantLight::new(d, t, DVec2::splat(0.53)).unwrap();
+    let lamp = RectLight::new(DVec3::new(0.5, -2.0, 0.3), DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
+    let sphere = penumbra::TriangleMesh::uv_sphere(12, 16);
+    let scenes = [
+        world().with_light(below),
+        world().with_light(lamp),
+        world().with_light(lamp).with_mesh(
+            "sphere",
+            &sphere,
+            DMat4::from_translation(DVec3::new(0.0, 1.0, 0.0)),
+        ),
+    ];
+    let options = penumbra::RenderOptions::default();
+    let mut gpu = penumbra::Renderer::new(penumbra::Backend::Gpu);
+    let mut cpu = penumbra::Renderer::new(penumbra::Backend::Cpu);
+    for (k, scene) in scenes.iter().enumerate() {
+        for t in [Technique::Hard, Technique::WedgesBlend] {
+            let on_gpu = match gpu.render(scene, t, &options) {
+                Ok(v) => v,
+                Err(e @ penumbra::RenderError::NoGpu { .. })
+                    if std::env::var_os("CI").is_none() =>
+                {
+                    println!("SKIPPED (no adapter): {e}");
+                    return;
+                }
+                Err(e) => panic!("{e}"),
+            };
+            let c = compare(&on_gpu, &cpu.render(scene, t, &options).unwrap()).unwrap();
+            assert!(
+                c.all.mae <= 0.005 && c.all.equal >= 0.99,
+                "scene {k}: {t}: MAE {:.4}, {:.4} equal",
+                c.all.mae,
+                c.all.equal
+            );
+        }
+    }
+}
