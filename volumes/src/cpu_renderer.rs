@@ -395,7 +395,12 @@ impl CpuRenderer {
         }
         let hard = self.stencil_counts(p);
         if technique == Technique::Hard {
-            return if hard.is_empty() { 1.0 } else { 0.0 };
+            // On a closed mesh, facing away from the centre: the segment to it enters the solid
+            // (or, in a room, leaves it) at once, and must cross the mesh again to reach it.
+            let away = self
+                .outer_normal(p)
+                .is_some_and(|n| n.dot(light.center - p.position) < 0.0);
+            return if hard.is_empty() && !away { 1.0 } else { 0.0 };
         }
         let pl = light.to_light_space(p.position);
         let Scratch { all, slot, order } = scratch;
@@ -468,21 +473,26 @@ impl CpuRenderer {
     /// ([`crate::terminator::front_share`]; the plane's side that faces out of the solid, or
     /// into it for a mesh around the light), else 1 (on an open mesh, or on no triangle).
     pub fn front_share(&self, p: &SurfacePoint) -> f64 {
-        let Some(&o) = self.triangle_occluder.get(p.triangle as usize) else {
-            return 1.0;
-        };
-        let o = o & !CASTER_BIT;
+        self.outer_normal(p).map_or(1.0, |n| {
+            crate::terminator::front_share(&self.volumes.light, p.position, n)
+        })
+    }
+
+    /// The normal (not unit) of `p`'s triangle on the side that faces out of its closed mesh,
+    /// or into it for a mesh around the light (a room); `None` on an open mesh or on no
+    /// triangle.
+    fn outer_normal(&self, p: &SurfacePoint) -> Option<DVec3> {
+        let o = self.triangle_occluder.get(p.triangle as usize)? & !CASTER_BIT;
         let mut sign = self.volumes.occluders[o as usize].outward;
         if sign == 0.0 {
-            return 1.0;
+            return None;
         }
         if self.rooms[o as usize] {
             // The light inside the solid: its surfaces face the light from within.
             sign = -sign;
         }
         let [a, b, c] = self.tracer.triangles[p.triangle as usize];
-        let n = (b - a).cross(c - a) * sign;
-        crate::terminator::front_share(&self.volumes.light, p.position, n)
+        Some((b - a).cross(c - a) * sign)
     }
 
     /// Renders the whole image; `progress` gets the number of finished rows. An interruption

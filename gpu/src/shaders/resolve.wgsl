@@ -20,11 +20,16 @@ fn lit(pixel: vec4<f32>) -> vec2<f32> {
     return vec2<f32>(p.w, select(0.0, 1.0, strictly_in_front(p.xyz, side)));
 }
 
-// Stencil count zero: lit unless behind the light's plane.
+// Stencil count zero: lit unless behind the light's plane, or on a closed mesh facing away
+// from the light's centre (the segment to it enters the solid at once, or leaves a room, and
+// must cross the mesh again).
 @fragment
 fn fs_unshadowed(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
     let l = lit(pixel);
-    return vec4<f32>(select(l.y, 1.0, l.x == 0.0), 0.0, 0.0, 0.0);
+    let nm = textureLoad(normal_map, vec2<i32>(pixel.xy), 0);
+    let p = textureLoad(position, vec2<i32>(pixel.xy), 0).xyz;
+    let away = nm.w > 1.5 && dot(nm.xyz, frame.light_center.xyz - p) < 0.0;
+    return vec4<f32>(select(select(l.y, 0.0, away), 1.0, l.x == 0.0), 0.0, 0.0, 0.0);
 }
 
 // Stencil count non-zero: in the hard shadow, unless the ray hit nothing.
