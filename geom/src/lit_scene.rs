@@ -155,7 +155,7 @@ impl LitScene {
 }
 
 /// How far, relative to the scene's extent (its bounding box's diagonal), a vertex may lie in
-/// front of a light's plane and be taken as in it ([`onto_the_light_plane`]), at most.
+/// front of a light's plane and be taken as in it ([`Scene::lit`]), at most.
 pub const PLANE_SNAP: f64 = 1e-6;
 
 /// `meshes` with every vertex that lies strictly in front of `light`'s plane by no more than
