@@ -83,10 +83,18 @@ impl Volumes {
                 // A mesh cut by the light's plane: only its part in front can occlude, an open
                 // surface even when the mesh is closed; its silhouette from the centre no longer
                 // bounds what it hides, and each wedge is split by its caster's side instead.
+                // A closed mesh around the light (a room lit from inside, through whose walls
+                // or recess the plane passes) keeps the rule of closed meshes: only its faces
+                // whose outer side faces the centre (a ceiling beside a recessed lamp) can hide
+                // light from the room, and its walls are not casters over their own receivers.
                 let cut = mesh.faces.iter().any(|t| {
                     t.iter().any(|&v| ls[v as usize].z < 0.0)
                         && t.iter().any(|&v| ls[v as usize].z > 0.0)
-                });
+                }) && !(mesh.is_closed()
+                    && crate::light_centre::winds_around(
+                        mesh.faces.iter().map(|f| f.map(|v| mesh.positions[v as usize])),
+                        crate::light_centre::in_front_of(scene_light),
+                    ));
                 let silhouette = Silhouette::build_as(&mesh, c, mesh.is_closed() && !cut);
                 for (li, lp) in silhouette.loops.iter().enumerate() {
                     for &ei in lp {

@@ -63,8 +63,8 @@ fn strictly_in_front(rel: vec3<f32>, side: f32) -> bool {
     return side > PLANE_ROUNDING * (length(rel) + length(frame.light_center.xyz));
 }
 
-// Relative rounding of a receiver's light depth: a few ulps of f32.
-const PLANE_ROUNDING: f32 = 1e-6;
+// Relative rounding of a receiver's light depth: 4 ulps of f32.
+const PLANE_ROUNDING: f32 = 4.8e-7;
 
 // Light space to eye-relative world.
 fn from_light(l: vec3<f32>) -> vec3<f32> {
