@@ -92,7 +92,9 @@ impl Volumes {
                         && t.iter().any(|&v| ls[v as usize].z > 0.0)
                 }) && !(mesh.is_closed()
                     && crate::light_centre::winds_around(
-                        mesh.faces.iter().map(|f| f.map(|v| mesh.positions[v as usize])),
+                        mesh.faces
+                            .iter()
+                            .map(|f| f.map(|v| mesh.positions[v as usize])),
                         crate::light_centre::in_front_of(scene_light),
                     ));
                 let silhouette = Silhouette::build_as(&mesh, c, mesh.is_closed() && !cut);
