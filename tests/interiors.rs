@@ -330,3 +330,130 @@ fn a_lamp_flush_with_a_ceiling_stored_in_f32() {
     .unwrap();
     assert!(hard.all.equal >= 0.995, "hard {:.4} equal", hard.all.equal);
 }
+
+/// A room 5 x 3 x 5 with a recess 1.4 x 0.3 x 1.0 in its ceiling, wound outwards, and a block
+/// on its floor, lit by a 1.2 x 0.8 lamp 0.15 into the recess: the lamp's plane cuts the
+/// recess's walls, and the ceiling around the recess hides the lamp from the upper walls.
+fn recessed_room() -> Scene {
+    let (x, y, z, rx, rz, top) = (2.5, 3.0, 2.5, 0.7, 0.5, 3.3);
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut quad = |q: [DVec3; 4]| {
+        let index = |p: DVec3, positions: &mut Vec<DVec3>| {
+            positions.iter().position(|&v| v == p).unwrap_or_else(|| {
+                positions.push(p);
+                positions.len() - 1
+            }) as u32
+        };
+        let i = q.map(|p| index(p, &mut positions));
+        triangles.extend([[i[0], i[1], i[2]], [i[0], i[2], i[3]]]);
+    };
+    let c = DVec3::new;
+    quad([c(-x, 0.0, -z), c(x, 0.0, -z), c(x, 0.0, z), c(-x, 0.0, z)]);
+    let outer = [(-x, -z), (x, -z), (x, z), (-x, z)];
+    let inner = [(-rx, -rz), (rx, -rz), (rx, rz), (-rx, rz)];
+    for k in 0..4 {
+        let (a, b) = (outer[k], outer[(k + 1) % 4]);
+        let (p, q) = (inner[k], inner[(k + 1) % 4]);
+        quad([
+            c(a.0, 0.0, a.1),
+            c(a.0, y, a.1),
+            c(b.0, y, b.1),
+            c(b.0, 0.0, b.1),
+        ]);
+        quad([
+            c(a.0, y, a.1),
+            c(p.0, y, p.1),
+            c(q.0, y, q.1),
+            c(b.0, y, b.1),
+        ]);
+        quad([
+            c(p.0, y, p.1),
+            c(p.0, top, p.1),
+            c(q.0, top, q.1),
+            c(q.0, y, q.1),
+        ]);
+    }
+    quad([
+        c(-rx, top, -rz),
+        c(-rx, top, rz),
+        c(rx, top, rz),
+        c(rx, top, -rz),
+    ]);
+    let room = TriangleMesh::from_raw("recessed room", &positions, &triangles).unwrap();
+    let camera = Camera::look_at(
+        DVec3::new(2.2, 1.6, 2.2),
+        DVec3::new(-1.0, 0.6, -1.2),
+        DVec3::Y,
+        60.0,
+        64,
+        48,
+    )
+    .unwrap();
+    let lamp = RectLight::new(
+        DVec3::new(0.0, 3.15, 0.0),
+        DVec3::NEG_Y,
+        DVec3::X,
+        DVec2::new(1.2, 0.8),
+    )
+    .unwrap();
+    Scene::new(camera)
+        .with_light(lamp)
+        .with_mesh("room", &room, DMat4::IDENTITY)
+        .with_mesh(
+            "block",
+            &block(
+                DVec3::new(-0.9, 0.0, -0.83),
+                DVec3::new(0.3, 0.45, -0.03),
+                false,
+            ),
+            DMat4::IDENTITY,
+        )
+}
+
+/// Under the recessed lamp: `hard` is the hard reference on the CPU and the GPU (the room keeps
+/// the rule of closed meshes though the lamp's plane cuts it, and a point facing away from the
+/// lamp's centre is in its hard shadow), and `depth-complexity` on the GPU is the CPU's within
+/// a sample (every pixel is counted again in a room).
+#[test]
+fn a_recessed_lamp() {
+    let scene = recessed_room();
+    let options = RenderOptions::default();
+    let mut cpu = Renderer::new(Backend::Cpu);
+    let hard_reference = cpu
+        .render(&scene, Technique::HardReference, &options)
+        .unwrap();
+    let shadowed = hard_reference.data.iter().filter(|&&v| v == 0.0).count();
+    assert!(shadowed > 200, "{shadowed} pixels in the hard shadow");
+    let hard = compare(
+        &cpu.render(&scene, Technique::Hard, &options).unwrap(),
+        &hard_reference,
+    )
+    .unwrap();
+    assert_eq!(hard.all.equal, 1.0, "CPU hard");
+    let exact = cpu
+        .render(&scene, Technique::DepthComplexity, &options)
+        .unwrap();
+    let mut gpu = Renderer::new(Backend::Gpu);
+    let gpu_hard = match gpu.render(&scene, Technique::Hard, &options) {
+        Ok(v) => v,
+        Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
+            println!("SKIPPED the GPU (no adapter): {e}");
+            return;
+        }
+        Err(e) => panic!("{e}"),
+    };
+    let c = compare(&gpu_hard, &hard_reference).unwrap();
+    assert!(c.all.equal >= 0.995, "GPU hard {:.4} equal", c.all.equal);
+    let dc = compare(
+        &gpu.render(&scene, Technique::DepthComplexity, &options)
+            .unwrap(),
+        &exact,
+    )
+    .unwrap();
+    assert!(
+        dc.all.max <= 1.0 / 256.0 + 1e-6,
+        "GPU depth-complexity off the CPU's by {}",
+        dc.all.max
+    );
+}

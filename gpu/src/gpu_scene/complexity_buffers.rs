@@ -34,6 +34,10 @@ pub(super) struct ComplexityScene {
     pub(super) edge_count: u32,
     pub(super) crossing_count: u32,
     pub(super) triangle_count: u32,
+    /// Whether a closed mesh winds around the lamp (a room lit from inside): its walls are
+    /// casters over their own receivers in the open-rule volumes, and every pixel is counted
+    /// again (`ComplexityParams::recount_all`).
+    pub(super) room: bool,
     /// Most faces on one potential edge (the counting pass's work per edge grows with it).
     pub(super) max_faces: u32,
     /// Potential silhouette edges, and all edges, for reports.
@@ -86,6 +90,15 @@ impl ComplexityScene {
         let mut volume_ranges = Vec::with_capacity(meshes.len());
         let half_edge: Vec<HalfEdgeMesh> = meshes.iter().map(HalfEdgeMesh::build).collect();
         let triangles = light_triangles(light, &world, &neighbours(&half_edge));
+        let lamp = penumbra_volumes::in_front_of(light);
+        let room = warp.is_none()
+            && half_edge.iter().any(|m| {
+                m.is_closed()
+                    && penumbra_volumes::winds_around(
+                        m.faces.iter().map(|f| f.map(|v| m.positions[v as usize])),
+                        lamp,
+                    )
+            });
         for (mi, (mesh, stored)) in half_edge.iter().zip(stored).enumerate() {
             // Every triangle casts, facing the centre either way: the stencil then counts each
             // triangle the segment to the centre crosses.
@@ -126,6 +139,7 @@ impl ComplexityScene {
             edge_count: edges.len() as u32,
             crossing_count: crossings.len() as u32,
             triangle_count: triangles.len() as u32,
+            room,
             max_faces: potential
                 .edges
                 .iter()

@@ -308,6 +308,7 @@ impl ComplexityState {
             chunk,
             chunks: frame.chunks,
             band_rows: frame.band_rows,
+            recount_all: u32::from(data.room),
             stencil_error: self
                 .stencil_error
                 .filter(|&[x, y]| x < size.0 && y < size.1)

@@ -103,6 +103,13 @@ pub struct ComplexityParams {
     /// the rasteriser's, as a crack between the shadow volumes' faces makes it (tests,
     /// [`crate::GpuScene::set_stencil_error`]); 0 for none.
     pub stencil_error: u32,
+    /// 1 where every pixel's `D(P, c)` is counted again over every triangle, its stencil
+    /// count set aside: a closed mesh around the light (a room) takes every triangle as a
+    /// caster in these volumes, its walls over their own receivers, where the rasterised count
+    /// is not to be trusted; 0 elsewhere.
+    pub recount_all: u32,
+    /// Padding to the next vector.
+    pub pad: [u32; 3],
     /// The eye in light space (`w` unused).
     pub eye: [f32; 4],
     /// The light-space direction of the ray through normalised device coordinates `(x, y)`:
@@ -228,7 +235,7 @@ const _: () = assert!(std::mem::size_of::<GpuEdge>() == 80);
 const _: () = assert!(std::mem::size_of::<GpuFace>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuCrossing>() == 32);
-const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 112);
+const _: () = assert!(std::mem::size_of::<ComplexityParams>() == 128);
 
 /// The edges, their faces and the crossings of `edges` as the GPU reads them.
 pub fn gpu_edges(edges: &PotentialEdges) -> (Vec<GpuEdge>, Vec<GpuFace>, Vec<GpuCrossing>) {

@@ -62,6 +62,12 @@ struct Params {
     band_rows: u32,
     // 1 + y * width + x of a pixel whose stencil count reads two too many (tests); 0: none.
     stencil_error: u32,
+    // 1: every pixel's D(P, c) is counted again over every triangle (a room around the
+    // light, whose walls are casters over their own receivers in the volumes).
+    recount_all: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
     // The eye in light space (w unused).
     eye: vec4<f32>,
     // The light-space direction of the ray through normalised device coordinates (x, y):

@@ -155,7 +155,7 @@ fn count_setup(@builtin(global_invocation_id) id: vec3<u32>) {
     // centre after clipping, their rasterisation can leave a crack or cover it twice (seen
     // as a count two too high on one pixel amid thousands of its own, and next to a hard
     // shadow's outline it may equal the other side's count). Both are counted again.
-    if ((base & 0x80u) != 0u || on_a_count_boundary(gid.xy, base)) {
+    if ((base & 0x80u) != 0u || params.recount_all != 0u || on_a_count_boundary(gid.xy, base)) {
         base = 0u;
         recount = RECOUNT;
     }
