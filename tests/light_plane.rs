@@ -179,25 +179,39 @@ fn faces_and_rings_on_the_light_plane() {
     }
 }
 
-/// A box whose top face is the light's plane, the light's centre on that face's edge, on its
-/// vertex, or 1e-7 outside the edge: the count at the centre and the crossings through it hang
-/// on rounding there, and depth complexity, given the reference's samples, stays its equal.
-#[test]
-fn depth_complexity_with_the_lights_centre_on_a_face_in_its_plane() {
+/// A 1 x 2 x 1 box from y = 1 to y = 3 on a ground, under a 1.5 x 1.5 light facing down whose
+/// plane (y = 3) holds the box's top face, the light's centre at `centre`; seen at `size`.
+fn box_in_the_light_plane(centre: DVec3, (width, height): (u32, u32)) -> penumbra::Scene {
     use penumbra::glam::{DMat4, DVec2};
-    use penumbra::{Backend, Camera, RectLight, RenderOptions, Renderer, Scene, TriangleMesh};
+    use penumbra::{Camera, RectLight, Scene, TriangleMesh};
     let camera = Camera::look_at(
         DVec3::new(0.0, 5.0, 7.0),
         DVec3::ZERO,
         DVec3::Y,
         45.0,
-        64,
-        48,
+        width,
+        height,
     )
     .unwrap();
-    // From y = 1 to y = 3, the light's height.
     let block = DMat4::from_translation(DVec3::new(0.0, 2.0, 0.0))
         * DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0));
+    let light = RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).unwrap();
+    Scene::new(camera)
+        .with_light(light)
+        .with_mesh(
+            "ground",
+            &TriangleMesh::quad(),
+            DMat4::from_scale(DVec3::splat(12.0)),
+        )
+        .with_mesh("block", &TriangleMesh::cube(), block)
+}
+
+/// A box whose top face is the light's plane, the light's centre on that face's edge, on its
+/// vertex, or 1e-7 outside the edge: the count at the centre and the crossings through it hang
+/// on rounding there, and depth complexity, given the reference's samples, stays its equal.
+#[test]
+fn depth_complexity_with_the_lights_centre_on_a_face_in_its_plane() {
+    use penumbra::{Backend, RenderOptions, Renderer};
     let options = RenderOptions {
         samples: 256,
         jitter: true,
@@ -207,15 +221,7 @@ fn depth_complexity_with_the_lights_centre_on_a_face_in_its_plane() {
         ("the vertex", DVec3::new(0.5, 3.0, 0.5)),
         ("1e-7 outside the edge", DVec3::new(0.5 + 1e-7, 3.0, 0.0)),
     ] {
-        let light = RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).unwrap();
-        let scene = Scene::new(camera)
-            .with_light(light)
-            .with_mesh(
-                "ground",
-                &TriangleMesh::quad(),
-                DMat4::from_scale(DVec3::splat(12.0)),
-            )
-            .with_mesh("block", &TriangleMesh::cube(), block);
+        let scene = box_in_the_light_plane(centre, (64, 48));
         let mut r = Renderer::new(Backend::Cpu);
         let counted = r
             .render(&scene, Technique::DepthComplexity, &options)
@@ -241,19 +247,7 @@ fn depth_complexity_with_the_lights_centre_on_a_face_in_its_plane() {
 /// (`5 sigma + 1/N`, as `tests/reference_vs_exact.rs` argues).
 #[test]
 fn the_exact_evaluator_with_the_lights_centre_on_a_face_in_its_plane() {
-    use penumbra::geom::{Camera, REFERENCE_SEED, RectLight, Scene, Tracer, TriangleMesh};
-    use penumbra::glam::{DMat4, DVec2};
-    let camera = Camera::look_at(
-        DVec3::new(0.0, 5.0, 7.0),
-        DVec3::ZERO,
-        DVec3::Y,
-        45.0,
-        48,
-        36,
-    )
-    .unwrap();
-    let block = DMat4::from_translation(DVec3::new(0.0, 2.0, 0.0))
-        * DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0));
+    use penumbra::geom::{REFERENCE_SEED, Tracer};
     let n = 32usize;
     for (case, centre) in [
         ("the face", DVec3::new(0.0, 3.0, 0.0)),
@@ -261,15 +255,8 @@ fn the_exact_evaluator_with_the_lights_centre_on_a_face_in_its_plane() {
         ("the vertex", DVec3::new(0.5, 3.0, 0.5)),
         ("1e-7 outside the edge", DVec3::new(0.5 + 1e-7, 3.0, 0.0)),
     ] {
-        let light = RectLight::new(centre, DVec3::NEG_Y, DVec3::X, DVec2::splat(1.5)).unwrap();
-        let scene = Scene::new(camera)
-            .with_light(light)
-            .with_mesh(
-                "ground",
-                &TriangleMesh::quad(),
-                DMat4::from_scale(DVec3::splat(12.0)),
-            )
-            .with_mesh("block", &TriangleMesh::cube(), block);
+        let scene = box_in_the_light_plane(centre, (48, 36));
+        let camera = scene.camera;
         let lit = scene.lit(0);
         let tracer = Tracer::new(&lit);
         let mut penumbra = 0;
