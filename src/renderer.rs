@@ -266,7 +266,12 @@ impl Renderer {
         }
         let pattern = options.pattern_for(technique)?;
         let stop = Interruption::since();
-        let sealing = rendered_frame::sealing_meshes(scene);
+        // Only the techniques built from the light's centre look at lamps shut in meshes.
+        let sealing = if technique.is_volume() || Runs::of(technique) == Runs::GpuOnly {
+            rendered_frame::sealing_meshes(scene)
+        } else {
+            Vec::new()
+        };
         if technique == Technique::Hard && !sealing.is_empty() {
             // Every point in view is outside a closed mesh the light's centre is shut in: the
             // hard shadow is the hard reference's, one ray a pixel.
