@@ -61,7 +61,12 @@ where
 /// Angle of a Plane Triangle", 1983) is about +-1 inside and 0 outside, whichever way the mesh
 /// is wound.
 pub fn winds_around(triangles: impl IntoIterator<Item = [DVec3; 3]>, point: DVec3) -> bool {
-    let w: f64 = triangles.into_iter().map(|t| solid_angle(t, point)).sum();
+    around(triangles.into_iter().map(|t| solid_angle(t, point)).sum())
+}
+
+/// Whether a closed mesh's solid angles summed about a point, `w`, wind around it: its
+/// winding number `w / 4 pi` is about +-1 inside and 0 outside.
+fn around(w: f64) -> bool {
     (w / (4.0 * std::f64::consts::PI)).abs() > 0.5
 }
 
@@ -101,7 +106,6 @@ pub(crate) fn rooms(
             winding[o].1 += solid_angle(*tri, eye);
         }
     }
-    let around = |w: f64| (w / (4.0 * std::f64::consts::PI)).abs() > 0.5;
     winding
         .into_iter()
         .map(|(lamp, eye)| around(lamp) && around(eye))
@@ -141,7 +145,9 @@ pub fn passes_through_light(
 }
 
 /// Whether the segment from `a` to `b` meets the open square (-1, 1)^2 (Liang and Barsky's
-/// clip).
+/// clip). Open, unlike `wedge::segment_meets_square`'s closed square: a surface that meets the
+/// light's plane only along the light's border (a panel filling its recess) does not pass
+/// through it.
 fn segment_meets_square(a: glam::DVec2, b: glam::DVec2) -> bool {
     let d = b - a;
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
