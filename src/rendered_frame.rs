@@ -51,6 +51,18 @@ pub enum Warning {
         /// The technique.
         technique: Technique,
     },
+    /// A mesh within a quarter of the light's size of the light, in front of it
+    /// ([`penumbra_volumes::near_light`]: a lamp in a recess, a shade), under a shadow-map
+    /// technique: such a blocker casts penumbrae many times the light's width, wider than the
+    /// maps' filters reach.
+    NearLight {
+        /// The mesh's index in the scene.
+        mesh: usize,
+        /// The mesh's name (its file, or the name it was given in code).
+        name: String,
+        /// The technique.
+        technique: Technique,
+    },
     /// A render on the GPU of a scene with a triangle wider than
     /// [`crate::backend::MAX_GPU_EXTENT_RATIO`] times the eye's distance to the light's centre,
     /// beyond which the GPU's 32-bit floats misplace shadows.
@@ -87,6 +99,18 @@ impl fmt::Display for Warning {
                  the one seen from the rest of the light here (see docs/accuracy.md); hard, \
                  depth-complexity and the reference are exact here"
             ),
+            Warning::NearLight {
+                mesh,
+                name,
+                technique,
+            } => write!(
+                f,
+                "mesh {mesh} ({name}) comes within a quarter of the light's size of the light, in front of \
+                 it (a lamp in a recess or a shade): {technique} takes each penumbra's width \
+                 from a shadow map's blocker depth, and a blocker this near the light casts \
+                 penumbrae wider than the map's filters reach (see docs/shadow-maps.md); \
+                 wedges-blend, depth-complexity and the reference are right here"
+            ),
             Warning::GpuExtent { ratio, technique } => write!(
                 f,
                 "a triangle {ratio:.1e} times as wide as the eye is far from the light's centre: \
@@ -101,7 +125,8 @@ impl fmt::Display for Warning {
 /// The warnings of a frame of `technique` rendered where `placement` says: for the soft
 /// techniques built from the light's centre (wedges, shadow maps), each closed mesh that shuts
 /// the light's centre in from the eye (`sealing`, [`sealing_meshes`]) and each other mesh that
-/// passes through the light's rectangle; on the GPU, a triangle wider
+/// passes through the light's rectangle, and for the shadow maps each other mesh near the light
+/// in front of it; on the GPU, a triangle wider
 /// than its floats hold (`extent`, the scene's [`crate::backend::extent_ratio`] where already
 /// measured).
 pub(crate) fn warnings(
@@ -135,6 +160,18 @@ pub(crate) fn warnings(
             && penumbra_volumes::passes_through_light(tris, &scene.light)
         {
             out.push(Warning::ThroughLight {
+                mesh,
+                name,
+                technique,
+            });
+        } else if scene.distant.is_none()
+            && technique.is_shadow_map()
+            && penumbra_volumes::near_light(
+                (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t)),
+                &scene.light,
+            )
+        {
+            out.push(Warning::NearLight {
                 mesh,
                 name,
                 technique,

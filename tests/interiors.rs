@@ -456,4 +456,27 @@ fn a_recessed_lamp() {
         "GPU depth-complexity off the CPU's by {}",
         dc.all.max
     );
+    // The recess's rim, 0.15 in front of the lamp, casts penumbrae wider than the shadow maps'
+    // filters: they say so, and the volumes do not.
+    let pcss = gpu
+        .render_frame(&scene.lit(0), Technique::Pcss, &options, None, &|_| {})
+        .unwrap();
+    assert!(
+        matches!(
+            pcss.warnings[..],
+            [penumbra::Warning::NearLight { mesh: 0, .. }]
+        ),
+        "{:?}",
+        pcss.warnings
+    );
+    let wedges = gpu
+        .render_frame(
+            &scene.lit(0),
+            Technique::WedgesBlend,
+            &options,
+            None,
+            &|_| {},
+        )
+        .unwrap();
+    assert!(wedges.warnings.is_empty(), "{:?}", wedges.warnings);
 }

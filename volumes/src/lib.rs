@@ -39,7 +39,9 @@ mod wedge_tests;
 pub use clip::Rect;
 pub use cpu_renderer::CpuRenderer;
 pub use depth_complexity::{DepthComplexity, PointVisibility, Scratch, THIN_LIGHT, TILE};
-pub use light_centre::{Enclosure, enclosure, in_front_of, passes_through_light, winds_around};
+pub use light_centre::{
+    Enclosure, NEAR_LIGHT, enclosure, in_front_of, near_light, passes_through_light, winds_around,
+};
 pub use potential::{EdgeFace, LightCrossing, PotentialEdge, PotentialEdges};
 pub use samples::SamplePattern;
 pub use sensors::{SensorSamples, SensorVisibility};

@@ -172,3 +172,85 @@ fn segment_meets_square(a: glam::DVec2, b: glam::DVec2) -> bool {
     }
     t0 < t1
 }
+
+/// Whether a mesh (`triangles`, world space) has a part in front of `light` within [`NEAR_LIGHT`]
+/// of the light's larger side `s`: in the box that reaches `s / 4` beyond each side of the
+/// rectangle and `s / 4` in front of its plane (a lamp in a recess, a shade, a fitting around
+/// it). Such a blocker casts penumbrae more than three times the light's width at every receiver
+/// farther than the light's size, and far wider across a room; the shadow maps, whose filters
+/// take the penumbra's width from one blocker depth per texel, cannot reach them. Faces lying
+/// in the light's plane (a ceiling flush with its lamp) do not count.
+///
+/// ```
+/// use penumbra::glam::{DVec2, DVec3};
+/// use penumbra::geom::RectLight;
+/// use penumbra::volumes::near_light;
+///
+/// // A 1.2 x 0.8 lamp at height 3.15, facing down, 0.15 into a recess 1.4 wide.
+/// let lamp = RectLight::new(DVec3::new(0.0, 3.15, 0.0), DVec3::NEG_Y, DVec3::X, DVec2::new(1.2, 0.8)).unwrap();
+/// let quad = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| vec![[a, b, c], [a, c, d]];
+/// let v = DVec3::new;
+/// // The recess's wall, 0.1 beside the lamp and down to 0.15 in front of it.
+/// let wall = quad(v(0.7, 3.0, -0.5), v(0.7, 3.3, -0.5), v(0.7, 3.3, 0.5), v(0.7, 3.0, 0.5));
+/// assert!(near_light(wall, &lamp));
+/// // A ceiling flush with the lamp, the room's wall 2.4 beside it, a table 2.4 below it, a
+/// // block 0.5 below it.
+/// let flush = quad(v(-3.0, 3.15, -3.0), v(3.0, 3.15, -3.0), v(3.0, 3.15, 3.0), v(-3.0, 3.15, 3.0));
+/// assert!(!near_light(flush, &lamp));
+/// let room_wall = quad(v(3.0, 0.0, -3.0), v(3.0, 3.3, -3.0), v(3.0, 3.3, 3.0), v(3.0, 0.0, 3.0));
+/// assert!(!near_light(room_wall, &lamp));
+/// let table = quad(v(-1.0, 0.75, -1.0), v(1.0, 0.75, -1.0), v(1.0, 0.75, 1.0), v(-1.0, 0.75, 1.0));
+/// assert!(!near_light(table, &lamp));
+/// let block = quad(v(-0.2, 2.65, -0.2), v(0.2, 2.65, -0.2), v(0.2, 2.65, 0.2), v(-0.2, 2.65, 0.2));
+/// assert!(!near_light(block, &lamp));
+/// ```
+pub fn near_light(triangles: impl IntoIterator<Item = [DVec3; 3]>, light: &RectLight) -> bool {
+    let s = NEAR_LIGHT * light.size.max_element();
+    let h = light.half_size();
+    let local = |p: DVec3| {
+        let d = p - light.center;
+        DVec3::new(
+            d.dot(light.tangent),
+            d.dot(light.bitangent),
+            d.dot(light.normal),
+        )
+    };
+    // The box's faces as half-spaces `n . p <= c`, the plane's own side last.
+    let bounds = [
+        (DVec3::X, h.x + s),
+        (DVec3::NEG_X, h.x + s),
+        (DVec3::Y, h.y + s),
+        (DVec3::NEG_Y, h.y + s),
+        (DVec3::Z, s),
+        (DVec3::NEG_Z, 0.0),
+    ];
+    triangles.into_iter().any(|t| {
+        let mut poly: Vec<DVec3> = t.iter().map(|&p| local(p)).collect();
+        for &(n, c) in &bounds {
+            poly = clip(&poly, n, c);
+            if poly.is_empty() {
+                return false;
+            }
+        }
+        poly.iter().any(|p| p.z > 1e-9 * s)
+    })
+}
+
+/// How near the light, as a share of its larger side, [`near_light`] finds a blocker.
+pub const NEAR_LIGHT: f64 = 0.25;
+
+/// Polygon `poly` clipped to the half-space `n . p <= c` (Sutherland and Hodgman).
+fn clip(poly: &[DVec3], n: DVec3, c: f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for (i, &a) in poly.iter().enumerate() {
+        let b = poly[(i + 1) % poly.len()];
+        let (da, db) = (n.dot(a) - c, n.dot(b) - c);
+        if da <= 0.0 {
+            out.push(a);
+        }
+        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
+}
