@@ -134,6 +134,13 @@ pub enum RenderError {
         /// What is wrong.
         problem: String,
     },
+    /// A sun study's step that gives no sun: its angles or hours not finite, or an elevation
+    /// outside [-90, 90] degrees.
+    #[error("sun study: {problem}")]
+    BadSun {
+        /// What is wrong.
+        problem: String,
+    },
     /// The render was interrupted ([`penumbra_geom::Interrupter`], Ctrl-C in Python)
     /// before it finished: no image.
     #[error("interrupted")]

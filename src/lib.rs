@@ -74,6 +74,7 @@ mod rendered_frame;
 mod renderer;
 mod runs;
 mod sensors;
+mod sun_hours;
 
 #[cfg(test)]
 mod backend_tests;
@@ -101,3 +102,4 @@ pub use rendered_frame::{Frame, Warning};
 pub use renderer::Renderer;
 pub use runs::Runs;
 pub use sensors::Sensors;
+pub use sun_hours::{SunStep, SunStudy, SunTarget};

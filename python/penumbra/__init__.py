@@ -23,8 +23,11 @@ from ._penumbra import (
     techniques,
     write_exr,
 )
+from . import batch, study
 
 __all__ = [
+    "batch",
+    "study",
     "Camera",
     "DistantLight",
     "Mesh",

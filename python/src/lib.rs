@@ -10,6 +10,7 @@ mod images;
 mod objects;
 mod run;
 mod scene;
+mod study;
 
 /// Soft shadows from geometry: visibility images and sensor points as numpy arrays.
 #[pymodule]
@@ -23,6 +24,9 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(images::read_exr, m)?)?;
     m.add_function(wrap_pyfunction!(images::compare, m)?)?;
     m.add_function(wrap_pyfunction!(scene::techniques, m)?)?;
+    m.add_function(wrap_pyfunction!(study::_sun_hours, m)?)?;
+    m.add_function(wrap_pyfunction!(study::_scene_state, m)?)?;
+    m.add_function(wrap_pyfunction!(study::_scene_from_state, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

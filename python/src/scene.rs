@@ -35,11 +35,16 @@ pub struct Scene {
 }
 
 impl Scene {
-    fn of(inner: penumbra::Scene) -> Scene {
+    pub(crate) fn of(inner: penumbra::Scene) -> Scene {
         Scene {
             inner,
             renderers: Mutex::new(Vec::new()),
         }
+    }
+
+    /// The library's scene.
+    pub(crate) fn inner(&self) -> &penumbra::Scene {
+        &self.inner
     }
 
     /// A kept renderer of `backend`, or a new one.
@@ -100,12 +105,12 @@ impl Scene {
 }
 
 /// A technique by name, or `ValueError` listing them.
-fn technique(name: &str) -> PyResult<Technique> {
+pub(crate) fn technique(name: &str) -> PyResult<Technique> {
     name.parse::<Technique>().map_err(value)
 }
 
 /// A back end by name.
-fn backend(name: &str) -> PyResult<Backend> {
+pub(crate) fn backend(name: &str) -> PyResult<Backend> {
     match name {
         "auto" => Ok(Backend::Auto),
         "cpu" => Ok(Backend::Cpu),
@@ -376,6 +381,19 @@ impl Scene {
             .map(|o| o.into_pyarray(py).into_any())
             .collect();
         self.one_or_many(py, &lights, light.is_some(), arrays)
+    }
+
+    /// Pickling (Ray's object store, multiprocessing): the scene's state, the same bits on
+    /// the other side; its meshes travel as arrays, not as files.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyAny>,))> {
+        let state = crate::study::_scene_state(py, self)?;
+        let restore = py
+            .import("penumbra._penumbra")?
+            .getattr("_scene_from_state")?;
+        Ok((restore, (state,)))
     }
 
     fn __repr__(&self) -> String {
