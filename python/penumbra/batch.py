@@ -150,7 +150,8 @@ def run(jobs, out_dir, engine="local", address=None):
             if address is None else ray.init(address=address, log_to_driver=False)
         started = True
     try:
-        task = ray.remote(num_cpus=1, max_retries=5, retry_exceptions=False)(_compute)
+        task = ray.remote(num_cpus=1, max_retries=5, retry_exceptions=False,
+                          scheduling_strategy="SPREAD")(_compute)
         pending = {task.remote(jobs[k]): k for k in todo}
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)

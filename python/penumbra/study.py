@@ -186,9 +186,11 @@ def _on_ray(scene, steps, runs, options, address, progress):
     try:
         scene_ref = ray.put(scene)
         key = f"{os.getpid()}-{id(scene)}-{time.time_ns()}"
-        # A task whose worker or node dies is run again (Ray's retries of system failures);
+        # Runs spread over the nodes (each a CPU-bound task). A task whose worker or node dies
+        # is run again (Ray's retries of system failures);
         # an error of the request itself is raised at once.
-        run = ray.remote(num_cpus=1, max_retries=5, retry_exceptions=False)(_ray_run)
+        run = ray.remote(num_cpus=1, max_retries=5, retry_exceptions=False,
+                         scheduling_strategy="SPREAD")(_ray_run)
         pending = {}
         for k, index in enumerate(runs):
             ref = run.remote(key, [scene_ref], steps.azimuth_deg[index],
