@@ -9,24 +9,43 @@ use crate::output::write_atomically;
 /// Name of the one channel of a visibility EXR.
 pub const CHANNEL: &str = "V";
 
+/// Writes `data` (`width` x `height` values, rows from the top) as an EXR with one `f32`
+/// channel named `channel` (atomically): for images of other quantities than V, such as hours
+/// of sun.
+pub fn write_exr_channel(
+    path: &Path,
+    (width, height): (u32, u32),
+    channel: &str,
+    data: &[f32],
+) -> Result<(), ImageError> {
+    use exr::prelude::*;
+    if width == 0 || height == 0 || data.len() != width as usize * height as usize {
+        return Err(ImageError::Shape {
+            width,
+            height,
+            values: data.len(),
+        });
+    }
+    write_atomically(path, |tmp| {
+        let channel = AnyChannel::new(channel, FlatSamples::F32(data.to_vec()));
+        let layer = Layer::new(
+            (width as usize, height as usize),
+            LayerAttributes::default(),
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+        );
+        Image::from_layer(layer)
+            .write()
+            .to_file(tmp)
+            .map_err(|e| io_err(tmp, e))
+    })
+}
+
 impl VisibilityImage {
     /// Writes the image as an EXR with one `f32` channel `V` (atomically).
     pub fn write_exr(&self, path: &Path) -> Result<(), ImageError> {
-        use exr::prelude::*;
         self.check()?;
-        write_atomically(path, |tmp| {
-            let channel = AnyChannel::new(CHANNEL, FlatSamples::F32(self.data.clone()));
-            let layer = Layer::new(
-                (self.width as usize, self.height as usize),
-                LayerAttributes::default(),
-                Encoding::FAST_LOSSLESS,
-                AnyChannels::sort(SmallVec::from_vec(vec![channel])),
-            );
-            Image::from_layer(layer)
-                .write()
-                .to_file(tmp)
-                .map_err(|e| io_err(tmp, e))
-        })
+        write_exr_channel(path, (self.width, self.height), CHANNEL, &self.data)
     }
 
     /// Reads the `V` channel of an EXR file (its first layer holding one); a value that is not

@@ -21,6 +21,7 @@ from ._penumbra import (
     compare,
     read_exr,
     techniques,
+    write_colour_map,
     write_exr,
 )
 from . import batch, study
@@ -37,5 +38,6 @@ __all__ = [
     "compare",
     "read_exr",
     "techniques",
+    "write_colour_map",
     "write_exr",
 ]

@@ -159,6 +159,10 @@ class Scene:
 def write_exr(path: Union[str, os.PathLike], v: Images) -> None:
     """Writes an image, or a dict of images (one channel per light), to an EXR file."""
 
+def write_colour_map(path: Union[str, os.PathLike], values: npt.ArrayLike, unit: str = "h") -> None:
+    """Writes a (height, width) array of numbers from 0 up (hours of sun) as a PNG colour map
+    with a legend in `unit` ("h" or "")."""
+
 def read_exr(path: Union[str, os.PathLike]) -> Dict[str, Image]:
     """The visibility channels of an EXR file: channel name -> (height, width) float32."""
 

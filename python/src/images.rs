@@ -128,3 +128,47 @@ pub fn compare<'py>(
     out.set_item("umbra_lit", c.umbra_lit)?;
     Ok(out)
 }
+
+/// Writes `values` (a `(height, width)` array of numbers from 0 up, such as hours of sun) to
+/// the PNG file `path` as a colour map from 0 to their maximum (viridis) with a legend at the
+/// right in `unit` (`"h"` for hours, or `""`). Written whole or not at all.
+#[pyfunction]
+#[pyo3(signature = (path, values, unit="h"))]
+pub fn write_colour_map(path: PathBuf, values: &Bound<'_, PyAny>, unit: &str) -> PyResult<()> {
+    let np = values.py().import("numpy")?;
+    let a = np.call_method1("asarray", (values, "float32"))?;
+    let a: PyReadonlyArray2<f32> = a
+        .extract()
+        .map_err(|_| PyValueError::new_err("values must be a 2-D array (height, width)"))?;
+    let [h, w] = [a.shape()[0], a.shape()[1]];
+    if w == 0 || h == 0 {
+        return Err(PyValueError::new_err(format!("values: {w} x {h} pixels")));
+    }
+    let data: Vec<f32> = a.as_array().iter().copied().collect();
+    if let Some(i) = data.iter().position(|v| !v.is_finite() || *v < 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "values: pixel ({}, {}) is {}: give finite numbers from 0 up",
+            i % w,
+            i / w,
+            data[i]
+        )));
+    }
+    let u = match unit {
+        "h" => 'h',
+        "" => ' ',
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "unit {unit:?}: \"h\" (hours) or \"\" (none)"
+            )));
+        }
+    };
+    let (pw, ph, rgb) = penumbra::geom::colour_map(&data, w, h, u);
+    penumbra::geom::write_png_bytes(
+        &path,
+        pw as u32,
+        ph as u32,
+        penumbra::geom::PngColor::Rgb,
+        &rgb,
+    )
+    .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))
+}

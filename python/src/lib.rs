@@ -23,6 +23,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(images::write_exr, m)?)?;
     m.add_function(wrap_pyfunction!(images::read_exr, m)?)?;
     m.add_function(wrap_pyfunction!(images::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(images::write_colour_map, m)?)?;
     m.add_function(wrap_pyfunction!(scene::techniques, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sun_hours, m)?)?;
     m.add_function(wrap_pyfunction!(study::_scene_state, m)?)?;

@@ -195,13 +195,15 @@ pub fn _scene_state<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, 
 #[pyfunction]
 pub fn _scene_from_state(state: &Bound<'_, PyAny>) -> PyResult<Scene> {
     type CameraState = ([f64; 3], [f64; 3], [f64; 3], [f64; 3], f64, u32, u32);
-    let (path, camera, lights, meshes, named_channels): (
+    type MeshState<'py> = (String, [f64; 16], Bound<'py, PyAny>, Bound<'py, PyAny>);
+    type State<'py> = (
         String,
         CameraState,
         Vec<LightState>,
-        Vec<(String, [f64; 16], Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+        Vec<MeshState<'py>>,
         bool,
-    ) = state.extract()?;
+    );
+    let (path, camera, lights, meshes, named_channels): State<'_> = state.extract()?;
     let (eye, forward, right, true_up, fov_y_deg, width, height) = camera;
     let mut scene = penumbra::Scene::new(Camera {
         eye: DVec3::from_array(eye),

@@ -232,6 +232,49 @@ pub(crate) enum Command {
         #[arg(long)]
         jitter: bool,
     },
+    /// Hours of direct sun at every pixel from --start to --end: the scene's lights replaced by
+    /// the sun at each step (NREL's Solar Position Algorithm, refraction included), the sun's
+    /// visibility summed times each step's hours. Written as a float EXR with one channel
+    /// `hours`, and with --png a colour map with its legend. The scene's north is -z and its up
+    /// +y (docs/sun-studies.md).
+    SunHours {
+        /// Scene file (TOML); its lights are replaced by the sun.
+        scene: PathBuf,
+        /// Latitude in degrees, north positive.
+        #[arg(long, allow_hyphen_values = true)]
+        lat: f64,
+        /// Longitude in degrees, east positive.
+        #[arg(long, allow_hyphen_values = true)]
+        lon: f64,
+        /// First step: RFC 3339 with its offset (2026-06-21T06:00:00+02:00), or a date and time
+        /// or a date in UTC (2026-06-21T04:00, 2026-06-21).
+        #[arg(long)]
+        start: String,
+        /// End, excluded, as --start.
+        #[arg(long)]
+        end: String,
+        /// Step: minutes (60m, 15m, 15min, 30) or hours (1h).
+        #[arg(long, default_value = "60m")]
+        step: String,
+        /// Output EXR file (channel `hours`); missing folders are created.
+        #[arg(long)]
+        out: PathBuf,
+        /// Also write a colour map of the hours with a legend, an 8-bit RGB PNG.
+        #[arg(long)]
+        png: Option<PathBuf>,
+        /// Technique: depth-complexity (exact for its samples) or reference (rays).
+        #[arg(long, value_parser = sensor_technique_parser(), default_value = "depth-complexity")]
+        technique: Technique,
+        /// Light samples per pixel and step: a perfect square up to 65536.
+        #[arg(long, default_value_t = 64)]
+        samples: usize,
+        /// The sun's full angle in degrees.
+        #[arg(long, default_value_t = 0.53)]
+        angular_size: f64,
+        /// Where depth-complexity runs.
+        #[arg(long, value_parser = backend_parser(), default_value = "cpu")]
+        backend: Backend,
+    },
     /// Print the surface point seen through one pixel, its exact V and its reference V (of each
     /// light in turn, for a scene of several).
     Probe {

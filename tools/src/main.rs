@@ -16,7 +16,7 @@ use clap::Parser;
 use penumbra::RenderOptions;
 
 use cli::{Cli, Command};
-use commands::{accuracy, bench, compare, counters, geometry, points, probe, render};
+use commands::{accuracy, bench, compare, counters, geometry, points, probe, render, sun_hours};
 
 fn main() -> ExitCode {
     quiet_device_select();
@@ -120,6 +120,33 @@ fn run(cli: Cli) -> Result<()> {
             normal: normal.as_deref(),
             technique,
             options: RenderOptions { samples, jitter },
+        }),
+        Command::SunHours {
+            scene,
+            lat,
+            lon,
+            start,
+            end,
+            step,
+            out,
+            png,
+            technique,
+            samples,
+            angular_size,
+            backend,
+        } => sun_hours::sun_hours(sun_hours::SunHoursArgs {
+            scene: &scene,
+            latitude: lat,
+            longitude: lon,
+            start: &start,
+            end: &end,
+            step: &step,
+            out: &out,
+            png: png.as_deref(),
+            technique,
+            samples,
+            angular_size_deg: angular_size,
+            backend,
         }),
         Command::Probe {
             scene,

@@ -8,3 +8,4 @@ pub(crate) mod geometry;
 pub(crate) mod points;
 pub(crate) mod probe;
 pub(crate) mod render;
+pub(crate) mod sun_hours;
