@@ -132,10 +132,14 @@ impl Renderer {
             return Err(RenderError::OutOfRange { problem });
         }
         for step in steps {
-            if !(step.hours.is_finite() && step.azimuth_deg.is_finite()) {
+            if !(step.hours.is_finite()
+                && step.azimuth_deg.is_finite()
+                && (-90.0..=90.0).contains(&step.elevation_deg))
+            {
                 return Err(RenderError::BadSun {
                     problem: format!(
-                        "step at azimuth {} and elevation {} weighs {} hours: give finite numbers",
+                        "step at azimuth {} and elevation {} weighs {} hours: give finite \
+                         numbers, the elevation in [-90, 90]",
                         step.azimuth_deg, step.elevation_deg, step.hours
                     ),
                 });

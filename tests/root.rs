@@ -23,5 +23,6 @@ mod repeated_faces;
 mod scene_building;
 mod sensors;
 mod several_lights;
+mod sun_hours;
 mod volumes;
 mod wedge_lookup;
