@@ -91,6 +91,20 @@ def cluster():
         if ray.is_initialized():
             ray.shutdown()
         c.shutdown()
+    # Stopped: none of the cluster's servers is left.
+    import time
+
+    import psutil
+
+    def left():
+        return [p.info["name"] for p in psutil.process_iter(["name"])
+                if p.info["name"] in ("raylet", "gcs_server")]
+
+    for _ in range(100):
+        if not left():
+            break
+        time.sleep(0.1)
+    assert not left(), f"the cluster left {left()} running"
 
 
 def test_the_cluster_listens_on_loopback_only(cluster):
