@@ -146,3 +146,36 @@ def test_a_batch_writes_each_output_whole_records_failures_and_resumes(tmp_path)
         batch.run([jobs[0], jobs[0]], out)
     with pytest.raises(ValueError, match="unknown keys"):
         batch.run([{"scene": small, "samplez": 4}], out)
+
+
+def test_bad_studies_are_refused_with_what_is_wrong(tmp_path):
+    import pickle
+
+    scene = open_ground()
+    day = (scene, 48.85, 2.35, "2026-06-21", "2026-06-22")
+    with pytest.raises(ValueError, match="angular"):
+        study.sun_hours(*day, angular_size_deg=0.0)
+    with pytest.raises(ValueError, match="finite"):
+        study.sun_hours(*day, weights=[np.nan] * 24)
+    with pytest.raises(ValueError, match=r"shape \(n, 3\)"):
+        study.sun_hours(*day, points=[[0.0, 0.0]], normals=[0, 1, 0])
+    with pytest.raises(ValueError, match="normal"):
+        study.sun_hours(*day, points=[[0.0, 0.0, 0.0]], normals=[0, 0, 0])
+    with pytest.raises(ValueError, match="engine"):
+        study.sun_hours(*day, engine="spark")
+    with pytest.raises(ValueError, match="samples"):
+        study.sun_hours(*day, samples=10)
+    # A scene whose shadow-map parameters are its own does not pickle silently without them.
+    text = (FIXTURES / "spot.toml").read_text().replace(
+        '"../meshes/', f'"{(FIXTURES.parent / "meshes").resolve()}/')
+    (tmp_path / "s.toml").write_text(text + "\n[shadow_map]\nresolution = 512\n")
+    tuned = pb.Scene.load(tmp_path / "s.toml")
+    with pytest.raises(ValueError, match="shadow-map parameters"):
+        pickle.dumps(tuned)
+    with pytest.raises(ValueError, match="unit"):
+        pb.write_colour_map(tmp_path / "m.png", np.ones((3, 4)), unit="kWh")
+    with pytest.raises(ValueError, match="from 0 up"):
+        pb.write_colour_map(tmp_path / "m.png", -np.ones((3, 4)))
+    assert not (tmp_path / "m.png").exists()
+    pb.write_colour_map(tmp_path / "m.png", np.arange(12.0).reshape(3, 4))
+    assert (tmp_path / "m.png").read_bytes()[:4] == b"\x89PNG"
