@@ -10,6 +10,7 @@ mod images;
 mod objects;
 mod run;
 mod scene;
+mod scene_state;
 mod study;
 
 /// Soft shadows from geometry: visibility images and sensor points as numpy arrays.
@@ -26,8 +27,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(images::write_colour_map, m)?)?;
     m.add_function(wrap_pyfunction!(scene::techniques, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sun_hours, m)?)?;
-    m.add_function(wrap_pyfunction!(study::_scene_state, m)?)?;
-    m.add_function(wrap_pyfunction!(study::_scene_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::_scene_from_state, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -389,7 +389,7 @@ impl Scene {
         &self,
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyAny>,))> {
-        let state = crate::study::_scene_state(py, self)?;
+        let state = crate::scene_state::state(py, &self.inner)?;
         let restore = py
             .import("penumbra._penumbra")?
             .getattr("_scene_from_state")?;
@@ -406,6 +406,12 @@ impl Scene {
             self.inner.triangle_count()
         )
     }
+}
+
+/// A scene from the state its `__reduce__` gave, for unpickling.
+#[pyfunction]
+pub fn _scene_from_state(state: &Bound<'_, PyAny>) -> PyResult<Scene> {
+    Ok(Scene::of(crate::scene_state::restore(state)?))
 }
 
 /// The techniques' names, as `render` takes them.
