@@ -236,7 +236,7 @@ pub(crate) enum Command {
     /// the sun at each step (NREL's Solar Position Algorithm, refraction included), the sun's
     /// visibility summed times each step's hours. Written as a float EXR with one channel
     /// `hours`, and with --png a colour map with its legend. The scene's north is -z and its up
-    /// +y (docs/sun-studies.md).
+    /// +y unless --north and --up say otherwise (docs/sun-studies.md).
     SunHours {
         /// Scene file (TOML); its lights are replaced by the sun.
         scene: PathBuf,
@@ -274,6 +274,23 @@ pub(crate) enum Command {
         /// Where depth-complexity runs.
         #[arg(long, value_parser = backend_parser(), default_value = "cpu")]
         backend: Backend,
+        /// The scene's north, a direction along its ground (0,0,-1 for a scene modelled +y up;
+        /// 0,1,0 for one modelled +z up).
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            allow_hyphen_values = true,
+            default_value = "0,0,-1"
+        )]
+        north: String,
+        /// The scene's up (0,1,0, or 0,0,1 for a scene modelled +z up).
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            allow_hyphen_values = true,
+            default_value = "0,1,0"
+        )]
+        up: String,
     },
     /// Print the surface point seen through one pixel, its exact V and its reference V (of each
     /// light in turn, for a scene of several).
@@ -398,4 +415,26 @@ pub(crate) enum Command {
         #[arg(long, default_value = "fixtures")]
         out: PathBuf,
     },
+}
+
+/// A direction given as `X,Y,Z` to `flag` (`--normal`, `--north`, `--up`): three finite
+/// numbers, not all zero.
+pub(crate) fn parse_direction(flag: &str, text: &str) -> anyhow::Result<glam::DVec3> {
+    let bad = |why: &str| anyhow::anyhow!("{flag} {text:?}: {why}; expected X,Y,Z, e.g. 0,1,0");
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|c| c.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad("not three numbers"))?;
+    let [x, y, z] = v[..] else {
+        return Err(bad("not three numbers"));
+    };
+    let n = glam::DVec3::new(x, y, z);
+    if !n.is_finite() {
+        return Err(bad("not finite"));
+    }
+    if n == glam::DVec3::ZERO {
+        return Err(bad("a zero vector has no direction"));
+    }
+    Ok(n)
 }

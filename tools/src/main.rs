@@ -134,6 +134,8 @@ fn run(cli: Cli) -> Result<()> {
             samples,
             angular_size,
             backend,
+            north,
+            up,
         } => sun_hours::sun_hours(sun_hours::SunHoursArgs {
             scene: &scene,
             latitude: lat,
@@ -147,6 +149,7 @@ fn run(cli: Cli) -> Result<()> {
             samples,
             angular_size_deg: angular_size,
             backend,
+            frame: (&north, &up),
         }),
         Command::Probe {
             scene,

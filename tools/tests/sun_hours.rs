@@ -73,6 +73,31 @@ fn a_day_of_hours_over_a_fixture() {
 }
 
 #[test]
+fn north_and_up_turn_the_sun_with_the_scene() {
+    let d = scratch("sun-hours-frame");
+    let scene = small_sun_scene(&d);
+    let run = |out: &str, frame: &[&str]| {
+        let path = d.join(out);
+        let status = penumbra()
+            .arg("sun-hours")
+            .arg(&scene)
+            .args(["--lat", "48.85", "--lon", "2.35", "--start", "2026-06-21T08:00"])
+            .args(["--end", "2026-06-21T12:00", "--samples", "16", "--out"])
+            .arg(&path)
+            .args(frame)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        read_hours(&path).2
+    };
+    let plain = run("a.exr", &[]);
+    assert_eq!(plain, run("b.exr", &["--north", "0,0,-1", "--up", "0,1,0"]));
+    // North along +x instead: the morning sun comes from another side.
+    assert_ne!(plain, run("c.exr", &["--north", "1,0,0"]));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
 fn bad_requests_are_refused_with_no_output() {
     let d = scratch("sun-hours-bad");
     let scene = small_sun_scene(&d);
@@ -90,7 +115,15 @@ fn bad_requests_are_refused_with_no_output() {
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
     let day = ["--start", "2026-06-21", "--end", "2026-06-22"];
-    let cases: [(Vec<&str>, &str); 5] = [
+    let cases: [(Vec<&str>, &str); 7] = [
+        (
+            [&["--lat", "48", "--lon", "2", "--north", "0,1,0"][..], &day].concat(),
+            "give two orthogonal directions",
+        ),
+        (
+            [&["--lat", "48", "--lon", "2", "--up", "0,0,0"][..], &day].concat(),
+            "--up \"0,0,0\": a zero vector has no direction",
+        ),
         (
             [&["--lat", "91", "--lon", "0"][..], &day].concat(),
             "--lat 91",

@@ -7,7 +7,6 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{Result, anyhow, bail};
-use glam::DVec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use penumbra::{Backend, RenderError, RenderOptions, Renderer, Scene, Technique};
 
@@ -61,7 +60,9 @@ pub(crate) fn points(args: PointsArgs<'_>) -> Result<()> {
             named(points_path)
         )
     })?;
-    let normal = normal.map(parse_normal).transpose()?;
+    let normal = normal
+        .map(|n| crate::cli::parse_direction("--normal", n))
+        .transpose()?;
     // Checked before and after loading: the scene names the meshes.
     check_outputs(
         &[scene_path.to_path_buf(), points_path.to_path_buf()],
@@ -166,25 +167,4 @@ fn named(path: &Path) -> String {
         Some(e) => format!("names a .{} file", e.to_string_lossy()),
         None => "has no extension".to_string(),
     }
-}
-
-/// `--normal X,Y,Z`: three finite numbers, not all zero.
-fn parse_normal(text: &str) -> Result<DVec3> {
-    let bad = |why: &str| anyhow!("--normal {text:?}: {why}; expected X,Y,Z, e.g. 0,1,0");
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|c| c.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad("not three numbers"))?;
-    let [x, y, z] = v[..] else {
-        return Err(bad("not three numbers"));
-    };
-    let n = DVec3::new(x, y, z);
-    if !n.is_finite() {
-        return Err(bad("not finite"));
-    }
-    if n == DVec3::ZERO {
-        return Err(bad("a zero normal has no direction"));
-    }
-    Ok(n)
 }

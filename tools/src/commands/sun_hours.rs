@@ -35,6 +35,8 @@ pub(crate) struct SunHoursArgs<'a> {
     pub(crate) samples: usize,
     pub(crate) angular_size_deg: f64,
     pub(crate) backend: Backend,
+    /// `--north` and `--up`, as given.
+    pub(crate) frame: (&'a str, &'a str),
 }
 
 /// A time: RFC 3339 with its offset (`2026-06-21T06:00:00+02:00`), or a date and time or a
@@ -137,7 +139,18 @@ pub(crate) fn sun_hours(args: SunHoursArgs<'_>) -> Result<()> {
     let end = parse_time("--end", args.end)?;
     let step = parse_step(args.step)?;
     let steps = sun_steps((args.latitude, args.longitude), start, end, step)?;
+    let north = crate::cli::parse_direction("--north", args.frame.0)?;
+    let up = crate::cli::parse_direction("--up", args.frame.1)?;
+    if north.normalize().dot(up.normalize()).abs() > 1e-6 {
+        bail!(
+            "--north {} and --up {}: give two orthogonal directions",
+            args.frame.0,
+            args.frame.1
+        );
+    }
     let study = SunStudy {
+        north,
+        up,
         angular_size_deg: args.angular_size_deg,
         technique: args.technique,
         options: RenderOptions {
