@@ -157,7 +157,6 @@ pub(crate) fn sun_hours(args: SunHoursArgs<'_>) -> Result<()> {
             samples: args.samples,
             jitter: false,
         },
-        ..SunStudy::default()
     };
     study
         .options
