@@ -142,8 +142,9 @@ def run(jobs, out_dir, engine="local", address=None):
             records[k] = _write(names[k], out_dir, _compute(jobs[k]))
             _record(out_dir, records[k])
         return records
-    import ray
+    from .study import _ray
 
+    ray = _ray()
     started = False
     if not ray.is_initialized():
         ray.init(address=address, include_dashboard=False, log_to_driver=False) \

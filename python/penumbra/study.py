@@ -136,16 +136,19 @@ def _run(scene, steps, index, options, threads=None):
 
 def _worker():
     """Where a run ran: the Ray node's id (None outside Ray) and the process's peak resident
-    memory in MB."""
-    import resource
-
+    memory in MB (0 where the system does not say)."""
     node = None
     if "ray" in sys.modules:
         import ray
 
         if ray.is_initialized():
             node = ray.get_runtime_context().get_node_id()
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # kB on Linux
+    try:
+        import resource
+
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # kB on Linux
+    except ImportError:  # Windows
+        peak = 0.0
     return node, peak
 
 
@@ -172,9 +175,20 @@ def _report(progress, done, total, node, peak_mb, terminal=True):
               file=sys.stderr)
 
 
+def _ray():
+    """Ray, or an ImportError that says how to install it."""
+    try:
+        import ray
+    except ImportError as e:
+        raise ImportError(
+            'engine="ray" needs Ray: pip install "penumbra[ray]" (or pip install ray)'
+        ) from e
+    return ray
+
+
 def _on_ray(scene, steps, runs, options, address, progress):
     """The runs' sums as Ray tasks, in the runs' order."""
-    import ray
+    ray = _ray()
 
     started = False
     if not ray.is_initialized():

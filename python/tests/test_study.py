@@ -179,3 +179,20 @@ def test_bad_studies_are_refused_with_what_is_wrong(tmp_path):
     assert not (tmp_path / "m.png").exists()
     pb.write_colour_map(tmp_path / "m.png", np.arange(12.0).reshape(3, 4))
     assert (tmp_path / "m.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_the_ray_engine_without_ray_says_how_to_install_it(monkeypatch):
+    import builtins
+
+    real = builtins.__import__
+
+    def no_ray(name, *args, **kwargs):
+        if name == "ray" or name.startswith("ray."):
+            raise ImportError("No module named 'ray'")
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_ray)
+    monkeypatch.delitem(__import__("sys").modules, "ray", raising=False)
+    with pytest.raises(ImportError, match=r"penumbra\[ray\]"):
+        study.sun_hours(open_ground(), 48.85, 2.35, "2026-06-21 10:00", "2026-06-21 12:00",
+                        engine="ray")
