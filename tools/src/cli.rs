@@ -256,12 +256,20 @@ pub(crate) enum Command {
         /// Step: minutes (60m, 15m, 15min, 30) or hours (1h).
         #[arg(long, default_value = "60m")]
         step: String,
-        /// Output EXR file (channel `hours`); missing folders are created.
+        /// Output: an EXR file (channel `hours`), or with --points a float32 `.npy` array or a
+        /// `.csv` file (a header `hours`, then a row per point). Missing folders are created.
         #[arg(long)]
         out: PathBuf,
         /// Also write a colour map of the hours with a legend, an 8-bit RGB PNG.
         #[arg(long)]
         png: Option<PathBuf>,
+        /// Sensor points instead of the camera's pixels, as `penumbra points` reads them: a
+        /// `.npy` array or `.csv` file of rows x, y, z, nx, ny, nz (or x, y, z with --normal).
+        #[arg(long)]
+        points: Option<PathBuf>,
+        /// The normal of every point, for a points file of positions only.
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+        normal: Option<String>,
         /// Technique: depth-complexity (exact for its samples) or reference (rays).
         #[arg(long, value_parser = sensor_technique_parser(), default_value = "depth-complexity")]
         technique: Technique,

@@ -130,6 +130,8 @@ fn run(cli: Cli) -> Result<()> {
             step,
             out,
             png,
+            points,
+            normal,
             technique,
             samples,
             angular_size,
@@ -150,6 +152,8 @@ fn run(cli: Cli) -> Result<()> {
             angular_size_deg: angular_size,
             backend,
             frame: (&north, &up),
+            points: points.as_deref(),
+            normal: normal.as_deref(),
         }),
         Command::Probe {
             scene,

@@ -171,3 +171,62 @@ fn bad_requests_are_refused_with_no_output() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn sensor_points_from_a_file_give_their_hours() {
+    let d = scratch("sun-hours-points");
+    let scene = small_sun_scene(&d);
+    let points = d.join("p.csv");
+    std::fs::write(&points, "x,y,z\n5,0,5\n0.8,0,0.3\n").unwrap();
+    let run = |out: &str, extra: &[&str]| {
+        penumbra()
+            .arg("sun-hours")
+            .arg(&scene)
+            .args(["--lat", "48.85", "--lon", "2.35"])
+            .args([
+                "--start",
+                "2026-06-21",
+                "--end",
+                "2026-06-22",
+                "--samples",
+                "16",
+            ])
+            .arg("--points")
+            .arg(&points)
+            .arg("--out")
+            .arg(d.join(out))
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = run("h.csv", &["--normal", "0,1,0"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(d.join("h.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows[0], "hours");
+    // Open ground sees all 16 daylight steps; beside the cow, its shadow takes some.
+    assert_eq!(rows[1].parse::<f32>().unwrap(), 16.0);
+    assert!(rows[2].parse::<f32>().unwrap() < 15.0, "{text}");
+    for (extra, out, said) in [
+        (&[][..], "a.csv", "positions only and no normals"),
+        (
+            &["--normal", "0,1,0", "--png", "m.png"][..],
+            "b.csv",
+            "--png draws the camera's pixels",
+        ),
+        (&["--normal", "0,1,0"][..], "c.exr", "name it .npy or .csv"),
+    ] {
+        let o = run(out, extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && err.contains(said),
+            "{extra:?}: {err}"
+        );
+        assert!(!d.join(out).exists());
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -1,18 +1,21 @@
-//! `penumbra sun-hours`: the hours of direct sun at every pixel of a scene from one time to
-//! another, the sun placed by NREL's Solar Position Algorithm (Reda and Andreas 2004, as the
-//! crate `solar-positioning` implements it) at each step, to an EXR (channel `hours`) and a
-//! colour map with its legend.
+//! `penumbra sun-hours`: the hours of direct sun at every pixel of a scene, or at sensor points,
+//! from one time to another, the sun placed by NREL's Solar Position Algorithm (Reda and
+//! Andreas 2004, as the crate `solar-positioning` implements it) at each step: to an EXR
+//! (channel `hours`) and a colour map with its legend, or to a `.npy` or `.csv` file.
 
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow, bail};
 use chrono::{DateTime, FixedOffset, NaiveDate, NaiveDateTime, TimeDelta, Utc};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra::{Backend, RenderOptions, Renderer, Scene, SunStep, SunStudy, SunTarget, Technique};
+use penumbra::{
+    Backend, RenderError, RenderOptions, Renderer, Scene, SunStep, SunStudy, SunTarget, Technique,
+};
 use solar_positioning::{Location, RefractionCorrection, SolarPositions, delta_t};
 
 use crate::outputs::{check_outputs, prepare};
-use crate::words::InCommandWords;
+use crate::points_file::{Format, point_place, read_points, write_values};
+use crate::words::{InCommandWords, render_error};
 
 /// Refraction at the standard atmosphere's pressure (hPa) and 12 degrees C, as pvlib's
 /// defaults, so that the command and `penumbra.study` place the sun alike.
@@ -37,6 +40,10 @@ pub(crate) struct SunHoursArgs<'a> {
     pub(crate) backend: Backend,
     /// `--north` and `--up`, as given.
     pub(crate) frame: (&'a str, &'a str),
+    /// `--points`: sensor points instead of the camera's pixels.
+    pub(crate) points: Option<&'a Path>,
+    /// `--normal X,Y,Z`: the normal of every point of a file of positions only.
+    pub(crate) normal: Option<&'a str>,
 }
 
 /// A time: RFC 3339 with its offset (`2026-06-21T06:00:00+02:00`), or a date and time or a
@@ -134,6 +141,29 @@ pub(crate) fn sun_steps(
     Ok(steps)
 }
 
+/// The hours at the camera's pixels, `size` of them, to the EXR `out` (channel `hours`) and the
+/// colour map `png`; neither is left if one cannot be written.
+fn write_pixels(out: &Path, png: Option<&Path>, size: (u32, u32), hours: &[f32]) -> Result<()> {
+    let (w, h) = size;
+    penumbra::geom::write_exr_channel(out, size, "hours", hours)
+        .with_context(|| format!("writing {}", out.display()))?;
+    if let Some(png) = png {
+        let (pw, ph, rgb) = penumbra::geom::colour_map(hours, w as usize, h as usize, 'h');
+        let written = penumbra::geom::write_png_bytes(
+            png,
+            pw as u32,
+            ph as u32,
+            penumbra::geom::PngColor::Rgb,
+            &rgb,
+        );
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(out);
+            return Err(e).with_context(|| format!("writing {}", png.display()));
+        }
+    }
+    Ok(())
+}
+
 pub(crate) fn sun_hours(args: SunHoursArgs<'_>) -> Result<()> {
     let start = parse_time("--start", args.start)?;
     let end = parse_time("--end", args.end)?;
@@ -168,18 +198,55 @@ pub(crate) fn sun_hours(args: SunHoursArgs<'_>) -> Result<()> {
             args.angular_size_deg
         );
     }
-    if args.out.extension().and_then(|e| e.to_str()) != Some("exr") {
-        bail!(
-            "--out {}: the hours are written as an OpenEXR image (channel hours): name it .exr",
-            args.out.display()
-        );
-    }
+    // Pixels to an EXR (and a PNG), or sensor points to a .npy or .csv file.
+    let sensors = match args.points {
+        None => {
+            if args.out.extension().and_then(|e| e.to_str()) != Some("exr") {
+                bail!(
+                    "--out {}: the hours are written as an OpenEXR image (channel hours): name \
+                     it .exr, or give --points for a .npy or .csv file of hours per point",
+                    args.out.display()
+                );
+            }
+            None
+        }
+        Some(points) => {
+            if args.png.is_some() {
+                bail!("--png draws the camera's pixels: it takes no --points");
+            }
+            let format = |path: &Path, flag: &str| {
+                Format::of(path).ok_or_else(|| {
+                    anyhow!(
+                        "{flag} {}: with --points, name it .npy or .csv",
+                        path.display()
+                    )
+                })
+            };
+            let normal = args
+                .normal
+                .map(|n| crate::cli::parse_direction("--normal", n))
+                .transpose()?;
+            Some((
+                points,
+                format(points, "--points")?,
+                format(args.out, "--out")?,
+                normal,
+            ))
+        }
+    };
+    let mut inputs = vec![args.scene.to_path_buf()];
+    inputs.extend(args.points.map(Path::to_path_buf));
     let mut outputs = vec![args.out];
     outputs.extend(args.png);
-    check_outputs(&[args.scene.to_path_buf()], &outputs)?;
+    check_outputs(&inputs, &outputs)?;
     let scene = Scene::load(args.scene)?;
-    check_outputs(&scene.input_files(), &outputs)?;
+    inputs.extend(scene.input_files());
+    check_outputs(&inputs, &outputs)?;
     let prepared = prepare(&outputs)?;
+    let points = match &sensors {
+        Some((path, format, _, normal)) => Some(read_points(path, *format, *normal, 1)?),
+        None => None,
+    };
     let daylight = steps.iter().filter(|s| study.is_day(s)).count();
     let bar = ProgressBar::new(steps.len() as u64);
     bar.set_style(
@@ -189,36 +256,46 @@ pub(crate) fn sun_hours(args: SunHoursArgs<'_>) -> Result<()> {
     );
     let began = std::time::Instant::now();
     let mut renderer = Renderer::new(args.backend);
+    let target = match &points {
+        Some(p) => SunTarget::Points {
+            points: &p.positions,
+            normals: &p.normals,
+        },
+        None => SunTarget::Pixels,
+    };
     let sum = renderer
-        .sun_hours(&scene, &study, &steps, SunTarget::Pixels, &|d| {
+        .sun_hours(&scene, &study, &steps, target, &|d| {
             bar.set_position(d as u64)
         })
-        .in_command_words()?;
+        .map_err(|e| match (e, &sensors) {
+            (RenderError::BadSensor { index, problem }, Some((path, format, _, normal))) => {
+                anyhow!("{}: {problem}", point_place(path, *format, *normal, index))
+            }
+            (e, _) => render_error(e, "--samples"),
+        })?;
     bar.finish_and_clear();
-    let (w, h) = (scene.camera.width, scene.camera.height);
     let hours: Vec<f32> = sum.iter().map(|&v| v as f32).collect();
-    penumbra::geom::write_exr_channel(args.out, (w, h), "hours", &hours)
-        .with_context(|| format!("writing {}", args.out.display()))?;
-    if let Some(png) = args.png {
-        let (pw, ph, rgb) = penumbra::geom::colour_map(&hours, w as usize, h as usize, 'h');
-        let written = penumbra::geom::write_png_bytes(
-            png,
-            pw as u32,
-            ph as u32,
-            penumbra::geom::PngColor::Rgb,
-            &rgb,
-        );
-        if let Err(e) = written {
-            let _ = std::fs::remove_file(args.out);
-            return Err(e).with_context(|| format!("writing {}", png.display()));
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let counted = match &sensors {
+        Some((_, _, out_format, _)) => {
+            write_values(
+                args.out,
+                *out_format,
+                &[("hours".to_string(), hours.clone())],
+            )?;
+            format!("{} points", hours.len())
         }
-    }
+        None => {
+            write_pixels(args.out, args.png, (w, h), &hours)?;
+            format!("{w}x{h} px")
+        }
+    };
     for d in prepared.keep() {
         eprintln!("created folder {}", d.display());
     }
     let max = hours.iter().copied().fold(0.0f32, f32::max);
     eprintln!(
-        "{}: {w}x{h} px, {} steps of {} min ({daylight} in daylight), {} at {} samples, \
+        "{}: {counted}, {} steps of {} min ({daylight} in daylight), {} at {} samples, \
          up to {max:.2} h of sun, {:.2} s -> {}",
         args.scene.display(),
         steps.len(),
