@@ -157,7 +157,7 @@ pub(crate) fn warnings(
                 technique,
             });
         } else if scene.distant.is_none()
-            && penumbra_volumes::passes_through_light(tris, &scene.light)
+            && penumbra_volumes::passes_through_light(tris.clone(), &scene.light)
         {
             out.push(Warning::ThroughLight {
                 mesh,
@@ -166,10 +166,7 @@ pub(crate) fn warnings(
             });
         } else if scene.distant.is_none()
             && technique.is_shadow_map()
-            && penumbra_volumes::near_light(
-                (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t)),
-                &scene.light,
-            )
+            && penumbra_volumes::near_light(tris, &scene.light)
         {
             out.push(Warning::NearLight {
                 mesh,

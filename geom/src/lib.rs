@@ -62,7 +62,7 @@ pub use camera::{Camera, CameraError};
 pub use channels::{Channel, LIGHTS_ATTRIBUTE, VisibilityChannels, is_visibility_channel};
 pub use colour_map::colour_map;
 pub use distant::{DistantLight, Warp};
-pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, exact_visibility};
+pub use exact::{ExactVisibility, LIGHT_SQUARE_AREA, clip_step, exact_visibility};
 pub use halfedge::{Edge, EdgeKind, HalfEdge, HalfEdgeList, HalfEdgeMesh, InvariantError, NO_TWIN};
 pub use image::{ImageError, VisibilityImage};
 pub use image_files::{CHANNEL, PngColor, write_exr_channel, write_png_bytes};

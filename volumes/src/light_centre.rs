@@ -207,27 +207,29 @@ fn segment_meets_square(a: glam::DVec2, b: glam::DVec2) -> bool {
 pub fn near_light(triangles: impl IntoIterator<Item = [DVec3; 3]>, light: &RectLight) -> bool {
     let s = NEAR_LIGHT * light.size.max_element();
     let h = light.half_size();
-    let local = |p: DVec3| {
-        let d = p - light.center;
-        DVec3::new(
-            d.dot(light.tangent),
-            d.dot(light.bitangent),
-            d.dot(light.normal),
-        )
-    };
-    // The box's faces as half-spaces `n . p <= c`, the plane's own side last.
+    // The box in light space, where the rectangle is [-1, 1]^2 and z the distance in front:
+    // its faces as half-spaces `n . p <= c`, the plane's own side last.
+    let (x, y) = (1.0 + s / h.x, 1.0 + s / h.y);
     let bounds = [
-        (DVec3::X, h.x + s),
-        (DVec3::NEG_X, h.x + s),
-        (DVec3::Y, h.y + s),
-        (DVec3::NEG_Y, h.y + s),
+        (DVec3::X, x),
+        (DVec3::NEG_X, x),
+        (DVec3::Y, y),
+        (DVec3::NEG_Y, y),
         (DVec3::Z, s),
         (DVec3::NEG_Z, 0.0),
     ];
+    let (mut poly, mut clipped) = (Vec::with_capacity(9), Vec::with_capacity(9));
     triangles.into_iter().any(|t| {
-        let mut poly: Vec<DVec3> = t.iter().map(|&p| local(p)).collect();
+        poly.clear();
+        poly.extend(t.map(|p| light.to_light_space(p)));
         for &(n, c) in &bounds {
-            poly = clip(&poly, n, c);
+            penumbra_geom::clip_step(
+                &poly,
+                |p| c - n.dot(p),
+                |a, b, t| a + (b - a) * t,
+                &mut clipped,
+            );
+            std::mem::swap(&mut poly, &mut clipped);
             if poly.is_empty() {
                 return false;
             }
@@ -238,19 +240,3 @@ pub fn near_light(triangles: impl IntoIterator<Item = [DVec3; 3]>, light: &RectL
 
 /// How near the light, as a share of its larger side, [`near_light`] finds a blocker.
 pub const NEAR_LIGHT: f64 = 0.25;
-
-/// Polygon `poly` clipped to the half-space `n . p <= c` (Sutherland and Hodgman).
-fn clip(poly: &[DVec3], n: DVec3, c: f64) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(poly.len() + 1);
-    for (i, &a) in poly.iter().enumerate() {
-        let b = poly[(i + 1) % poly.len()];
-        let (da, db) = (n.dot(a) - c, n.dot(b) - c);
-        if da <= 0.0 {
-            out.push(a);
-        }
-        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-    }
-    out
-}

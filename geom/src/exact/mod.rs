@@ -191,7 +191,7 @@ impl Homogeneous {
 /// The crossing point of an edge is always interpolated from its inside end towards its outside
 /// end, so an edge shared by two polygons is cut at bit-identical points whichever way each
 /// polygon runs along it.
-fn clip_step<T: Copy>(
+pub fn clip_step<T: Copy>(
     input: &[T],
     f: impl Fn(T) -> f64,
     lerp: impl Fn(T, T, f64) -> T,
