@@ -254,11 +254,13 @@ def sun_hours(scene, latitude, longitude, start, end, step_minutes=60, timezone=
     if int(chunk_steps) < 1:
         raise ValueError(f"chunk_steps {chunk_steps}: give 1 or more")
     steps = sun_steps(latitude, longitude, start, end, step_minutes, timezone, weights)
+    # Sensors as arrays: compact in Ray's object store, and read once by each run.
+    def array(a):
+        return None if a is None else np.ascontiguousarray(a, dtype=np.float64)
+
     options = dict(angular_size_deg=angular_size_deg, technique=technique, samples=samples,
-                   backend=backend, points=points, normals=normals, north=north, up=up)
-    if points is not None:
-        options["points"] = np.ascontiguousarray(points, dtype=np.float64)
-        options["normals"] = np.ascontiguousarray(normals, dtype=np.float64)
+                   backend=backend, points=array(points), normals=array(normals), north=north,
+                   up=up)
     runs = _chunks(steps.daylight(angular_size_deg), int(chunk_steps))
     # An empty run checks the request and gives the result's shape (a study all night).
     total = _run(scene, steps, np.zeros(0, dtype=np.int64), options)

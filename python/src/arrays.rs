@@ -99,6 +99,24 @@ pub enum Rows<'py> {
     F32(PyReadonlyArray2<'py, f32>),
 }
 
+/// Sensor points and their normals as [`Rows`]: `points` `(n, 3)`, `normals` `(n, 3)` or one
+/// `(3,)` normal for all, refused unless as many.
+pub fn sensor_rows<'py>(
+    points: &Bound<'py, PyAny>,
+    normals: &Bound<'py, PyAny>,
+) -> PyResult<(Rows<'py>, Rows<'py>)> {
+    let p = Rows::new("points", points, None)?;
+    let n = Rows::new("normals", normals, Some(p.len()))?;
+    if n.len() != p.len() {
+        return Err(PyValueError::new_err(format!(
+            "{} points and {} normals: give one normal per point, or one for all",
+            p.len(),
+            n.len()
+        )));
+    }
+    Ok((p, n))
+}
+
 /// A view of [`Rows`] that another thread can read.
 #[derive(Clone, Copy)]
 pub enum RowsView<'a> {
@@ -155,6 +173,13 @@ impl<'py> Rows<'py> {
     /// The number of rows.
     pub fn len(&self) -> usize {
         self.shape()[0]
+    }
+
+    /// Every row.
+    pub fn to_vec(&self) -> Vec<DVec3> {
+        let mut out = vec![DVec3::ZERO; self.len()];
+        self.view().read(0, &mut out);
+        out
     }
 
     /// A view for another thread.

@@ -12,7 +12,7 @@ use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::arrays::Rows;
+use crate::arrays::sensor_rows;
 use crate::errors::{self, value};
 use crate::images::to_array;
 use crate::objects::{Camera, DistantLight, Mesh, RectLight};
@@ -326,15 +326,7 @@ impl Scene {
     ) -> PyResult<Bound<'py, PyAny>> {
         let t = self::technique(technique)?;
         let options = RenderOptions { samples, jitter };
-        let p = Rows::new("points", points, None)?;
-        let n = Rows::new("normals", normals, Some(p.len()))?;
-        if n.len() != p.len() {
-            return Err(PyValueError::new_err(format!(
-                "{} points and {} normals: give one normal per point, or one for all",
-                p.len(),
-                n.len()
-            )));
-        }
+        let (p, n) = sensor_rows(points, normals)?;
         let lights = self.lights(light)?;
         let count = p.len();
         // The results, a float32 per point and light, and a slice of points and normals.

@@ -6,7 +6,7 @@ use penumbra::{RenderOptions, Renderer, SunStep, SunStudy, SunTarget};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{points, vec3};
+use crate::arrays::{sensor_rows, vec3};
 use crate::errors;
 use crate::run::{Progress, off_interpreter};
 use crate::scene::{Scene, backend, technique};
@@ -74,15 +74,8 @@ pub fn _sun_hours<'py>(
     let sensors = match (points, normals) {
         (None, None) => None,
         (Some(p), Some(n)) => {
-            let p = self::points("points", p)?;
-            let mut n = self::points(
-                "normals",
-                &n.py().import("numpy")?.call_method1("atleast_2d", (n,))?,
-            )?;
-            if n.len() == 1 && p.len() != 1 {
-                n = vec![n[0]; p.len()];
-            }
-            Some((p, n))
+            let (p, n) = sensor_rows(p, n)?;
+            Some((p.to_vec(), n.to_vec()))
         }
         _ => {
             return Err(PyValueError::new_err(

@@ -161,6 +161,10 @@ def test_bad_studies_are_refused_with_what_is_wrong(tmp_path):
         study.sun_hours(*day, points=[[0.0, 0.0]], normals=[0, 1, 0])
     with pytest.raises(ValueError, match="normal"):
         study.sun_hours(*day, points=[[0.0, 0.0, 0.0]], normals=[0, 0, 0])
+    with pytest.raises(ValueError, match="points and normals together"):
+        study.sun_hours(*day, points=[[0.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match="2 points and 3 normals"):
+        study.sun_hours(*day, points=[[0.0, 0.0, 0.0]] * 2, normals=[[0, 1, 0]] * 3)
     with pytest.raises(ValueError, match="engine"):
         study.sun_hours(*day, engine="spark")
     with pytest.raises(ValueError, match="samples"):
