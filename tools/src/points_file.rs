@@ -310,14 +310,25 @@ fn read_csv(path: &Path, normal: Option<DVec3>, lights: usize) -> Result<Points>
     Ok(points)
 }
 
-/// Where point `index` of a points file is, for a message: `FILE:LINE` in a CSV file,
-/// `FILE: point INDEX` in a `.npy` file.
-pub(crate) fn point_place(
+/// A render's error over the points of `path`: a bad sensor told by its place in the file
+/// ([`point_place`]), the others in the command's words.
+pub(crate) fn sensor_error(
+    error: penumbra::RenderError,
     path: &Path,
     format: Format,
     normal: Option<DVec3>,
-    index: u64,
-) -> String {
+) -> anyhow::Error {
+    match error {
+        penumbra::RenderError::BadSensor { index, problem } => {
+            anyhow!("{}: {problem}", point_place(path, format, normal, index))
+        }
+        e => crate::words::render_error(e, "--samples"),
+    }
+}
+
+/// Where point `index` of a points file is, for a message: `FILE:LINE` in a CSV file,
+/// `FILE: point INDEX` in a `.npy` file.
+fn point_place(path: &Path, format: Format, normal: Option<DVec3>, index: u64) -> String {
     let at = path.display();
     if format == Format::Csv {
         let mut k = 0u64;

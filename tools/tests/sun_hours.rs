@@ -22,6 +22,13 @@ fn read_hours(path: &Path) -> (usize, usize, Vec<f32>) {
     )
 }
 
+/// `penumbra sun-hours SCENE`, its flags to be given.
+fn sun_hours(scene: &Path) -> std::process::Command {
+    let mut c = penumbra();
+    c.arg("sun-hours").arg(scene);
+    c
+}
+
 /// The fixture `sun.toml` seen at 40 x 30, its meshes named by absolute paths, in `d`.
 fn small_sun_scene(d: &Path) -> std::path::PathBuf {
     let text = std::fs::read_to_string(fixtures().join("scenes/sun.toml")).unwrap();
@@ -40,9 +47,7 @@ fn a_day_of_hours_over_a_fixture() {
     let d = scratch("sun-hours-day");
     let scene = small_sun_scene(&d);
     let (exr, png) = (d.join("out/h.exr"), d.join("out/h.png"));
-    let out = penumbra()
-        .arg("sun-hours")
-        .arg(&scene)
+    let out = sun_hours(&scene)
         .args(["--lat", "48.85", "--lon", "2.35"])
         .args(["--start", "2026-06-21T00:00:00+02:00"])
         .args(["--end", "2026-06-22T00:00:00+02:00", "--step", "1h"])
@@ -78,9 +83,7 @@ fn north_and_up_turn_the_sun_with_the_scene() {
     let scene = small_sun_scene(&d);
     let run = |out: &str, frame: &[&str]| {
         let path = d.join(out);
-        let status = penumbra()
-            .arg("sun-hours")
-            .arg(&scene)
+        let status = sun_hours(&scene)
             .args(["--lat", "48.85", "--lon", "2.35"])
             .args(["--start", "2026-06-21T08:00", "--end", "2026-06-21T12:00"])
             .args(["--samples", "16", "--out"])
@@ -104,9 +107,7 @@ fn bad_requests_are_refused_with_no_output() {
     let scene = small_sun_scene(&d);
     let exr = d.join("h.exr");
     let run = |args: &[&str]| {
-        let out = penumbra()
-            .arg("sun-hours")
-            .arg(&scene)
+        let out = sun_hours(&scene)
             .args(args)
             .arg("--out")
             .arg(&exr)
@@ -179,9 +180,7 @@ fn sensor_points_from_a_file_give_their_hours() {
     let points = d.join("p.csv");
     std::fs::write(&points, "x,y,z\n5,0,5\n0.8,0,0.3\n").unwrap();
     let run = |out: &str, extra: &[&str]| {
-        penumbra()
-            .arg("sun-hours")
-            .arg(&scene)
+        sun_hours(&scene)
             .args(["--lat", "48.85", "--lon", "2.35"])
             .args([
                 "--start",

@@ -8,10 +8,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{Result, anyhow, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra::{Backend, RenderError, RenderOptions, Renderer, Scene, Technique};
+use penumbra::{Backend, RenderOptions, Renderer, Scene, Technique};
 
 use crate::outputs::{check_outputs, prepare};
-use crate::points_file::{Format, point_place, read_points, write_values};
+use crate::points_file::{Format, read_points, sensor_error, write_values};
 use crate::words::render_error;
 
 /// What `penumbra points` is asked.
@@ -119,13 +119,7 @@ pub(crate) fn points(args: PointsArgs<'_>) -> Result<()> {
                 &mut values,
                 &progress,
             )
-            .map_err(|e| match e {
-                RenderError::BadSensor { index, problem } => anyhow!(
-                    "{}: {problem}",
-                    point_place(points_path, in_format, normal, index)
-                ),
-                e => render_error(e, "--samples"),
-            })?;
+            .map_err(|e| sensor_error(e, points_path, in_format, normal))?;
         let column = if scene.single_channel() {
             penumbra::geom::CHANNEL.to_string()
         } else {

@@ -8,13 +8,11 @@ use std::path::Path;
 use anyhow::{Context, Result, anyhow, bail};
 use chrono::{DateTime, FixedOffset, NaiveDate, NaiveDateTime, TimeDelta, Utc};
 use indicatif::{ProgressBar, ProgressStyle};
-use penumbra::{
-    Backend, RenderError, RenderOptions, Renderer, Scene, SunStep, SunStudy, SunTarget, Technique,
-};
+use penumbra::{Backend, RenderOptions, Renderer, Scene, SunStep, SunStudy, SunTarget, Technique};
 use solar_positioning::{Location, RefractionCorrection, SolarPositions, delta_t};
 
 use crate::outputs::{check_outputs, prepare};
-use crate::points_file::{Format, point_place, read_points, write_values};
+use crate::points_file::{Format, read_points, sensor_error, write_values};
 use crate::words::{InCommandWords, render_error};
 
 /// Refraction at the standard atmosphere's pressure (hPa) and 12 degrees C, as pvlib's
@@ -267,11 +265,9 @@ pub(crate) fn sun_hours(args: SunHoursArgs<'_>) -> Result<()> {
         .sun_hours(&scene, &study, &steps, target, &|d| {
             bar.set_position(d as u64)
         })
-        .map_err(|e| match (e, &sensors) {
-            (RenderError::BadSensor { index, problem }, Some((path, format, _, normal))) => {
-                anyhow!("{}: {problem}", point_place(path, *format, *normal, index))
-            }
-            (e, _) => render_error(e, "--samples"),
+        .map_err(|e| match &sensors {
+            Some((path, format, _, normal)) => sensor_error(e, path, *format, *normal),
+            None => render_error(e, "--samples"),
         })?;
     bar.finish_and_clear();
     let hours: Vec<f32> = sum.iter().map(|&v| v as f32).collect();
