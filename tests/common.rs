@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use penumbra::geom::{LitScene, Scene};
+use penumbra::{Backend, Renderer, Technique};
 
 /// Path of a fixture scene by name.
 pub fn scene_path(name: &str) -> PathBuf {
@@ -50,4 +51,18 @@ pub fn differing_pixels(a: &[f32], b: &[f32]) -> usize {
         .zip(b)
         .filter(|(x, y)| x.to_bits() != y.to_bits())
         .count()
+}
+
+/// A renderer on the GPU, or none where there is no adapter outside CI (said on the test's
+/// output, for the test to skip its GPU part); CI must have one (Mesa's lavapipe).
+pub fn gpu_renderer() -> Option<Renderer> {
+    let mut gpu = Renderer::new(Backend::Gpu);
+    match gpu.uses_gpu(Technique::Hard) {
+        Ok(_) => Some(gpu),
+        Err(e) => {
+            assert!(std::env::var_os("CI").is_none(), "CI needs a GPU: {e}");
+            println!("SKIPPED (no GPU): {e}");
+            None
+        }
+    }
 }

@@ -5,13 +5,13 @@
 use glam::{DMat4, DVec2, DVec3};
 use penumbra::Technique;
 use penumbra::geom::{
-    Camera, DistantLight, LightSamples, REFERENCE_SEED, RectLight, Reference, Rng, Scene, Tracer,
-    VisibilityImage, compare,
+    Camera, DistantLight, LightSamples, LitScene, REFERENCE_SEED, RectLight, Reference, Rng, Scene,
+    Tracer, VisibilityImage, compare,
 };
 use penumbra::volumes::{CpuRenderer, DepthComplexity, SamplePattern};
 use penumbra_testkit::square;
 
-use crate::common::load;
+use crate::common::{gpu_renderer, load};
 
 /// The light's direction, tangent and full angles: wide enough for a penumbra of several
 /// pixels, two different sides.
@@ -236,14 +236,7 @@ fn the_sun_exactly_on_the_horizon_over_a_tessellated_ground() {
     );
     let hard = compare(&cpu.render(Technique::Hard, &|_| {}), &hard_reference).unwrap();
     assert_eq!(hard.all.equal, 1.0, "CPU hard against the hard reference");
-    let truth = Reference::new(&lit).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-    let exact = DepthComplexity::new(&lit).render(
-        SamplePattern {
-            per_axis: 16,
-            jitter: true,
-        },
-        &|_| {},
-    );
+    let (truth, exact, _) = reference_and_depth_complexity(&lit);
     let c = compare(&exact, &truth).unwrap();
     assert!(
         c.all.equal >= 0.995 && c.all.max <= 1.0 / 64.0,
@@ -253,17 +246,14 @@ fn the_sun_exactly_on_the_horizon_over_a_tessellated_ground() {
     );
     let soft = compare(&cpu.render(Technique::WedgesBlend, &|_| {}), &truth).unwrap();
     assert!(soft.all.mae <= 0.01, "wedges-blend MAE {}", soft.all.mae);
-    let mut gpu = penumbra::Renderer::new(penumbra::Backend::Gpu);
-    match gpu.render(&scene, Technique::Hard, &penumbra::RenderOptions::default()) {
-        Ok(v) => {
-            let c = compare(&v, &hard_reference).unwrap();
-            assert!(c.all.equal >= 0.995, "GPU hard {:.4} equal", c.all.equal);
-        }
-        Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
-            println!("SKIPPED the GPU (no adapter): {e}");
-        }
-        Err(e) => panic!("{e}"),
-    }
+    let Some(mut gpu) = gpu_renderer() else {
+        return;
+    };
+    let v = gpu
+        .render(&scene, Technique::Hard, &penumbra::RenderOptions::default())
+        .unwrap();
+    let c = compare(&v, &hard_reference).unwrap();
+    assert!(c.all.equal >= 0.995, "GPU hard {:.4} equal", c.all.equal);
 }
 
 /// A sun 90 degrees long and 1e-9 degrees wide over the quad: its samples lie within rounding
@@ -276,15 +266,7 @@ fn a_sun_one_billionth_of_a_degree_wide() {
     let t = d.cross(DVec3::Z).normalize();
     let scene = world().with_light(DistantLight::new(d, t, DVec2::new(90.0, 1e-9)).unwrap());
     let lit = scene.lit(0);
-    let truth = Reference::new(&lit).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
-    let dc = DepthComplexity::new(&lit);
-    let exact = dc.render(
-        SamplePattern {
-            per_axis: 16,
-            jitter: true,
-        },
-        &|_| {},
-    );
+    let (truth, exact, cast) = reference_and_depth_complexity(&lit);
     let c = compare(&exact, &truth).unwrap();
     assert!(
         c.penumbra.pixels > 100,
@@ -292,7 +274,20 @@ fn a_sun_one_billionth_of_a_degree_wide() {
         c.penumbra.pixels
     );
     assert_eq!(c.all.equal, 1.0, "max difference {}", c.all.max);
-    assert!(dc.cast_pixels() > 0);
+    assert!(cast > 0);
+}
+
+/// The reference of `lit` at 256 samples, `depth-complexity` given the reference's own samples,
+/// and how many pixels `depth-complexity` cast.
+fn reference_and_depth_complexity(lit: &LitScene) -> (VisibilityImage, VisibilityImage, u64) {
+    let truth = Reference::new(lit).render(LightSamples::Stratified { per_axis: 16 }, &|_| {});
+    let dc = DepthComplexity::new(lit);
+    let pattern = SamplePattern {
+        per_axis: 16,
+        jitter: true,
+    };
+    let exact = dc.render(pattern, &|_| {});
+    (truth, exact, dc.cast_pixels())
 }
 
 /// A sun below the horizon, and a lamp below the ground facing up, under a plain ground (two
@@ -315,20 +310,13 @@ fn lights_below_a_plain_ground_on_the_gpu() {
         ),
     ];
     let options = penumbra::RenderOptions::default();
-    let mut gpu = penumbra::Renderer::new(penumbra::Backend::Gpu);
+    let Some(mut gpu) = gpu_renderer() else {
+        return;
+    };
     let mut cpu = penumbra::Renderer::new(penumbra::Backend::Cpu);
     for (k, scene) in scenes.iter().enumerate() {
         for t in [Technique::Hard, Technique::WedgesBlend] {
-            let on_gpu = match gpu.render(scene, t, &options) {
-                Ok(v) => v,
-                Err(e @ penumbra::RenderError::NoGpu { .. })
-                    if std::env::var_os("CI").is_none() =>
-                {
-                    println!("SKIPPED (no adapter): {e}");
-                    return;
-                }
-                Err(e) => panic!("{e}"),
-            };
+            let on_gpu = gpu.render(scene, t, &options).unwrap();
             let c = compare(&on_gpu, &cpu.render(scene, t, &options).unwrap()).unwrap();
             assert!(
                 c.all.mae <= 0.005 && c.all.equal >= 0.99,

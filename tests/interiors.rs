@@ -10,6 +10,8 @@ use penumbra::{
     VisibilityImage, compare,
 };
 
+use crate::common::gpu_renderer;
+
 /// The box from `lo` to `hi`, wound outwards, or inwards where `inward`.
 fn block(lo: DVec3, hi: DVec3, inward: bool) -> TriangleMesh {
     let size = hi - lo;
@@ -105,15 +107,12 @@ fn a_room_lit_from_its_ceiling_on_the_cpu() {
 fn a_room_lit_from_its_ceiling_on_the_gpu() {
     let scene = room(true, 3.0);
     let options = RenderOptions::default();
-    let mut gpu = Renderer::new(Backend::Gpu);
-    let soft = match gpu.render(&scene, Technique::WedgesBlend, &options) {
-        Ok(v) => v,
-        Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
-            println!("SKIPPED (no adapter): {e}");
-            return;
-        }
-        Err(e) => panic!("{e}"),
+    let Some(mut gpu) = gpu_renderer() else {
+        return;
     };
+    let soft = gpu
+        .render(&scene, Technique::WedgesBlend, &options)
+        .unwrap();
     let reference = Renderer::new(Backend::Cpu)
         .render(&scene, Technique::Reference, &options)
         .unwrap();
@@ -211,18 +210,13 @@ fn the_interiors_on_the_cpu() {
 #[test]
 fn the_interiors_on_the_gpu() {
     let options = RenderOptions::default();
-    let mut gpu = Renderer::new(Backend::Gpu);
+    let Some(mut gpu) = gpu_renderer() else {
+        return;
+    };
     let mut cpu = Renderer::new(Backend::Cpu);
     for name in INTERIORS {
         let scene = interior(name);
-        let hard = match rendered(&mut gpu, &scene, Technique::Hard, &options) {
-            Ok(v) => v,
-            Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
-                println!("SKIPPED (no adapter): {e}");
-                return;
-            }
-            Err(e) => panic!("{e}"),
-        };
+        let hard = rendered(&mut gpu, &scene, Technique::Hard, &options).unwrap();
         let mut on_cpu = |t| rendered(&mut cpu, &scene, t, &options).unwrap();
         let truth = on_cpu(Technique::Reference);
         let c = compare(&hard, &on_cpu(Technique::HardReference)).unwrap();
@@ -434,15 +428,10 @@ fn a_recessed_lamp() {
     let exact = cpu
         .render(&scene, Technique::DepthComplexity, &options)
         .unwrap();
-    let mut gpu = Renderer::new(Backend::Gpu);
-    let gpu_hard = match gpu.render(&scene, Technique::Hard, &options) {
-        Ok(v) => v,
-        Err(e @ penumbra::RenderError::NoGpu { .. }) if std::env::var_os("CI").is_none() => {
-            println!("SKIPPED the GPU (no adapter): {e}");
-            return;
-        }
-        Err(e) => panic!("{e}"),
+    let Some(mut gpu) = gpu_renderer() else {
+        return;
     };
+    let gpu_hard = gpu.render(&scene, Technique::Hard, &options).unwrap();
     let c = compare(&gpu_hard, &hard_reference).unwrap();
     assert!(c.all.equal >= 0.995, "GPU hard {:.4} equal", c.all.equal);
     let dc = compare(
