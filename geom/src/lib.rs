@@ -56,6 +56,7 @@ mod scene_file_lights_tests;
 mod scene_values;
 mod shaded;
 mod technique;
+mod tracer;
 
 pub use boxtree::{BoxTree, Plane};
 pub use camera::{Camera, CameraError};
@@ -83,11 +84,11 @@ pub use output::{check_writable, output_target, remove_temporaries_in_progress, 
 pub use range::RangeError;
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
 pub use reference::{
-    LightSamples, PLANE_HOLDS, REFERENCE_SEED, Reference, SHADOW_EPSILON, SurfacePoint,
-    TOUCH_EPSILON, Tracer, TracerGeometry, segment_meets_plane,
+    LightSamples, PLANE_HOLDS, REFERENCE_SEED, Reference, SHADOW_EPSILON, TOUCH_EPSILON,
 };
 pub use rng::Rng;
 pub use scene::{Scene, SceneMesh};
 pub use scene_error::SceneError;
 pub use shaded::{SHADED_AMBIENT, SHADED_BACKGROUND, ShadedImage, shaded_value, srgb_byte};
 pub use technique::{Technique, UnknownTechnique};
+pub use tracer::{SurfacePoint, Tracer, TracerGeometry, segment_meets_plane};

@@ -23,7 +23,7 @@ use crate::image::{ImageError, io_err};
 use crate::image_files::{PngColor, write_png_bytes};
 use crate::lights::Light;
 use crate::raycast::Rays;
-use crate::reference::TracerGeometry;
+use crate::tracer::TracerGeometry;
 use crate::scene::Scene;
 
 /// The ambient term `A` of the shaded preview: the linear value of a surface no light reaches.

@@ -1,0 +1,424 @@
+//! Ray casting for visibility queries: a scene's triangles, their hierarchies and the rules by
+//! which a segment from a surface point to a light point is blocked (see the reference's
+//! documentation, `reference.rs`).
+//!
+//! Under a distant light the renderers work in the warped scene (`distant.rs`), and so do a
+//! [`Tracer`]'s points, triangles and light. Its hierarchies, though, are those of the world's
+//! triangles, which do not depend on the light's direction: a ray is cast in the world, from
+//! the point's preimage along the light direction the light point stands for (the warp sends
+//! the world's ray to infinity onto the warped segment to that point, and keeps which triangles
+//! it crosses). A sun study takes the same hierarchies for every position of the sun
+//! ([`Tracer::new_reusing`]); only the `f32` rounding of a cast differs from a cast in the
+//! warped scene.
+
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
+
+use crate::boxtree::BoxTree;
+use crate::exact::exact_visibility;
+use crate::light::RectLight;
+use crate::lit_scene::LitScene;
+use crate::raycast::{Rays, SceneBvh};
+use crate::reference::{PLANE_HOLDS, SHADOW_EPSILON, TOUCH_EPSILON};
+use crate::rng::Rng;
+
+/// The surface point seen through a pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// World position, snapped onto the plane of its triangle in `f64`.
+    pub position: DVec3,
+    /// Index of the triangle it lies on (into [`LitScene::triangles`]).
+    pub triangle: u32,
+}
+
+/// A scene ready for visibility queries: its triangles, their BVH and its scale.
+pub struct Tracer {
+    /// World-space triangles.
+    pub triangles: Arc<[[DVec3; 3]]>,
+    /// Their hierarchy.
+    pub bvh: Arc<SceneBvh>,
+    /// The light.
+    pub light: RectLight,
+    /// Shadow-ray start offset in world units.
+    pub epsilon: f64,
+    /// [`TOUCH_EPSILON`] in world units.
+    pub touch: f64,
+    /// The triangles' bounding boxes, to find those near a point.
+    near: Arc<BoxTree>,
+    /// Per triangle, whether it has a vertex strictly in front of the light's plane. The others
+    /// can meet a segment from P to a light point only at its end, on the light: a touch, not
+    /// a crossing, whichever way `f32` rounds it (a box whose top face is the light's plane).
+    in_front: Vec<bool>,
+}
+
+/// What a [`Tracer`] builds from a scene's triangles alone: the triangles, their ray-casting
+/// hierarchy for some [`Rays`], the boxes that find the triangles near a point, and their
+/// bounds. It depends on neither the light nor the camera, so a scene with the same triangles
+/// under another light or seen by another camera can take it as it is
+/// ([`Tracer::new_reusing`]); cloning it shares it.
+#[derive(Clone)]
+pub struct TracerGeometry {
+    triangles: Arc<[[DVec3; 3]]>,
+    bvh: Arc<SceneBvh>,
+    near: Arc<BoxTree>,
+    rays: Rays,
+    /// The triangles' bounding box.
+    bounds: (DVec3, DVec3),
+}
+
+/// The first surface point along the ray `origin + t dir` among `triangles`, by `bvh`: the hit
+/// projected onto its triangle's plane.
+fn surface_point(
+    bvh: &SceneBvh,
+    triangles: &[[DVec3; 3]],
+    origin: DVec3,
+    dir: DVec3,
+) -> Option<SurfacePoint> {
+    let hit = bvh.closest_hit(origin, dir, f64::MAX)?;
+    let p = origin + dir * hit.t;
+    let [a, b, c] = triangles[hit.triangle as usize];
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    Some(SurfacePoint {
+        position: p - n * (p - a).dot(n),
+        triangle: hit.triangle,
+    })
+}
+
+impl TracerGeometry {
+    /// The hierarchies of `triangles` for `rays`: `kept`'s where it serves them
+    /// ([`TracerGeometry::serves`]), else built (the one that does not serve dropped first, so
+    /// that the two are never held at once) and kept in `kept` for the next caller.
+    pub fn reusing(
+        triangles: Vec<[DVec3; 3]>,
+        rays: Rays,
+        kept: &mut Option<TracerGeometry>,
+    ) -> TracerGeometry {
+        let geometry = match kept.take().filter(|g| g.serves(&triangles, rays)) {
+            Some(g) => g,
+            None => TracerGeometry::build(triangles, rays),
+        };
+        *kept = Some(geometry.clone());
+        geometry
+    }
+
+    /// The surface point the ray `origin + t dir` meets first ([`Tracer::surface_point`]).
+    pub fn surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
+        surface_point(&self.bvh, &self.triangles, origin, dir)
+    }
+
+    /// The triangles.
+    pub fn triangles(&self) -> &[[DVec3; 3]] {
+        &self.triangles
+    }
+
+    /// Builds the hierarchies of `triangles` for `rays`.
+    pub fn build(triangles: Vec<[DVec3; 3]>, rays: Rays) -> Self {
+        let bvh = SceneBvh::build_for(&triangles, rays);
+        let bounds = triangles
+            .iter()
+            .flatten()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        let boxes: Vec<(DVec3, DVec3)> = triangles
+            .iter()
+            .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
+            .collect();
+        TracerGeometry {
+            triangles: triangles.into(),
+            bvh: Arc::new(bvh),
+            near: Arc::new(BoxTree::build(&boxes)),
+            rays,
+            bounds,
+        }
+    }
+
+    /// Whether it is what [`TracerGeometry::build`] makes of `triangles` for `rays`: the same
+    /// triangles, bit for bit (a `-0.0` is not a `0.0`: rays round them alike, but the hierarchy
+    /// and the images must not depend on what was rendered before), and the same `rays`, as
+    /// the two builds may name different triangles among coincident ones.
+    pub fn serves(&self, triangles: &[[DVec3; 3]], rays: Rays) -> bool {
+        let bits = |t: &[DVec3; 3]| t.map(|v| v.to_array().map(f64::to_bits));
+        self.rays == rays
+            && self.triangles.len() == triangles.len()
+            && self
+                .triangles
+                .iter()
+                .zip(triangles)
+                .all(|(a, b)| bits(a) == bits(b))
+    }
+}
+
+impl Tracer {
+    /// Builds the BVH of a scene for many rays ([`Rays::Many`]).
+    pub fn new(scene: &LitScene) -> Self {
+        Self::new_for(scene, Rays::Many)
+    }
+
+    /// Builds the BVH of a scene for `rays` rays.
+    pub fn new_for(scene: &LitScene, rays: Rays) -> Self {
+        Self::new_reusing(scene, rays, &mut None)
+    }
+
+    /// [`Tracer::new_for`], taking `kept`'s hierarchies where it serves the scene's triangles
+    /// for `rays` ([`TracerGeometry::serves`]), and otherwise building them and keeping them in
+    /// `kept` for the next scene: the same image either way, without building the hierarchies
+    /// again for another light or camera over the same triangles.
+    pub fn new_reusing(scene: &LitScene, rays: Rays, kept: &mut Option<TracerGeometry>) -> Self {
+        let geometry = TracerGeometry::reusing(scene.triangles(), rays, kept);
+        // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
+        // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
+        // between an occluder and its receiver, and the shadow was lost.
+        let eye = scene.camera.eye;
+        let (lo, hi) = (geometry.bounds.0.min(eye), geometry.bounds.1.max(eye));
+        let extent = (hi - lo).length().max(1e-30);
+        let in_front = geometry
+            .triangles
+            .iter()
+            .map(|t| t.iter().any(|&v| scene.light.signed_distance(v) > 0.0))
+            .collect();
+        Tracer {
+            in_front,
+            bvh: geometry.bvh.clone(),
+            light: scene.light,
+            epsilon: SHADOW_EPSILON * extent,
+            touch: TOUCH_EPSILON * extent,
+            near: geometry.near.clone(),
+            triangles: geometry.triangles,
+        }
+    }
+
+    /// Whether triangle `t` has a vertex strictly in front of the light's plane: only those can
+    /// block a segment to a light point.
+    pub fn in_front(&self, t: u32) -> bool {
+        self.in_front[t as usize]
+    }
+
+    /// Into `out`, the triangles other than `p`'s that may pass within [`Tracer::epsilon`] of
+    /// it: those of the box hierarchy's leaves that reach that far (a superset: [`Tracer::sees`]
+    /// tests each exactly).
+    pub fn near_triangles(&self, p: &SurfacePoint, out: &mut Vec<u32>) {
+        out.clear();
+        let r = DVec3::splat(self.epsilon);
+        self.near
+            .query_box(p.position - r, p.position + r, &mut |t| {
+                if t != p.triangle {
+                    out.push(t);
+                }
+            });
+    }
+
+    /// Whether the segment from `p` to `l` crosses triangle `t` in `f64`, farther than
+    /// [`Tracer::touch`] from both ends (Möller & Trumbore,
+    /// "Fast, Minimum Storage Ray/Triangle Intersection", 1997, edges included); never for a
+    /// triangle with no vertex in front of the light's plane.
+    pub fn crosses(&self, p: DVec3, l: DVec3, t: u32) -> bool {
+        if !self.in_front[t as usize] || self.holds_segment(t, p, l) {
+            return false;
+        }
+        let Some((u, v, along)) = segment_meets_plane(p, l, self.triangles[t as usize]) else {
+            return false;
+        };
+        if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
+            return false;
+        }
+        let dist = (l - p).length();
+        let at = along * dist;
+        at > self.touch && at < dist - self.touch
+    }
+
+    /// First surface hit by the ray `origin + t * dir` (`dir` unit).
+    pub fn surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
+        surface_point(&self.bvh, &self.triangles, origin, dir)
+    }
+
+    /// Whether the light point `l` is visible from the surface point `p`, whose
+    /// [`Tracer::near_triangles`] are `near`.
+    #[inline]
+    pub fn sees(&self, p: &SurfacePoint, l: DVec3, near: &[u32]) -> bool {
+        self.sees_far(p, l) && !near.iter().any(|&t| self.crosses(p.position, l, t))
+    }
+
+    /// The `f32` part of [`Tracer::sees`]: nothing blocks the segment from [`Tracer::epsilon`]
+    /// past `p` to [`Tracer::touch`] before `l`.
+    #[inline]
+    fn sees_far(&self, p: &SurfacePoint, l: DVec3) -> bool {
+        let d = l - p.position;
+        let dist = d.length();
+        if dist <= self.epsilon {
+            return true;
+        }
+        let dir = d / dist;
+        !self.bvh.occluded_by(
+            p.position,
+            dir.as_vec3().into(),
+            self.epsilon as f32,
+            (dist - self.touch) as f32,
+            |t| {
+                t != p.triangle
+                    && self.in_front[t as usize]
+                    && !self.holds_segment(t, p.position, l)
+            },
+        )
+    }
+
+    /// Whether the plane of triangle `t` holds the segment from `p` to `l`, within
+    /// [`PLANE_HOLDS`] of the segment's reach: the segment runs along the triangle's surface
+    /// (a sun on the horizon over a tessellated ground, seen from a point of that ground) and
+    /// grazes it without crossing it, as it grazes the triangle `p` lies on.
+    pub fn holds_segment(&self, t: u32, p: DVec3, l: DVec3) -> bool {
+        let [a, b, c] = self.triangles[t as usize];
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        let reach = PLANE_HOLDS * ((p - a).length() + (l - a).length()) * len;
+        len > 0.0 && n.dot(p - a).abs() <= reach && n.dot(l - a).abs() <= reach
+    }
+
+    /// Sampled visibility at `p` from `n x n` stratified-jittered light points drawn from `rng`.
+    pub fn sampled_visibility(&self, p: &SurfacePoint, n: usize, rng: &mut Rng) -> f64 {
+        if !self.light.is_lit_side(p.position) {
+            return 0.0;
+        }
+        let mut near = Vec::new();
+        self.near_triangles(p, &mut near);
+        self.share_seen(p, &near, &RectLight::stratified_samples(n, rng))
+    }
+
+    /// The share of the light points `uvs` (in the light's `[-1, 1]^2`) that `p` sees, each by
+    /// [`Tracer::sees`] (`near`: `p`'s near triangles, [`Tracer::near_triangles`]).
+    pub fn share_seen(&self, p: &SurfacePoint, near: &[u32], uvs: &[DVec2]) -> f64 {
+        let seen = uvs
+            .iter()
+            .filter(|&&uv| self.sees(p, self.light.point(uv), near))
+            .count();
+        seen as f64 / uvs.len() as f64
+    }
+
+    /// Hard visibility at `p`: 1 when the light's centre is visible, else 0.
+    pub fn hard_visibility(&self, p: &SurfacePoint) -> f64 {
+        let mut near = Vec::new();
+        self.near_triangles(p, &mut near);
+        if self.light.is_lit_side(p.position) && self.sees(p, self.light.center, &near) {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// Exact visibility at `p` ([`exact_visibility`]).
+    pub fn exact_visibility(&self, p: &SurfacePoint) -> f64 {
+        exact_visibility(
+            p.position,
+            &self.light,
+            &self.triangles,
+            Some(p.triangle as usize),
+        )
+        .visibility
+    }
+}
+
+/// Where the line through `p` and `l` meets the plane of the triangle `[a, b, c]` (Möller &
+/// Trumbore, "Fast, Minimum Storage Ray/Triangle Intersection", 1997): the meeting point's
+/// barycentric coordinates `(u, v)` of `b` and `c`, and its parameter along the segment (0 at
+/// `p`, 1 at `l`); `None` where the line runs parallel to the plane.
+#[inline]
+pub fn segment_meets_plane(p: DVec3, l: DVec3, [a, b, c]: [DVec3; 3]) -> Option<(f64, f64, f64)> {
+    let d = l - p;
+    let (e1, e2) = (b - a, c - a);
+    let q = d.cross(e2);
+    let det = e1.dot(q);
+    if det == 0.0 {
+        return None;
+    }
+    let s = p - a;
+    let u = s.dot(q) / det;
+    let r = s.cross(e1);
+    let v = d.dot(r) / det;
+    Some((u, v, e2.dot(r) / det))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use glam::{DMat4, DVec2, DVec3};
+
+    use super::{Tracer, TracerGeometry};
+    use crate::camera::Camera;
+    use crate::light::RectLight;
+    use crate::mesh::TriangleMesh;
+    use crate::raycast::Rays;
+    use crate::scene::Scene;
+
+    /// A sphere over a ground, lit from above, the sphere moved by `x`.
+    fn scene(x: f64) -> Scene {
+        let camera =
+            Camera::look_at(DVec3::new(0., 3., 4.), DVec3::ZERO, DVec3::Y, 45.0, 8, 6).unwrap();
+        let light =
+            RectLight::new(DVec3::new(0., 4., 0.), -DVec3::Y, DVec3::X, DVec2::ONE).unwrap();
+        let ground = TriangleMesh::from_raw(
+            "ground",
+            &[
+                DVec3::new(-3., 0., -3.),
+                DVec3::new(3., 0., -3.),
+                DVec3::new(3., 0., 3.),
+                DVec3::new(-3., 0., 3.),
+            ],
+            &[[0, 2, 1], [0, 3, 2]],
+        )
+        .unwrap();
+        Scene::new(camera)
+            .with_light(light)
+            .with_mesh("ground", &ground, DMat4::IDENTITY)
+            .with_mesh(
+                "sphere",
+                &TriangleMesh::uv_sphere(6, 8),
+                DMat4::from_translation(DVec3::new(x, 1.0, 0.0)),
+            )
+    }
+
+    /// The hierarchies are taken again for the same triangles under another light and camera,
+    /// and built again for other triangles (moved, or a `-0.0` where there was a `0.0`) or
+    /// another kind of rays; what is kept is the last one built.
+    #[test]
+    fn the_hierarchies_are_kept_for_the_same_triangles_and_rays_only() {
+        let mut kept = None;
+        let first = Tracer::new_reusing(&(scene(0.0)).lit(0), Rays::Many, &mut kept);
+        let mut other_light = scene(0.0).lit(0);
+        other_light.light = RectLight::new(
+            DVec3::new(1., 1.5, 0.),
+            -DVec3::Y,
+            DVec3::Z,
+            DVec2::ONE * 2.0,
+        )
+        .unwrap();
+        other_light.camera.eye = DVec3::new(0., 2., 5.);
+        let again = Tracer::new_reusing(&other_light, Rays::Many, &mut kept);
+        assert!(Arc::ptr_eq(&first.bvh, &again.bvh));
+        assert!(Arc::ptr_eq(&first.triangles, &again.triangles));
+        // What depends on the light and the camera is the scene's own.
+        let fresh = Tracer::new(&other_light);
+        assert_eq!(again.in_front, fresh.in_front);
+        assert_ne!(again.in_front, first.in_front);
+        assert_eq!((again.epsilon, again.touch), (fresh.epsilon, fresh.touch));
+        assert_ne!(again.epsilon, first.epsilon);
+        for (moved, rays) in [(scene(0.5), Rays::Many), (scene(0.0), Rays::Few)] {
+            let before = kept.clone().unwrap();
+            let t = Tracer::new_reusing(&moved.lit(0), rays, &mut kept);
+            assert!(!Arc::ptr_eq(&before.bvh, &t.bvh));
+            assert!(Arc::ptr_eq(&kept.as_ref().unwrap().bvh, &t.bvh));
+            assert_eq!(*t.triangles, *moved.triangles());
+        }
+        let triangles = scene(0.0).triangles();
+        let built = TracerGeometry::build(triangles.clone(), Rays::Few);
+        assert!(built.serves(&triangles, Rays::Few));
+        assert!(!built.serves(&triangles, Rays::Many));
+        assert!(!built.serves(&triangles[1..], Rays::Few));
+        // The ground lies at y = 0.
+        let mut signed = triangles.clone();
+        assert_eq!(signed[0][0].y.to_bits(), 0);
+        signed[0][0].y = -0.0;
+        assert!(!built.serves(&signed, Rays::Few));
+    }
+}
