@@ -4,7 +4,8 @@
 //! SPA); a step whose sun is wholly below the horizon costs nothing.
 
 use glam::{DVec2, DVec3};
-use penumbra_geom::{DistantLight, Light, NamedLight, Scene, Technique};
+use penumbra_geom::{DistantLight, Interruption, Light, NamedLight, Scene, Technique};
+use penumbra_volumes::SunSeries;
 
 use crate::error::RenderError;
 use crate::options::RenderOptions;
@@ -162,12 +163,34 @@ impl Renderer {
             }
         };
         let mut sum = vec![0.0f64; len];
+        // Depth-complexity sampling of pixels on the CPU shares more than the hierarchies from
+        // one step to the next (`SunSeries`).
+        let mut series = match target {
+            SunTarget::Pixels
+                if study.technique == Technique::DepthComplexity
+                    && !self.uses_gpu(study.technique)? =>
+            {
+                Some(SunSeries::reusing(self.kept.take()))
+            }
+            _ => None,
+        };
+        let pattern = study.options.pattern_for(study.technique)?;
+        let stop = Interruption::since();
         for (done, step) in steps.iter().enumerate() {
             if study.is_day(step) {
                 let lit = study.scene_at(scene, step)?;
-                let v = match target {
-                    SunTarget::Pixels => self.render(&lit, study.technique, &study.options)?.data,
-                    SunTarget::Points { points, normals } => self.visibility_at(
+                let v = match (target, &mut series) {
+                    (SunTarget::Pixels, Some(series)) => {
+                        let image = series.render(&lit.lit(0), pattern, &|_| {});
+                        if stop.happened() {
+                            return Err(RenderError::Interrupted);
+                        }
+                        image.data
+                    }
+                    (SunTarget::Pixels, None) => {
+                        self.render(&lit, study.technique, &study.options)?.data
+                    }
+                    (SunTarget::Points { points, normals }, _) => self.visibility_at(
                         &lit,
                         0,
                         points,
@@ -181,6 +204,9 @@ impl Renderer {
                 }
             }
             progress(done + 1);
+        }
+        if let Some(series) = series {
+            self.kept = series.into_kept();
         }
         Ok(sum)
     }

@@ -61,7 +61,11 @@ fn bench(c: &mut Criterion) {
     let batch: Vec<&ShadowRay> = rays.iter().step_by(stride).collect();
     let blocked = batch
         .iter()
-        .filter(|r| tracer.bvh.occluded(r.origin, r.dir, eps, r.tmax, r.exclude))
+        .filter(|r| {
+            tracer
+                .hierarchy()
+                .occluded(r.origin, r.dir, eps, r.tmax, r.exclude)
+        })
         .count();
     println!(
         "spheres-9x9: {} triangles, {} shadow rays in the batch (of {}), {:.1}% blocked",
@@ -77,7 +81,11 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             batch
                 .iter()
-                .filter(|r| tracer.bvh.occluded(r.origin, r.dir, eps, r.tmax, r.exclude))
+                .filter(|r| {
+                    tracer
+                        .hierarchy()
+                        .occluded(r.origin, r.dir, eps, r.tmax, r.exclude)
+                })
                 .count()
         })
     });

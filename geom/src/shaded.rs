@@ -23,8 +23,8 @@ use crate::image::{ImageError, io_err};
 use crate::image_files::{PngColor, write_png_bytes};
 use crate::lights::Light;
 use crate::raycast::Rays;
-use crate::tracer::TracerGeometry;
 use crate::scene::Scene;
+use crate::tracer::TracerGeometry;
 
 /// The ambient term `A` of the shaded preview: the linear value of a surface no light reaches.
 pub const SHADED_AMBIENT: f64 = 0.1;

@@ -16,6 +16,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3};
 
 use crate::boxtree::BoxTree;
+use crate::distant::Warp;
 use crate::exact::exact_visibility;
 use crate::light::RectLight;
 use crate::lit_scene::LitScene;
@@ -33,23 +34,85 @@ pub struct SurfacePoint {
 }
 
 /// A scene ready for visibility queries: its triangles, their BVH and its scale.
+///
+/// Its points, triangles, light and distances are those of the scene the renderers render
+/// ([`LitScene`]: the warped world under a distant light); under a distant light its
+/// hierarchies are the world's (see the module's documentation).
 pub struct Tracer {
-    /// World-space triangles.
+    /// The triangles the renderers render.
     pub triangles: Arc<[[DVec3; 3]]>,
-    /// Their hierarchy.
-    pub bvh: Arc<SceneBvh>,
+    /// Their ray-casting hierarchy, or the world's triangles' under a distant light.
+    bvh: Arc<SceneBvh>,
     /// The light.
     pub light: RectLight,
-    /// Shadow-ray start offset in world units.
+    /// Shadow-ray start offset in the units of [`Tracer::triangles`].
     pub epsilon: f64,
-    /// [`TOUCH_EPSILON`] in world units.
+    /// [`TOUCH_EPSILON`] in the units of [`Tracer::triangles`].
     pub touch: f64,
-    /// The triangles' bounding boxes, to find those near a point.
+    /// The triangles' bounding boxes, to find those near a point (the world's under a distant
+    /// light).
     near: Arc<BoxTree>,
+    /// Under a distant light, the world's triangles and how rays are cast among them.
+    world: Option<World>,
     /// Per triangle, whether it has a vertex strictly in front of the light's plane. The others
     /// can meet a segment from P to a light point only at its end, on the light: a touch, not
     /// a crossing, whichever way `f32` rounds it (a box whose top face is the light's plane).
     in_front: Vec<bool>,
+}
+
+/// How a [`Tracer`] under a distant light casts in the world: the warp, the world's offsets
+/// and the reach of its rays.
+#[derive(Clone, Copy, Debug)]
+struct WorldRays {
+    warp: Warp,
+    /// [`SHADOW_EPSILON`] of the world's extent.
+    epsilon: f64,
+    /// The half side of the world box around a point's preimage that holds every triangle
+    /// within [`Tracer::epsilon`] of the point or within `epsilon` of the preimage: the warp's
+    /// inverse stretches lengths at most 2.25 times around the scene (`distant.rs`), so three
+    /// times the larger.
+    near: f64,
+    /// The world's triangles' bounding box.
+    bounds: (DVec3, DVec3),
+}
+
+impl WorldRays {
+    /// The world ray of the warped segment from `p` to `l`: its origin, unit direction and
+    /// length. A light point `l` is the image of the point at infinity in direction
+    /// `l - o` (the warp's origin), whose ray is cast to beyond the world's triangles; any
+    /// other end is the image of a world point, short of which by `touch` the ray stops.
+    fn ray(&self, p: DVec3, l: DVec3, touch: f64) -> (DVec3, DVec3, f64) {
+        let w = &self.warp;
+        let from = w.unwarp(p);
+        let e = l - w.origin;
+        let depth = w.k - e.dot(w.direction);
+        if depth <= 1e-9 * w.k {
+            let (lo, hi) = self.bounds;
+            let beyond = (from - 0.5 * (lo + hi)).length() + (hi - lo).length();
+            (from, e.normalize(), 2.0 * beyond)
+        } else {
+            let d = w.origin + e * (w.k / depth) - from;
+            let dist = d.length();
+            (from, d / dist, dist - touch)
+        }
+    }
+}
+
+/// The bounding box of `triangles`.
+fn bounds_of(triangles: &[[DVec3; 3]]) -> (DVec3, DVec3) {
+    triangles
+        .iter()
+        .flatten()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        })
+}
+
+/// A [`Tracer`]'s world under a distant light.
+struct World {
+    /// The world's triangles, in the order of [`Tracer::triangles`].
+    triangles: Arc<[[DVec3; 3]]>,
+    rays: WorldRays,
 }
 
 /// What a [`Tracer`] builds from a scene's triangles alone: the triangles, their ray-casting
@@ -76,13 +139,17 @@ fn surface_point(
     dir: DVec3,
 ) -> Option<SurfacePoint> {
     let hit = bvh.closest_hit(origin, dir, f64::MAX)?;
-    let p = origin + dir * hit.t;
-    let [a, b, c] = triangles[hit.triangle as usize];
+    Some(snapped(origin + dir * hit.t, hit.triangle, triangles))
+}
+
+/// The point `p` projected onto the plane of `triangles[triangle]`.
+fn snapped(p: DVec3, triangle: u32, triangles: &[[DVec3; 3]]) -> SurfacePoint {
+    let [a, b, c] = triangles[triangle as usize];
     let n = (b - a).cross(c - a).normalize_or_zero();
-    Some(SurfacePoint {
+    SurfacePoint {
         position: p - n * (p - a).dot(n),
-        triangle: hit.triangle,
-    })
+        triangle,
+    }
 }
 
 impl TracerGeometry {
@@ -115,12 +182,7 @@ impl TracerGeometry {
     /// Builds the hierarchies of `triangles` for `rays`.
     pub fn build(triangles: Vec<[DVec3; 3]>, rays: Rays) -> Self {
         let bvh = SceneBvh::build_for(&triangles, rays);
-        let bounds = triangles
-            .iter()
-            .flatten()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
+        let bounds = bounds_of(&triangles);
         let boxes: Vec<(DVec3, DVec3)> = triangles
             .iter()
             .map(|[a, b, c]| (a.min(*b).min(*c), a.max(*b).max(*c)))
@@ -165,28 +227,70 @@ impl Tracer {
     /// for `rays` ([`TracerGeometry::serves`]), and otherwise building them and keeping them in
     /// `kept` for the next scene: the same image either way, without building the hierarchies
     /// again for another light or camera over the same triangles.
+    ///
+    /// Under a distant light the hierarchies are those of the world's triangles
+    /// ([`LitScene::world_triangles`]), which every direction of the light shares.
     pub fn new_reusing(scene: &LitScene, rays: Rays, kept: &mut Option<TracerGeometry>) -> Self {
-        let geometry = TracerGeometry::reusing(scene.triangles(), rays, kept);
+        let triangles = match &scene.distant {
+            None => scene.triangles(),
+            Some(_) => scene.world_triangles(),
+        };
+        Self::with_geometry(scene, TracerGeometry::reusing(triangles, rays, kept))
+    }
+
+    /// The tracer of `scene` with the hierarchies `geometry`, which the caller built of the
+    /// scene's triangles, or of the world's under a distant light
+    /// ([`LitScene::world_triangles`]): the caller that knows the scene's meshes have not changed
+    /// since (a sun study) skips [`TracerGeometry::serves`]'s comparison.
+    pub fn with_geometry(scene: &LitScene, geometry: TracerGeometry) -> Self {
         // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
         // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
         // between an occluder and its receiver, and the shadow was lost.
-        let eye = scene.camera.eye;
-        let (lo, hi) = (geometry.bounds.0.min(eye), geometry.bounds.1.max(eye));
-        let extent = (hi - lo).length().max(1e-30);
-        let in_front = geometry
-            .triangles
+        let extent =
+            |(lo, hi): (DVec3, DVec3), eye: DVec3| (hi.max(eye) - lo.min(eye)).length().max(1e-30);
+        let (triangles, bounds, world) = match &scene.distant {
+            None => (geometry.triangles.clone(), geometry.bounds, None),
+            Some(view) => {
+                let triangles: Arc<[[DVec3; 3]]> = scene.triangles().into();
+                let bounds = bounds_of(&triangles);
+                let world = WorldRays {
+                    warp: view.warp,
+                    epsilon: SHADOW_EPSILON * extent(geometry.bounds, view.camera.eye),
+                    near: 0.0,
+                    bounds: geometry.bounds,
+                };
+                (triangles, bounds, Some(world))
+            }
+        };
+        let extent = extent(bounds, scene.camera.eye);
+        let epsilon = SHADOW_EPSILON * extent;
+        let world = world.map(|w| World {
+            triangles: geometry.triangles.clone(),
+            rays: WorldRays {
+                near: 3.0 * w.epsilon.max(epsilon),
+                ..w
+            },
+        });
+        let in_front = triangles
             .iter()
             .map(|t| t.iter().any(|&v| scene.light.signed_distance(v) > 0.0))
             .collect();
         Tracer {
             in_front,
-            bvh: geometry.bvh.clone(),
+            bvh: geometry.bvh,
             light: scene.light,
-            epsilon: SHADOW_EPSILON * extent,
+            epsilon,
             touch: TOUCH_EPSILON * extent,
-            near: geometry.near.clone(),
-            triangles: geometry.triangles,
+            near: geometry.near,
+            world,
+            triangles,
         }
+    }
+
+    /// The ray-casting hierarchy: of [`Tracer::triangles`], or of the world's triangles under
+    /// a distant light.
+    pub fn hierarchy(&self) -> &SceneBvh {
+        &self.bvh
     }
 
     /// Whether triangle `t` has a vertex strictly in front of the light's plane: only those can
@@ -200,13 +304,16 @@ impl Tracer {
     /// tests each exactly).
     pub fn near_triangles(&self, p: &SurfacePoint, out: &mut Vec<u32>) {
         out.clear();
-        let r = DVec3::splat(self.epsilon);
-        self.near
-            .query_box(p.position - r, p.position + r, &mut |t| {
-                if t != p.triangle {
-                    out.push(t);
-                }
-            });
+        let (at, r) = match &self.world {
+            None => (p.position, self.epsilon),
+            Some(w) => (w.rays.warp.unwarp(p.position), w.rays.near),
+        };
+        let r = DVec3::splat(r);
+        self.near.query_box(at - r, at + r, &mut |t| {
+            if t != p.triangle {
+                out.push(t);
+            }
+        });
     }
 
     /// Whether the segment from `p` to `l` crosses triangle `t` in `f64`, farther than
@@ -228,9 +335,81 @@ impl Tracer {
         at > self.touch && at < dist - self.touch
     }
 
-    /// First surface hit by the ray `origin + t * dir` (`dir` unit).
+    /// First surface hit by the ray `origin + t * dir` (`dir` unit). Under a distant light,
+    /// the world's ray whose image it is is cast ([`Tracer::world_surface_point`]).
     pub fn surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
-        surface_point(&self.bvh, &self.triangles, origin, dir)
+        let Some(w) = &self.world else {
+            return surface_point(&self.bvh, &self.triangles, origin, dir);
+        };
+        // The warp carries a ray's direction at a point by its derivative there.
+        let from = w.rays.warp.unwarp(origin);
+        let along = (w.rays.warp.jacobian(from).inverse() * dir).normalize();
+        self.world_surface_point(from, along)
+            .map(|p| self.rendered(p))
+    }
+
+    /// The first surface point of the world along the world's ray `origin + t * dir` (`dir`
+    /// unit), on its triangle's plane in the world: under a distant light, a point that does
+    /// not depend on the light ([`Tracer::rendered`] takes it to the rendered scene); under a
+    /// rectangle, [`Tracer::surface_point`].
+    pub fn world_surface_point(&self, origin: DVec3, dir: DVec3) -> Option<SurfacePoint> {
+        let triangles = self
+            .world
+            .as_ref()
+            .map_or(&self.triangles, |w| &w.triangles);
+        surface_point(&self.bvh, triangles, origin, dir)
+    }
+
+    /// The surface point of the rendered scene at the world's surface point `p`
+    /// ([`Tracer::world_surface_point`]): warped onto its triangle's plane under a distant
+    /// light, `p` itself under a rectangle.
+    pub fn rendered(&self, p: SurfacePoint) -> SurfacePoint {
+        match &self.world {
+            None => p,
+            Some(w) => snapped(w.rays.warp.point(p.position), p.triangle, &self.triangles),
+        }
+    }
+
+    /// Calls `f` with each triangle but `exclude` that the `f32` cast of [`Tracer::sees`]
+    /// crosses on the segment from `p` to the light point `l`, from [`Tracer::epsilon`] past
+    /// `p` to `short` before `l` (in the world under a distant light, to beyond the scene), if
+    /// the segment is longer than that; a triangle may be reported more than once.
+    pub fn for_each_hit_towards(
+        &self,
+        p: DVec3,
+        l: DVec3,
+        short: f64,
+        exclude: u32,
+        f: impl FnMut(u32),
+    ) {
+        let (from, dir, tmin, tmax) = self.cast(p, l, short);
+        if tmax > tmin {
+            self.bvh.for_each_hit(
+                from,
+                dir.as_vec3().into(),
+                tmin as f32,
+                tmax as f32,
+                exclude,
+                f,
+            );
+        }
+    }
+
+    /// The cast from `p` towards `l`: its origin, unit direction and range, stopping `short`
+    /// before `l` ([`Tracer::for_each_hit_towards`]).
+    #[inline]
+    fn cast(&self, p: DVec3, l: DVec3, short: f64) -> (DVec3, DVec3, f64, f64) {
+        match &self.world {
+            None => {
+                let d = l - p;
+                let dist = d.length();
+                (p, d / dist, self.epsilon, dist - short)
+            }
+            Some(w) => {
+                let (from, dir, reach) = w.rays.ray(p, l, short);
+                (from, dir, w.rays.epsilon, reach)
+            }
+        }
     }
 
     /// Whether the light point `l` is visible from the surface point `p`, whose
@@ -244,23 +423,17 @@ impl Tracer {
     /// past `p` to [`Tracer::touch`] before `l`.
     #[inline]
     fn sees_far(&self, p: &SurfacePoint, l: DVec3) -> bool {
-        let d = l - p.position;
-        let dist = d.length();
-        if dist <= self.epsilon {
+        let (from, dir, tmin, tmax) = self.cast(p.position, l, self.touch);
+        if !(tmax + self.touch > tmin) {
             return true;
         }
-        let dir = d / dist;
-        !self.bvh.occluded_by(
-            p.position,
-            dir.as_vec3().into(),
-            self.epsilon as f32,
-            (dist - self.touch) as f32,
-            |t| {
+        !self
+            .bvh
+            .occluded_by(from, dir.as_vec3().into(), tmin as f32, tmax as f32, |t| {
                 t != p.triangle
                     && self.in_front[t as usize]
                     && !self.holds_segment(t, p.position, l)
-            },
-        )
+            })
     }
 
     /// Whether the plane of triangle `t` holds the segment from `p` to `l`, within
@@ -420,5 +593,47 @@ mod tests {
         assert_eq!(signed[0][0].y.to_bits(), 0);
         signed[0][0].y = -0.0;
         assert!(!built.serves(&signed, Rays::Few));
+    }
+
+    /// Under a distant light the hierarchies are the world's, shared by every direction, and
+    /// a cast in the world blocks what the warped segment does: the sphere's shadow on the
+    /// ground, seen from a point under it, and not from a point beside it.
+    #[test]
+    fn distant_lights_share_the_worlds_hierarchies() {
+        use crate::distant::DistantLight;
+        use crate::lights::Light;
+        let mut kept = None;
+        let lit = |azimuth: f64, elevation: f64| {
+            let mut s = scene(0.0);
+            s.lights[0].light = Light::Distant(DistantLight::sun(azimuth, elevation, 2.0).unwrap());
+            s.lit(0)
+        };
+        let (a, b) = (lit(0.0, 90.0), lit(120.0, 40.0));
+        let first = Tracer::new_reusing(&a, Rays::Many, &mut kept);
+        let second = Tracer::new_reusing(&b, Rays::Many, &mut kept);
+        assert!(Arc::ptr_eq(&first.bvh, &second.bvh));
+        assert!(
+            kept.as_ref()
+                .unwrap()
+                .serves(&a.world_triangles(), Rays::Many)
+        );
+        assert_eq!(*second.triangles, *b.triangles());
+        // Under the sun at the zenith: the ground under the sphere (at x = 0, found from below)
+        // is shadowed, the ground at x = 2.5 is not, by the world's rays and by the exact
+        // evaluator alike.
+        let warp = a.warp().unwrap();
+        for (x, seen) in [(0.0, false), (2.5, true)] {
+            let world = DVec3::new(x, 0.0, 0.3);
+            let p = first
+                .world_surface_point(world - DVec3::Y, DVec3::Y)
+                .unwrap();
+            assert!((p.position - world).length() < 1e-9);
+            let p = first.rendered(p);
+            assert!((p.position - warp.point(world)).length() < 1e-9);
+            let mut near = Vec::new();
+            first.near_triangles(&p, &mut near);
+            assert_eq!(first.sees(&p, first.light.center, &near), seen, "x = {x}");
+            assert_eq!(first.exact_visibility(&p) > 0.5, seen, "x = {x}");
+        }
     }
 }

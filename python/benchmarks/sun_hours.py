@@ -1,7 +1,9 @@
 """The throughput of sun studies, measured in one run (docs/sun-studies.md, "Throughput"):
 
 - seconds per daylight step of `depth-complexity` and of `reference` at the same samples on a
-  scene (by default the 209,388-triangle scale scene at 320 x 240, 64 samples), and their ratio;
+  scene (by default the 209,388-triangle scale scene at 320 x 240, 64 samples), once the
+  study's set-up is paid, and their ratio; and that set-up (the hierarchies, the meshes'
+  half-edge structures, the camera's surface points), paid once a study;
 - the growth of a step's time with the pixels (80 x 60 to 320 x 240) and of a study's with its
   steps (a day, three days);
 - a Ray cluster on this machine with one worker against two (`ray.init(num_cpus=1)` and `=2`),
@@ -27,14 +29,22 @@ PLACE = dict(latitude=40.42, longitude=-3.70)  # Madrid
 DAY = ("2026-06-21", "2026-06-22")
 
 
-def per_step(scene, technique, steps, samples):
-    """Seconds per daylight step over `steps` of a June day (one process, every core)."""
+def per_step(scene, technique, steps, samples, with_setup=False):
+    """Seconds per daylight step of a June day once the study's set-up is paid (one process,
+    every core): a study of `steps` steps less one of its first step, over `steps - 1`. With
+    `with_setup`, also the set-up: the one-step study less a step."""
     s = study.sun_steps(PLACE["latitude"], PLACE["longitude"], *DAY, timezone="Europe/Madrid")
     index = s.daylight()[:steps]
-    t0 = time.perf_counter()
-    _penumbra._sun_hours(scene, s.azimuth_deg[index], s.elevation_deg[index], s.hours[index],
-                         technique=technique, samples=samples)
-    return (time.perf_counter() - t0) / len(index)
+
+    def run(k):
+        t0 = time.perf_counter()
+        _penumbra._sun_hours(scene, s.azimuth_deg[index[:k]], s.elevation_deg[index[:k]],
+                             s.hours[index[:k]], technique=technique, samples=samples)
+        return time.perf_counter() - t0
+
+    one, many = run(1), run(len(index))
+    step = (many - one) / (len(index) - 1)
+    return (step, one - step) if with_setup else step
 
 
 def on_ray(scene, cpus, samples, days):
@@ -69,10 +79,12 @@ def main():
     out = {"scene": os.path.relpath(args.scene, ROOT), "triangles": scene.triangle_count,
            "samples": args.samples}
 
-    dc = per_step(scene, "depth-complexity", args.steps, args.samples)
-    ref = per_step(scene, "reference", args.steps, args.samples)
+    dc, dc_setup = per_step(scene, "depth-complexity", args.steps, args.samples, True)
+    ref, ref_setup = per_step(scene, "reference", args.steps, args.samples, True)
     out["step_s"] = {"depth-complexity": round(dc, 3), "reference": round(ref, 3),
-                     "ratio": round(dc / ref, 3), "size": f"{scene.width}x{scene.height}"}
+                     "ratio": round(dc / ref, 3), "size": f"{scene.width}x{scene.height}",
+                     "setup_s": {"depth-complexity": round(dc_setup, 2),
+                                 "reference": round(ref_setup, 2)}}
     print(json.dumps(out["step_s"]), flush=True)
 
     out["by_pixels"] = {}

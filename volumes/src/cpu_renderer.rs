@@ -290,8 +290,6 @@ impl CpuRenderer {
     /// [`Wedge::unit`]: crate::Wedge::unit
     pub fn stencil_counts(&self, p: &SurfacePoint) -> Vec<(u32, u32)> {
         let c = self.tracer.light.center;
-        let d = c - p.position;
-        let dist = d.length();
         let eps = self.tracer.epsilon;
         // The casters within the segment's `f32` start offset of `p`, tested in `f64` over the
         // whole segment as the reference does: that offset grows with the scene's extent, and a
@@ -302,24 +300,15 @@ impl CpuRenderer {
             self.triangle_occluder[t as usize] & CASTER_BIT != 0
                 && self.tracer.crosses(p.position, c, t)
         });
-        if dist > 2.0 * eps {
-            let dir = d / dist;
-            self.tracer.bvh.for_each_hit(
-                p.position,
-                dir.as_vec3().into(),
-                eps as f32,
-                (dist - eps) as f32,
-                p.triangle,
-                |t| {
-                    // A caster whose plane holds the segment grazes it (the reference's rule).
-                    if self.triangle_occluder[t as usize] & CASTER_BIT != 0
-                        && !self.tracer.holds_segment(t, p.position, c)
-                    {
-                        out.push(t);
-                    }
-                },
-            );
-        }
+        self.tracer
+            .for_each_hit_towards(p.position, c, eps, p.triangle, |t| {
+                // A caster whose plane holds the segment grazes it (the reference's rule).
+                if self.triangle_occluder[t as usize] & CASTER_BIT != 0
+                    && !self.tracer.holds_segment(t, p.position, c)
+                {
+                    out.push(t);
+                }
+            });
         // A triangle split over several leaves is reported once per leaf, a near one perhaps
         // twice.
         out.sort_unstable();

@@ -172,6 +172,9 @@ pub struct DepthComplexity {
     reach2: f32,
     /// The camera whose pixels [`DepthComplexity::render`] renders.
     camera: Camera,
+    /// Under a distant light, the camera in the world, whose rays find the surface points
+    /// ([`Tracer::world_surface_point`]).
+    world_camera: Option<Camera>,
     /// [`CAST_FROM`], which the tests vary.
     pub(crate) cast_from: CastFrom,
     /// Pixels of the last [`DepthComplexity::render`] whose samples were cast.
@@ -196,20 +199,21 @@ impl DepthComplexity {
     /// keeping the one built in `kept` otherwise ([`Tracer::new_reusing`]).
     pub fn new_reusing(scene: &LitScene, kept: &mut Option<TracerGeometry>) -> Self {
         let tracer = Tracer::new_reusing(scene, Rays::Many, kept);
-        let edges = PotentialEdges::build(scene);
+        Self::from_parts(scene, tracer, PotentialEdges::build(scene))
+    }
+
+    /// The renderer of `scene` from its tracer and its potential silhouette edges, built by
+    /// the caller ([`crate::SunSeries`] keeps what they share from one light to the next).
+    pub fn from_parts(scene: &LitScene, tracer: Tracer, edges: PotentialEdges) -> Self {
         let light = &tracer.light;
-        let reach = tracer
-            .triangles
-            .iter()
-            .flatten()
-            .map(|&v| light.to_light_space(v).abs().max_element())
-            .fold(1.0f64, f64::max);
+        let reach = edges.reach;
         DepthComplexity {
             reach2: (reach * reach) as f32,
             thin: !(light.size.max_element() <= THIN_LIGHT * light.size.min_element()),
             tracer,
             edges,
             camera: scene.camera,
+            world_camera: scene.distant.as_ref().map(|d| d.camera),
             cast_from: CAST_FROM,
             cast_pixels: Default::default(),
         }
@@ -223,23 +227,11 @@ impl DepthComplexity {
         let c = t.light.center;
         hits.clear();
         hits.extend(near.iter().filter(|&&n| t.crosses(p.position, c, n)));
-        let d = c - p.position;
-        let dist = d.length();
-        if dist > t.epsilon {
-            let dir = d / dist;
-            t.bvh.for_each_hit(
-                p.position,
-                dir.as_vec3().into(),
-                t.epsilon as f32,
-                (dist - t.touch) as f32,
-                p.triangle,
-                |tri| {
-                    if t.in_front(tri) && !t.holds_segment(tri, p.position, c) {
-                        hits.push(tri);
-                    }
-                },
-            );
-        }
+        t.for_each_hit_towards(p.position, c, t.touch, p.triangle, |tri| {
+            if t.in_front(tri) && !t.holds_segment(tri, p.position, c) {
+                hits.push(tri);
+            }
+        });
         // A triangle split over several leaves is reported once per leaf, a near one perhaps
         // twice.
         hits.sort_unstable();
@@ -410,6 +402,29 @@ impl DepthComplexity {
         pattern: SamplePattern,
         progress: &(dyn Fn(u64) + Sync),
     ) -> VisibilityImage {
+        let t = &self.tracer;
+        match &self.world_camera {
+            None => {
+                let cam = &self.camera;
+                self.render_at(pattern, progress, &|i, j| {
+                    t.surface_point(cam.eye, cam.ray_dir(i, j))
+                })
+            }
+            Some(cam) => self.render_at(pattern, progress, &|i, j| {
+                let p = t.world_surface_point(cam.eye, cam.ray_dir(i, j))?;
+                Some(t.rendered(p))
+            }),
+        }
+    }
+
+    /// [`DepthComplexity::render`] with the surface point of pixel `(i, j)` given by
+    /// `surface` (the one the tracer finds, or one found before).
+    pub fn render_at(
+        &self,
+        pattern: SamplePattern,
+        progress: &(dyn Fn(u64) + Sync),
+        surface: &(dyn Fn(u32, u32) -> Option<SurfacePoint> + Sync),
+    ) -> VisibilityImage {
         let cam = &self.camera;
         let w = cam.width as usize;
         let light = &self.tracer.light;
@@ -434,8 +449,7 @@ impl DepthComplexity {
                     for dy in 0..rows {
                         let j = tile_row * TILE + dy;
                         for i in x0..(x0 + TILE).min(w) {
-                            let dir = cam.ray_dir(i as u32, j as u32);
-                            let Some(p) = self.tracer.surface_point(cam.eye, dir) else {
+                            let Some(p) = surface(i as u32, j as u32) else {
                                 continue;
                             };
                             let pl = light.to_light_space(p.position);
@@ -451,16 +465,20 @@ impl DepthComplexity {
                     let mut candidates = std::mem::take(&mut scratch.candidates);
                     let samples = pattern.per_axis * pattern.per_axis;
                     let tile_casts = self.tile_candidates(&at, samples, &mut candidates);
-                    if tile_casts {
-                        self.cast_pixels
-                            .fetch_add(lit.len() as u64, std::sync::atomic::Ordering::Relaxed);
-                    }
+                    // Points far apart under a small light (the sun): each point's own
+                    // pyramid holds a small part of the tile's, and decides for itself.
+                    let per_point = tile_casts && wider_than_the_light(&at);
                     for (k, p, pl) in &lit {
                         if stop.happened() {
                             return;
                         }
                         let pixel = (tile_row * TILE * w + k) as u64;
-                        if tile_casts {
+                        let casts = tile_casts
+                            && (!per_point
+                                || self.tile_candidates(&[*pl], samples, &mut candidates));
+                        if casts {
+                            self.cast_pixels
+                                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                             self.tracer.near_triangles(p, &mut scratch.near);
                             block[*k] = self.cast(p, pattern, pixel, &mut scratch) as f32;
                             continue;
@@ -482,6 +500,17 @@ impl DepthComplexity {
             });
         img
     }
+}
+
+/// Whether the light-space points `at` spread wider, across the light's normal, than the
+/// light's side (2): the union of their pyramids to the light is then several times as wide
+/// as any one of them.
+fn wider_than_the_light(at: &[DVec3]) -> bool {
+    let (lo, hi) = at.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), q| (lo.min(q.truncate()), hi.max(q.truncate())),
+    );
+    (hi - lo).max_element() > 2.0
 }
 
 /// The barycentric coordinate under which the segment to the light's centre meets a triangle

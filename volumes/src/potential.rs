@@ -70,6 +70,8 @@ pub struct PotentialEdges {
     pub faces: Vec<EdgeFace>,
     /// Edges of the scene's meshes before the selection.
     pub all_edges: usize,
+    /// The largest light-space coordinate of a vertex of the meshes, and at least 1.
+    pub reach: f64,
     /// Where triangles pass through the light's plane across the light.
     pub crossings: Vec<LightCrossing>,
     bvh: BoxTree,
@@ -163,26 +165,43 @@ impl PotentialEdges {
         meshes: impl IntoIterator<Item = impl std::borrow::Borrow<HalfEdgeMesh>>,
         light: &RectLight,
     ) -> Self {
+        let meshes: Vec<_> = meshes.into_iter().collect();
+        Self::build_moved(
+            meshes
+                .iter()
+                .map(|m| (m.borrow(), m.borrow().positions.as_slice())),
+            light,
+        )
+    }
+
+    /// [`PotentialEdges::build_half_edge`] of meshes whose vertices have moved (under a distant
+    /// light, the warped world's): each mesh's half-edge structure, whose positions are not
+    /// read, with its vertices' positions now, as many, in its order.
+    ///
+    /// # Panics
+    ///
+    /// If a mesh is given fewer positions than its faces name.
+    pub fn build_moved<'a>(
+        meshes: impl IntoIterator<Item = (&'a HalfEdgeMesh, &'a [DVec3])>,
+        light: &RectLight,
+    ) -> Self {
         let light = *light;
         let mut edges = Vec::new();
         let mut faces = Vec::new();
         let mut all_edges = 0;
+        let mut reach = 1.0f64;
         let mut first_triangle = 0u32;
         let mut crossings = Vec::new();
         // One list for every edge's apices: allocating one per edge cost as much as the tests.
         let mut apices: Vec<DVec3> = Vec::new();
-        for m in meshes {
-            let mesh = m.borrow();
+        for (mesh, positions) in meshes {
             all_edges += mesh.edges.len();
             // At most every edge, with its faces: reserved ahead, the lists are not copied as
             // they grow (pages never written are never touched).
             edges.reserve(mesh.edges.len());
             faces.reserve(mesh.half_edges.len());
-            let pos: Vec<DVec3> = mesh
-                .positions
-                .iter()
-                .map(|&p| light.to_light_space(p))
-                .collect();
+            let pos: Vec<DVec3> = positions.iter().map(|&p| light.to_light_space(p)).collect();
+            reach = pos.iter().fold(reach, |r, p| r.max(p.abs().max_element()));
             for e in &mesh.edges {
                 let [ia, ib] = e.vertices;
                 let (a, b) = (pos[ia as usize], pos[ib as usize]);
@@ -241,6 +260,7 @@ impl PotentialEdges {
             edges,
             faces,
             all_edges,
+            reach,
             crossings,
             bvh,
         }

@@ -45,7 +45,7 @@ pub enum SensorSamples {
 /// What [`SensorVisibility`] tests the samples with.
 enum Method {
     Counted(Box<DepthComplexity>, SamplePattern),
-    Cast(Tracer, usize),
+    Cast(Box<Tracer>, usize),
 }
 
 /// The visibility of sensor points under one light of a scene: its ray-casting hierarchy and,
@@ -76,7 +76,7 @@ impl SensorVisibility {
                 Method::Counted(Box::new(DepthComplexity::new_reusing(scene, kept)), pattern)
             }
             SensorSamples::Cast { per_axis } => Method::Cast(
-                Tracer::new_reusing(scene, penumbra_geom::Rays::Many, kept),
+                Box::new(Tracer::new_reusing(scene, penumbra_geom::Rays::Many, kept)),
                 per_axis,
             ),
         };
