@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 use penumbra_params::TechniqueParams;
+use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::distant::{DistantLight, Warp};
@@ -76,9 +77,9 @@ impl LitScene {
                     .iter()
                     .map(|m| {
                         let mut mesh = m.mesh.clone();
-                        for p in &mut mesh.positions {
-                            *p = warp.point(*p);
-                        }
+                        mesh.positions
+                            .par_iter_mut()
+                            .for_each(|p| *p = warp.point(*p));
                         SceneMesh {
                             source: m.source.clone(),
                             transform: m.transform,

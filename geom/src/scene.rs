@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use glam::{DMat4, DVec3};
 use penumbra_params::TechniqueParams;
+use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::distant::DistantLight;
@@ -269,8 +270,13 @@ impl Scene {
 
 /// Every triangle of `meshes`, meshes in order.
 pub(crate) fn triangles(meshes: &[SceneMesh]) -> Vec<[DVec3; 3]> {
-    meshes
-        .iter()
-        .flat_map(|m| (0..m.mesh.triangles.len()).map(|t| m.mesh.triangle(t)))
-        .collect()
+    let mut all = Vec::with_capacity(meshes.iter().map(|m| m.mesh.triangles.len()).sum());
+    for m in meshes {
+        all.par_extend(
+            (0..m.mesh.triangles.len())
+                .into_par_iter()
+                .map(|t| m.mesh.triangle(t)),
+        );
+    }
+    all
 }

@@ -14,6 +14,7 @@
 use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use crate::boxtree::BoxTree;
 use crate::distant::Warp;
@@ -100,12 +101,19 @@ impl WorldRays {
 
 /// The bounding box of `triangles`.
 fn bounds_of(triangles: &[[DVec3; 3]]) -> (DVec3, DVec3) {
+    let empty = (DVec3::INFINITY, DVec3::NEG_INFINITY);
     triangles
-        .iter()
-        .flatten()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        })
+        .par_iter()
+        .fold(
+            || empty,
+            |(lo, hi), t| {
+                (
+                    lo.min(t[0]).min(t[1]).min(t[2]),
+                    hi.max(t[0]).max(t[1]).max(t[2]),
+                )
+            },
+        )
+        .reduce(|| empty, |(l0, h0), (l1, h1)| (l0.min(l1), h0.max(h1)))
 }
 
 /// A [`Tracer`]'s world under a distant light.
@@ -272,7 +280,7 @@ impl Tracer {
             },
         });
         let in_front = triangles
-            .iter()
+            .par_iter()
             .map(|t| t.iter().any(|&v| scene.light.signed_distance(v) > 0.0))
             .collect();
         Tracer {

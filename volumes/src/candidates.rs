@@ -1,10 +1,10 @@
-//! The candidate edges of a receiver point or a tile of them, and the `f32` silhouette
-//! pre-test that keeps, for one point, those that may change a sample's count
-//! ([`crate::DepthComplexity`]).
+//! The candidate edges of a receiver point or a tile of them, and the `f32` pre-test that
+//! keeps, for one point, those that may change a sample's count ([`crate::DepthComplexity`]):
+//! silhouettes seen from the point that may meet its pyramid to the light.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
-use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges};
+use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges, pyramid_planes};
 
 /// The candidate edges of a point or a tile, with what the silhouette pre-test reads of each
 /// in `f32`, one array per number so that the test runs four edges to an instruction.
@@ -15,6 +15,11 @@ use crate::potential::{EdgeFace, PotentialEdge, PotentialEdges};
 /// opposite signs and each is larger than a margin far above its `f32` rounding; every other
 /// edge (one within the margin, a boundary or non-manifold edge, whose second normal is stored
 /// as zero) goes to the exact `f64` test.
+///
+/// Nor does an edge change a count that lies wholly outside the pyramid from P to the light:
+/// the pre-test drops one whose two ends lie outside one of the pyramid's four sides by more
+/// than a margin of the same form. Under a small light (the sun) a tile's candidates are most
+/// of them outside each point's thin pyramid.
 #[derive(Default)]
 pub(crate) struct Candidates {
     /// Their indices into the potential edges.
@@ -23,6 +28,7 @@ pub(crate) struct Candidates {
     /// in the list's order instead of across the whole scene's edges.
     pub(crate) edges: Vec<(PotentialEdge, [EdgeFace; 2])>,
     a: [Vec<f32>; 3],
+    b: [Vec<f32>; 3],
     n0: [Vec<f32>; 3],
     n1: [Vec<f32>; 3],
     /// `(MARGIN |n_k|)^2`.
@@ -49,7 +55,13 @@ impl Candidates {
     pub(crate) fn clear(&mut self) {
         self.ids.clear();
         self.edges.clear();
-        for v in self.a.iter_mut().chain(&mut self.n0).chain(&mut self.n1) {
+        for v in self
+            .a
+            .iter_mut()
+            .chain(&mut self.b)
+            .chain(&mut self.n0)
+            .chain(&mut self.n1)
+        {
             v.clear();
         }
         self.t0.clear();
@@ -67,6 +79,7 @@ impl Candidates {
         self.edges.push((*e, [*n0, *n1]));
         for k in 0..3 {
             self.a[k].push(e.a[k] as f32);
+            self.b[k].push(e.b[k] as f32);
             self.n0[k].push(n0.normal[k] as f32);
             self.n1[k].push(n1.normal[k] as f32);
         }
@@ -82,17 +95,35 @@ impl Candidates {
         self.keep.resize(n, false);
         // Slices of one length, so that the loop runs without bounds checks, four to a step.
         let [ax, ay, az] = self.a.each_ref().map(|v| &v[..n]);
+        let [bx, by, bz] = self.b.each_ref().map(|v| &v[..n]);
         let [n0x, n0y, n0z] = self.n0.each_ref().map(|v| &v[..n]);
         let [n1x, n1y, n1z] = self.n1.each_ref().map(|v| &v[..n]);
         let (t0, t1, keep) = (&self.t0[..n], &self.t1[..n], &mut self.keep[..n]);
         let (px, py, pz) = (p.x as f32, p.y as f32, p.z as f32);
+        // The pyramid's sides, each `s . (x - p) >= 0` inside, with `(MARGIN |s|)^2`.
+        let planes = pyramid_planes(p);
+        let sides: [(Vec3, f32); 4] = std::array::from_fn(|k| {
+            let s = planes[k + 1].n.as_vec3();
+            (s, (MARGIN * s.length()).powi(2))
+        });
         for k in 0..n {
             let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
             let m = dx * dx + dy * dy + dz * dz + r2;
             let s0 = n0x[k] * dx + n0y[k] * dy + n0z[k] * dz;
             let s1 = n1x[k] * dx + n1y[k] * dy + n1z[k] * dz;
             let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
-            keep[k] = !apart;
+            let (ex, ey, ez) = (px - bx[k], py - by[k], pz - bz[k]);
+            let mb = ex * ex + ey * ey + ez * ez + r2;
+            let mut outside = false;
+            for &(s, t) in &sides {
+                // `s . (x - p)` at both ends, from `p - x` as computed.
+                let (sa, sb) = (
+                    -(s.x * dx + s.y * dy + s.z * dz),
+                    -(s.x * ex + s.y * ey + s.z * ez),
+                );
+                outside |= (sa < 0.0) & (sb < 0.0) & (sa * sa > t * m) & (sb * sb > t * mb);
+            }
+            keep[k] = !(apart | outside);
         }
         // The list without a branch: every index is written, and the count moves past the kept.
         // A pass of its own: written inside the test's loop, the list's count chains its steps,

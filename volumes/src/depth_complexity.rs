@@ -274,18 +274,19 @@ impl DepthComplexity {
         candidates.clear();
         self.edges
             .for_each_near(pl, |ei| candidates.push(&self.edges, ei));
-        let v = self.visibility_among(p, pl, &mut candidates, pattern, pixel, scratch);
+        candidates.pretest(pl, self.reach2);
+        let v = self.visibility_among(p, pl, &candidates, pattern, pixel, scratch);
         scratch.candidates = candidates;
         v
     }
 
     /// [`DepthComplexity::visibility`] of `p` (light space `pl`, lit side) with its edges taken
-    /// from `candidates`, a superset of those near it.
+    /// from `candidates`, a superset of those near it, pre-tested at `pl`.
     fn visibility_among(
         &self,
         p: &SurfacePoint,
         pl: DVec3,
-        candidates: &mut Candidates,
+        candidates: &Candidates,
         pattern: SamplePattern,
         pixel: u64,
         scratch: &mut Scratch,
@@ -293,7 +294,6 @@ impl DepthComplexity {
         self.tracer.near_triangles(p, &mut scratch.near);
         let centre_count = self.centre_count(p, &scratch.near, &mut scratch.hits);
         let pyramid = pyramid_planes(pl);
-        candidates.pretest(pl, self.reach2);
         let regions = &mut scratch.regions;
         regions.clear();
         let mut degenerate = false;
@@ -396,7 +396,11 @@ impl DepthComplexity {
     /// A tile whose candidates outnumber its samples 24 times, or whose middle point keeps four
     /// times as many edges as samples (a large light over detailed meshes: thousands of
     /// potential silhouette edges around each point), tests each sample by a ray instead, which
-    /// costs less there; the query stops at the first number.
+    /// costs less there; the query stops at the first number. A tile whose points spread wider
+    /// than the light (a small light, the sun, over a tile of the ground) holds in the union of
+    /// their pyramids many times the edges of any one: each point takes its own, by the same
+    /// rules. A point none of whose edges passes the pre-test needs only whether its count at
+    /// the centre is zero: one ray that stops at its first crossing.
     pub fn render(
         &self,
         pattern: SamplePattern,
@@ -464,18 +468,20 @@ impl DepthComplexity {
                     at.extend(lit.iter().map(|l| l.2));
                     let mut candidates = std::mem::take(&mut scratch.candidates);
                     let samples = pattern.per_axis * pattern.per_axis;
-                    let tile_casts = self.tile_candidates(&at, samples, &mut candidates);
                     // Points far apart under a small light (the sun): each point's own
-                    // pyramid holds a small part of the tile's, and decides for itself.
-                    let per_point = tile_casts && wider_than_the_light(&at);
+                    // pyramid holds a small part of the tile's, and takes its own edges.
+                    let per_point = wider_than_the_light(&at);
+                    let tile_casts =
+                        !per_point && self.tile_candidates(&at, samples, &mut candidates);
                     for (k, p, pl) in &lit {
                         if stop.happened() {
                             return;
                         }
                         let pixel = (tile_row * TILE * w + k) as u64;
-                        let casts = tile_casts
-                            && (!per_point
-                                || self.tile_candidates(&[*pl], samples, &mut candidates));
+                        let casts = match per_point {
+                            true => self.tile_candidates(&[*pl], samples, &mut candidates),
+                            false => tile_casts,
+                        };
                         if casts {
                             self.cast_pixels
                                 .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -483,10 +489,20 @@ impl DepthComplexity {
                             block[*k] = self.cast(p, pattern, pixel, &mut scratch) as f32;
                             continue;
                         }
+                        candidates.pretest(*pl, self.reach2);
+                        if candidates.kept.is_empty() && self.edges.crossings.is_empty() {
+                            // No edge comes between the point and the light: every sample's
+                            // count is the centre's, and only whether it is zero matters (the
+                            // first crossing found ends the ray).
+                            self.tracer.near_triangles(p, &mut scratch.near);
+                            let c = self.tracer.light.center;
+                            block[*k] = f32::from(u8::from(self.tracer.sees(p, c, &scratch.near)));
+                            continue;
+                        }
                         let v = self.visibility_among(
                             p,
                             *pl,
-                            &mut candidates,
+                            &candidates,
                             pattern,
                             pixel,
                             &mut scratch,

@@ -21,7 +21,8 @@
 
 use glam::DVec3;
 use penumbra_geom::{BoxTree, Plane};
-use penumbra_geom::{HalfEdgeMesh, LitScene, RectLight, TriangleMesh};
+use penumbra_geom::{Edge, HalfEdgeMesh, LitScene, RectLight, TriangleMesh};
+use rayon::prelude::*;
 
 /// One face on a potential silhouette edge `a b`, as the plane through the edge and the face's
 /// third vertex `w`: `F(x) = n . (x - a)` with `n = (b - a) x (w - a)`, whose sign at a point
@@ -144,6 +145,56 @@ fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
     !(opposite(s0, s1) || opposite(s1, s0))
 }
 
+/// Edges a task of [`PotentialEdges::build_moved`] tests.
+const EDGE_RUN: usize = 1 << 14;
+
+/// The potential silhouette edges among `run`, edges of `mesh` whose vertices are at the
+/// light-space `pos`, with their faces (numbered from `first_triangle`; `first_face` counted
+/// from the run's first).
+fn potential_in(
+    mesh: &HalfEdgeMesh,
+    run: &[Edge],
+    pos: &[DVec3],
+    first_triangle: u32,
+) -> (Vec<PotentialEdge>, Vec<EdgeFace>) {
+    let (mut edges, mut faces) = (Vec::new(), Vec::new());
+    // One list for every edge's apices: allocating one per edge cost as much as the tests.
+    let mut apices: Vec<DVec3> = Vec::new();
+    for e in run {
+        let [ia, ib] = e.vertices;
+        let (a, b) = (pos[ia as usize], pos[ib as usize]);
+        if a.z <= 0.0 && b.z <= 0.0 {
+            continue;
+        }
+        let apex = |h: u32| {
+            let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
+            let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
+            pos[w as usize]
+        };
+        apices.clear();
+        apices.extend(e.half_edges.iter().map(|&h| apex(h)));
+        if apices.len() == 2 && !may_fold(a, b, apices[0], apices[1]) {
+            continue;
+        }
+        edges.push(PotentialEdge {
+            a,
+            b,
+            toward_centre: (b - a).cross(-a),
+            first_face: faces.len() as u32,
+            face_count: apices.len() as u32,
+        });
+        faces.extend(e.half_edges.iter().zip(&apices).map(|(&h, &w)| {
+            let normal = (b - a).cross(w - a);
+            EdgeFace {
+                normal,
+                normal_length2: normal.length_squared(),
+                triangle: first_triangle + HalfEdgeMesh::face(h),
+            }
+        }));
+    }
+    (edges, faces)
+}
+
 impl PotentialEdges {
     /// Finds the potential silhouette edges of every mesh of `scene` for its light.
     pub fn build(scene: &LitScene) -> Self {
@@ -192,52 +243,36 @@ impl PotentialEdges {
         let mut reach = 1.0f64;
         let mut first_triangle = 0u32;
         let mut crossings = Vec::new();
-        // One list for every edge's apices: allocating one per edge cost as much as the tests.
-        let mut apices: Vec<DVec3> = Vec::new();
         for (mesh, positions) in meshes {
             all_edges += mesh.edges.len();
-            // At most every edge, with its faces: reserved ahead, the lists are not copied as
-            // they grow (pages never written are never touched).
-            edges.reserve(mesh.edges.len());
-            faces.reserve(mesh.half_edges.len());
-            let pos: Vec<DVec3> = positions.iter().map(|&p| light.to_light_space(p)).collect();
+            let pos: Vec<DVec3> = positions
+                .par_iter()
+                .map(|&p| light.to_light_space(p))
+                .collect();
             reach = pos.iter().fold(reach, |r, p| r.max(p.abs().max_element()));
-            for e in &mesh.edges {
-                let [ia, ib] = e.vertices;
-                let (a, b) = (pos[ia as usize], pos[ib as usize]);
-                if a.z <= 0.0 && b.z <= 0.0 {
-                    continue;
-                }
-                let apex = |h: u32| {
-                    let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
-                    let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
-                    pos[w as usize]
-                };
-                apices.clear();
-                apices.extend(e.half_edges.iter().map(|&h| apex(h)));
-                if apices.len() == 2 && !may_fold(a, b, apices[0], apices[1]) {
-                    continue;
-                }
-                edges.push(PotentialEdge {
-                    a,
-                    b,
-                    toward_centre: (b - a).cross(-a),
-                    first_face: faces.len() as u32,
-                    face_count: apices.len() as u32,
-                });
-                faces.extend(e.half_edges.iter().zip(&apices).map(|(&h, &w)| {
-                    let normal = (b - a).cross(w - a);
-                    EdgeFace {
-                        normal,
-                        normal_length2: normal.length_squared(),
-                        triangle: first_triangle + HalfEdgeMesh::face(h),
-                    }
+            // In runs of edges on every core, joined in the edges' order.
+            let runs: Vec<(Vec<PotentialEdge>, Vec<EdgeFace>)> = mesh
+                .edges
+                .par_chunks(EDGE_RUN)
+                .map(|run| potential_in(mesh, run, &pos, first_triangle))
+                .collect();
+            for (run_edges, run_faces) in runs {
+                let offset = faces.len() as u32;
+                edges.extend(run_edges.into_iter().map(|mut e| {
+                    e.first_face += offset;
+                    e
                 }));
+                faces.extend(run_faces);
             }
-            for (f, tri) in mesh.faces.iter().enumerate() {
-                let t = tri.map(|v| pos[v as usize]);
-                crossings.extend(light_crossing(t, first_triangle + f as u32));
-            }
+            let found: Vec<LightCrossing> = mesh
+                .faces
+                .par_iter()
+                .enumerate()
+                .filter_map(|(f, tri)| {
+                    light_crossing(tri.map(|v| pos[v as usize]), first_triangle + f as u32)
+                })
+                .collect();
+            crossings.extend(found);
             first_triangle += mesh.faces.len() as u32;
         }
         let boxes: Vec<(DVec3, DVec3)> =
