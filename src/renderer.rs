@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use penumbra_geom::{Channel, ImageError, ShadedImage, VisibilityChannels, VisibilityImage};
 use penumbra_geom::{Interruption, LitScene, RangeError, Scene, Technique, TracerGeometry};
+use penumbra_volumes::SunSeries;
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
 use penumbra_volumes::Volumes;
 
@@ -117,6 +118,9 @@ pub struct Renderer {
     counters: bool,
     /// The last CPU render's ray-casting hierarchy, for the next one over the same triangles.
     pub(crate) kept: Option<TracerGeometry>,
+    /// The last sun study's shared state ([`SunSeries`]), for the next study of the same meshes
+    /// and camera.
+    pub(crate) series: Option<SunSeries>,
 }
 
 impl Renderer {
@@ -129,6 +133,7 @@ impl Renderer {
             shadow_maps: Vec::new(),
             counters: false,
             kept: None,
+            series: None,
         }
     }
 
@@ -147,10 +152,12 @@ impl Renderer {
         }
     }
 
-    /// Drops the ray-casting hierarchy kept from the last CPU render, and its memory: the next
-    /// CPU render builds its own, and costs what a render of a renderer of its own does.
+    /// Drops the ray-casting hierarchy kept from the last CPU render and what the last sun
+    /// study kept, and their memory: the next CPU render builds its own, and costs what a
+    /// render of a renderer of its own does.
     pub fn release_kept(&mut self) {
         self.kept = None;
+        self.series = None;
     }
 
     /// The shaded preview of `scene` from its lights' visibility images

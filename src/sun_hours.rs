@@ -102,7 +102,9 @@ impl Renderer {
     /// hours, added in the steps' order in f64 (so that the same steps give the same bits,
     /// however a caller splits a study into runs of steps and adds their sums in order).
     /// `progress` is called with the number of steps done. The ray-casting hierarchy, the GPU
-    /// context and its pipelines are kept from step to step.
+    /// context and its pipelines are kept from step to step, and for depth-complexity sampling
+    /// of pixels on the CPU what the steps share ([`penumbra_volumes::SunSeries`]) is kept for
+    /// the next study of the same meshes and camera ([`Renderer::release_kept`] drops it).
     ///
     /// ```
     /// use penumbra::{Backend, Renderer, Scene, SunStep, SunStudy, SunTarget};
@@ -170,7 +172,8 @@ impl Renderer {
                 if study.technique == Technique::DepthComplexity
                     && !self.uses_gpu(study.technique)? =>
             {
-                Some(SunSeries::reusing(self.kept.take()))
+                let kept = self.kept.take();
+                Some(self.series.take().unwrap_or_else(|| SunSeries::reusing(kept)))
             }
             _ => None,
         };
@@ -206,7 +209,8 @@ impl Renderer {
             progress(done + 1);
         }
         if let Some(series) = series {
-            self.kept = series.into_kept();
+            self.kept = series.kept().cloned();
+            self.series = Some(series);
         }
         Ok(sum)
     }

@@ -63,6 +63,29 @@ fn the_hours_are_the_steps_own_renders_summed_and_night_is_skipped() {
     }
     assert_eq!(h, want);
     assert!(h.contains(&2.5) && h.iter().any(|&v| v < 1.0));
+    // A second study takes what the first kept (the surface points, the meshes' structures),
+    // a renderer of its own builds them: the same bits, and for another camera its own.
+    let again = r
+        .sun_hours(&scene, &study, &steps, SunTarget::Pixels, &|_| {})
+        .unwrap();
+    assert_eq!(again, h);
+    let fresh = Renderer::new(Backend::Cpu)
+        .sun_hours(&scene, &study, &steps, SunTarget::Pixels, &|_| {})
+        .unwrap();
+    assert_eq!(fresh, h);
+    let mut moved = scene.clone();
+    moved.camera.eye += DVec3::new(0.5, 0.0, 0.0);
+    let elsewhere = r
+        .sun_hours(&moved, &study, &steps[..1], SunTarget::Pixels, &|_| {})
+        .unwrap();
+    let own = Renderer::new(Backend::Cpu)
+        .sun_hours(&moved, &study, &steps[..1], SunTarget::Pixels, &|_| {})
+        .unwrap();
+    assert_eq!(elsewhere, own);
+    let here = r
+        .sun_hours(&scene, &study, &steps[..1], SunTarget::Pixels, &|_| {})
+        .unwrap();
+    assert_ne!(elsewhere, here, "the moved camera's surface points, not the kept ones");
 
     // At sensor points: the sum of the steps' visibility_at.
     let points = [DVec3::new(5.0, 0.0, 5.0), DVec3::new(0.8, 0.0, 0.3)];

@@ -48,7 +48,7 @@ impl Scene {
     }
 
     /// A kept renderer of `backend`, or a new one.
-    fn take(&self, backend: Backend) -> Renderer {
+    pub(crate) fn take(&self, backend: Backend) -> Renderer {
         let mut kept = self.renderers.lock().unwrap_or_else(|e| e.into_inner());
         match kept.iter().position(|(b, _)| *b == backend) {
             Some(i) => kept.swap_remove(i).1,
@@ -56,7 +56,7 @@ impl Scene {
         }
     }
 
-    fn give_back(&self, backend: Backend, renderer: Renderer) {
+    pub(crate) fn give_back(&self, backend: Backend, renderer: Renderer) {
         let mut kept = self.renderers.lock().unwrap_or_else(|e| e.into_inner());
         kept.push((backend, renderer));
     }

@@ -2,7 +2,7 @@
 //! splits a study into runs, here or on Ray).
 
 use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
-use penumbra::{RenderOptions, Renderer, SunStep, SunStudy, SunTarget};
+use penumbra::{RenderOptions, SunStep, SunStudy, SunTarget};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -86,8 +86,10 @@ pub fn _sun_hours<'py>(
     let b = self::backend(backend)?;
     let inner = scene.inner();
     let progress = Progress::new("sun steps".to_string(), steps.len() as u64);
+    // The scene's kept renderer: a worker that runs several runs of steps of one scene builds
+    // what they share once.
+    let mut renderer = scene.take(b);
     let result = off_interpreter(py, Some(&progress), threads, || {
-        let mut renderer = Renderer::new(b);
         let target = match &sensors {
             None => SunTarget::Pixels,
             Some((p, n)) => SunTarget::Points {
@@ -96,7 +98,9 @@ pub fn _sun_hours<'py>(
             },
         };
         renderer.sun_hours(inner, &study, &steps, target, &|d| progress.set(d as u64))
-    })?;
+    });
+    scene.give_back(b, renderer);
+    let result = result?;
     let sum = result.map_err(errors::render)?;
     let array = sum.into_pyarray(py);
     if sensors.is_some() {

@@ -67,9 +67,9 @@ impl SunSeries {
         }
     }
 
-    /// The hierarchies it holds, for the next renderer.
-    pub fn into_kept(self) -> Option<TracerGeometry> {
-        self.kept
+    /// The hierarchies it holds, for another renderer.
+    pub fn kept(&self) -> Option<&TracerGeometry> {
+        self.kept.as_ref()
     }
 
     /// The depth-complexity image of `scene` with `pattern`, as [`DepthComplexity::render`]
