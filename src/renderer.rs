@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use penumbra_geom::{Channel, ImageError, ShadedImage, VisibilityChannels, VisibilityImage};
 use penumbra_geom::{Interruption, LitScene, RangeError, Scene, Technique, TracerGeometry};
-use penumbra_volumes::SunSeries;
 use penumbra_gpu::{GpuContext, GpuRenderer, Rendered, ShadowMapRenderer};
+use penumbra_volumes::SunSeries;
 use penumbra_volumes::Volumes;
 
 use crate::backend::{self, Backend, GpuOffer, Machine, Placement, Reason, Request};

@@ -173,7 +173,11 @@ impl Renderer {
                     && !self.uses_gpu(study.technique)? =>
             {
                 let kept = self.kept.take();
-                Some(self.series.take().unwrap_or_else(|| SunSeries::reusing(kept)))
+                Some(
+                    self.series
+                        .take()
+                        .unwrap_or_else(|| SunSeries::reusing(kept)),
+                )
             }
             _ => None,
         };

@@ -85,7 +85,10 @@ fn the_hours_are_the_steps_own_renders_summed_and_night_is_skipped() {
     let here = r
         .sun_hours(&scene, &study, &steps[..1], SunTarget::Pixels, &|_| {})
         .unwrap();
-    assert_ne!(elsewhere, here, "the moved camera's surface points, not the kept ones");
+    assert_ne!(
+        elsewhere, here,
+        "the moved camera's surface points, not the kept ones"
+    );
 
     // At sensor points: the sum of the steps' visibility_at.
     let points = [DVec3::new(5.0, 0.0, 5.0), DVec3::new(0.8, 0.0, 0.3)];

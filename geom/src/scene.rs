@@ -272,11 +272,13 @@ impl Scene {
 pub(crate) fn triangles(meshes: &[SceneMesh]) -> Vec<[DVec3; 3]> {
     let mut all = Vec::with_capacity(meshes.iter().map(|m| m.mesh.triangles.len()).sum());
     for m in meshes {
-        all.par_extend(
-            (0..m.mesh.triangles.len())
-                .into_par_iter()
-                .map(|t| m.mesh.triangle(t)),
-        );
+        let n = m.mesh.triangles.len();
+        // A large mesh on every core; a small one on this thread.
+        if n > 1 << 14 {
+            all.par_extend((0..n).into_par_iter().map(|t| m.mesh.triangle(t)));
+        } else {
+            all.extend((0..n).map(|t| m.mesh.triangle(t)));
+        }
     }
     all
 }

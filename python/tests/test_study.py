@@ -86,6 +86,9 @@ def test_a_study_s_sum_does_not_depend_on_its_runs_and_night_costs_nothing():
     w = np.full(24, 2.0)
     doubled = study.sun_hours(*args, timezone="Europe/Paris", samples=16, weights=w)
     assert np.array_equal(doubled, 2.0 * a)
+    # Again on the scene, whose renderer kept what the studies share: the same bits.
+    again = study.sun_hours(*args, timezone="Europe/Paris", samples=16, chunk_steps=24)
+    assert np.array_equal(again, a)
 
 
 def test_sensor_points_over_a_day_against_the_reference():

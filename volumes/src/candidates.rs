@@ -88,42 +88,49 @@ impl Candidates {
         self.t1.push(t(n1));
     }
 
-    /// Lists in `kept` the edges that may change a count seen from `p`; `r2` is `R^2`.
-    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32) {
+    /// Lists in `kept` the edges that may change a count seen from `p`; `r2` is `R^2`. With
+    /// `pyramid`, also drops those outside the point's pyramid (worth its cost where the
+    /// candidates are a wider region's than the point's: under a small light).
+    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32, pyramid: bool) {
         let n = self.ids.len();
         self.keep.clear();
         self.keep.resize(n, false);
         // Slices of one length, so that the loop runs without bounds checks, four to a step.
         let [ax, ay, az] = self.a.each_ref().map(|v| &v[..n]);
-        let [bx, by, bz] = self.b.each_ref().map(|v| &v[..n]);
         let [n0x, n0y, n0z] = self.n0.each_ref().map(|v| &v[..n]);
         let [n1x, n1y, n1z] = self.n1.each_ref().map(|v| &v[..n]);
         let (t0, t1, keep) = (&self.t0[..n], &self.t1[..n], &mut self.keep[..n]);
         let (px, py, pz) = (p.x as f32, p.y as f32, p.z as f32);
-        // The pyramid's sides, each `s . (x - p) >= 0` inside, with `(MARGIN |s|)^2`.
-        let planes = pyramid_planes(p);
-        let sides: [(Vec3, f32); 4] = std::array::from_fn(|k| {
-            let s = planes[k + 1].n.as_vec3();
-            (s, (MARGIN * s.length()).powi(2))
-        });
         for k in 0..n {
             let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
             let m = dx * dx + dy * dy + dz * dz + r2;
             let s0 = n0x[k] * dx + n0y[k] * dy + n0z[k] * dz;
             let s1 = n1x[k] * dx + n1y[k] * dy + n1z[k] * dz;
             let apart = (s0 * s1 < 0.0) & (s0 * s0 > t0[k] * m) & (s1 * s1 > t1[k] * m);
-            let (ex, ey, ez) = (px - bx[k], py - by[k], pz - bz[k]);
-            let mb = ex * ex + ey * ey + ez * ez + r2;
-            let mut outside = false;
-            for &(s, t) in &sides {
-                // `s . (x - p)` at both ends, from `p - x` as computed.
-                let (sa, sb) = (
-                    -(s.x * dx + s.y * dy + s.z * dz),
-                    -(s.x * ex + s.y * ey + s.z * ez),
-                );
-                outside |= (sa < 0.0) & (sb < 0.0) & (sa * sa > t * m) & (sb * sb > t * mb);
+            keep[k] = !apart;
+        }
+        if pyramid {
+            // The pyramid's sides, each `s . (x - p) >= 0` inside, with `(MARGIN |s|)^2`.
+            let planes = pyramid_planes(p);
+            let [q0, q1, q2, q3]: [(Vec3, f32); 4] = std::array::from_fn(|k| {
+                let s = planes[k + 1].n.as_vec3();
+                (s, (MARGIN * s.length()).powi(2))
+            });
+            let [bx, by, bz] = self.b.each_ref().map(|v| &v[..n]);
+            for k in 0..n {
+                let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
+                let (ex, ey, ez) = (px - bx[k], py - by[k], pz - bz[k]);
+                let ma = dx * dx + dy * dy + dz * dz + r2;
+                let mb = ex * ex + ey * ey + ez * ez + r2;
+                // Both ends outside one side by more than the margin (`s . (x - p)` from the
+                // `p - x` computed).
+                let out = |(s, t): (Vec3, f32)| {
+                    let sa = -(s.x * dx + s.y * dy + s.z * dz);
+                    let sb = -(s.x * ex + s.y * ey + s.z * ez);
+                    (sa < 0.0) & (sb < 0.0) & (sa * sa > t * ma) & (sb * sb > t * mb)
+                };
+                keep[k] &= !(out(q0) | out(q1) | out(q2) | out(q3));
             }
-            keep[k] = !(apart | outside);
         }
         // The list without a branch: every index is written, and the count moves past the kept.
         // A pass of its own: written inside the test's loop, the list's count chains its steps,

@@ -274,7 +274,7 @@ impl DepthComplexity {
         candidates.clear();
         self.edges
             .for_each_near(pl, |ei| candidates.push(&self.edges, ei));
-        candidates.pretest(pl, self.reach2);
+        candidates.pretest(pl, self.reach2, true);
         let v = self.visibility_among(p, pl, &candidates, pattern, pixel, scratch);
         scratch.candidates = candidates;
         v
@@ -343,8 +343,15 @@ impl DepthComplexity {
 
     /// Gathers into `candidates` the edges that the light-space points `at` (a tile's lit
     /// receivers, the middle one halfway along) may see fold, and returns whether the tile
-    /// should cast its `samples` instead ([`CAST_FROM`]); the gathering stops there.
-    fn tile_candidates(&self, at: &[DVec3], samples: usize, candidates: &mut Candidates) -> bool {
+    /// should cast its `samples` instead ([`CAST_FROM`]); the gathering stops there. `pyramid`:
+    /// whether the middle point's pre-test drops the edges outside its pyramid.
+    fn tile_candidates(
+        &self,
+        at: &[DVec3],
+        samples: usize,
+        candidates: &mut Candidates,
+        pyramid: bool,
+    ) -> bool {
         candidates.clear();
         if self.thin {
             return true;
@@ -363,7 +370,7 @@ impl DepthComplexity {
         });
         !complete
             || at.get(at.len() / 2).is_some_and(|&m| {
-                candidates.pretest(m, self.reach2);
+                candidates.pretest(m, self.reach2, pyramid);
                 let kept = candidates.kept.len();
                 kept as f64 > self.cast_from.kept * samples as f64
             })
@@ -468,18 +475,19 @@ impl DepthComplexity {
                     at.extend(lit.iter().map(|l| l.2));
                     let mut candidates = std::mem::take(&mut scratch.candidates);
                     let samples = pattern.per_axis * pattern.per_axis;
-                    // Points far apart under a small light (the sun): each point's own
-                    // pyramid holds a small part of the tile's, and takes its own edges.
-                    let per_point = wider_than_the_light(&at);
-                    let tile_casts =
-                        !per_point && self.tile_candidates(&at, samples, &mut candidates);
+                    // Points far apart under a small light (the sun): each point's pyramid
+                    // holds a small part of the tile's. Its pre-test drops the edges outside
+                    // it, and where the tile has too many, the point takes its own.
+                    let wide = wider_than_the_light(&at);
+                    let tile_casts = self.tile_candidates(&at, samples, &mut candidates, false);
+                    let per_point = tile_casts && wide;
                     for (k, p, pl) in &lit {
                         if stop.happened() {
                             return;
                         }
                         let pixel = (tile_row * TILE * w + k) as u64;
                         let casts = match per_point {
-                            true => self.tile_candidates(&[*pl], samples, &mut candidates),
+                            true => self.tile_candidates(&[*pl], samples, &mut candidates, true),
                             false => tile_casts,
                         };
                         if casts {
@@ -489,7 +497,7 @@ impl DepthComplexity {
                             block[*k] = self.cast(p, pattern, pixel, &mut scratch) as f32;
                             continue;
                         }
-                        candidates.pretest(*pl, self.reach2);
+                        candidates.pretest(*pl, self.reach2, wide);
                         if candidates.kept.is_empty() && self.edges.crossings.is_empty() {
                             // No edge comes between the point and the light: every sample's
                             // count is the centre's, and only whether it is zero matters (the

@@ -245,17 +245,23 @@ impl PotentialEdges {
         let mut crossings = Vec::new();
         for (mesh, positions) in meshes {
             all_edges += mesh.edges.len();
-            let pos: Vec<DVec3> = positions
-                .par_iter()
-                .map(|&p| light.to_light_space(p))
-                .collect();
+            // A large mesh on every core, in runs of edges joined in their order; a small one
+            // on this thread (waking the others would cost more).
+            let large = mesh.edges.len() > EDGE_RUN;
+            let to_light = |p: &DVec3| light.to_light_space(*p);
+            let pos: Vec<DVec3> = match large {
+                true => positions.par_iter().map(to_light).collect(),
+                false => positions.iter().map(to_light).collect(),
+            };
             reach = pos.iter().fold(reach, |r, p| r.max(p.abs().max_element()));
-            // In runs of edges on every core, joined in the edges' order.
-            let runs: Vec<(Vec<PotentialEdge>, Vec<EdgeFace>)> = mesh
-                .edges
-                .par_chunks(EDGE_RUN)
-                .map(|run| potential_in(mesh, run, &pos, first_triangle))
-                .collect();
+            let runs: Vec<(Vec<PotentialEdge>, Vec<EdgeFace>)> = match large {
+                true => mesh
+                    .edges
+                    .par_chunks(EDGE_RUN)
+                    .map(|run| potential_in(mesh, run, &pos, first_triangle))
+                    .collect(),
+                false => vec![potential_in(mesh, &mesh.edges, &pos, first_triangle)],
+            };
             for (run_edges, run_faces) in runs {
                 let offset = faces.len() as u32;
                 edges.extend(run_edges.into_iter().map(|mut e| {
@@ -264,15 +270,15 @@ impl PotentialEdges {
                 }));
                 faces.extend(run_faces);
             }
-            let found: Vec<LightCrossing> = mesh
-                .faces
-                .par_iter()
-                .enumerate()
-                .filter_map(|(f, tri)| {
-                    light_crossing(tri.map(|v| pos[v as usize]), first_triangle + f as u32)
-                })
-                .collect();
-            crossings.extend(found);
+            let crossing = |(f, tri): (usize, &[u32; 3])| {
+                light_crossing(tri.map(|v| pos[v as usize]), first_triangle + f as u32)
+            };
+            match large {
+                true => {
+                    crossings.par_extend(mesh.faces.par_iter().enumerate().filter_map(crossing))
+                }
+                false => crossings.extend(mesh.faces.iter().enumerate().filter_map(crossing)),
+            }
             first_triangle += mesh.faces.len() as u32;
         }
         let boxes: Vec<(DVec3, DVec3)> =
