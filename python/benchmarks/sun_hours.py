@@ -37,8 +37,11 @@ def per_step(scene, technique, steps, samples, with_setup=False):
     index = s.daylight()[:steps]
 
     def run(k):
+        # A scene object of its own: a scene keeps its renderer, and with it what a study
+        # shares, from one study to the next.
+        own = scene.with_size(scene.width, scene.height)
         t0 = time.perf_counter()
-        _penumbra._sun_hours(scene, s.azimuth_deg[index[:k]], s.elevation_deg[index[:k]],
+        _penumbra._sun_hours(own, s.azimuth_deg[index[:k]], s.elevation_deg[index[:k]],
                              s.hours[index[:k]], technique=technique, samples=samples)
         return time.perf_counter() - t0
 
@@ -56,7 +59,7 @@ def on_ray(scene, cpus, samples, days):
         end = str(np.datetime64(DAY[0]) + np.timedelta64(days, "D"))
         t0 = time.perf_counter()
         study.sun_hours(scene, PLACE["latitude"], PLACE["longitude"], DAY[0], end,
-                        timezone="Europe/Madrid", samples=samples, engine="ray", chunk_steps=2,
+                        timezone="Europe/Madrid", samples=samples, engine="ray", chunk_steps=8,
                         progress=seen.append)
         seconds = time.perf_counter() - t0
     finally:
@@ -72,7 +75,7 @@ def main():
     ap.add_argument("--scene", default=str(ROOT / "fixtures" / "scale" / "scale.toml"))
     ap.add_argument("--samples", type=int, default=64)
     ap.add_argument("--steps", type=int, default=6, help="daylight steps timed per figure")
-    ap.add_argument("--ray-days", type=int, default=1)
+    ap.add_argument("--ray-days", type=int, default=7)
     ap.add_argument("--ray-size", default="160x120")
     args = ap.parse_args()
     scene = pb.Scene.load(args.scene)
@@ -98,7 +101,7 @@ def main():
     for days in (1, 3):
         end = str(np.datetime64(DAY[0]) + np.timedelta64(days, "D"))
         t0 = time.perf_counter()
-        study.sun_hours(small, PLACE["latitude"], PLACE["longitude"], DAY[0], end,
+        study.sun_hours(small.with_size(80, 60), PLACE["latitude"], PLACE["longitude"], DAY[0], end,
                         timezone="Europe/Madrid", samples=args.samples)
         out["by_steps"][f"{days} d"] = round(time.perf_counter() - t0, 2)
     print(json.dumps(out["by_steps"]), flush=True)
