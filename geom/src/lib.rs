@@ -83,12 +83,13 @@ pub use metrics::{Comparison, ERROR_THRESHOLD, Metrics, PENUMBRA, compare, heatm
 pub use output::{check_writable, output_target, remove_temporaries_in_progress, write_atomically};
 pub use range::RangeError;
 pub use raycast::{Hit, Rays, SceneBvh, WatertightRay};
-pub use reference::{
-    LightSamples, PLANE_HOLDS, REFERENCE_SEED, Reference, SHADOW_EPSILON, TOUCH_EPSILON,
-};
+pub use reference::{LightSamples, REFERENCE_SEED, Reference};
 pub use rng::Rng;
 pub use scene::{Scene, SceneMesh};
 pub use scene_error::SceneError;
 pub use shaded::{SHADED_AMBIENT, SHADED_BACKGROUND, ShadedImage, shaded_value, srgb_byte};
 pub use technique::{Technique, UnknownTechnique};
-pub use tracer::{SurfacePoint, Tracer, TracerGeometry, segment_meets_plane};
+pub use tracer::{
+    PLANE_HOLDS, SHADOW_EPSILON, SurfacePoint, TOUCH_EPSILON, Tracer, TracerGeometry,
+    segment_meets_plane,
+};

@@ -26,23 +26,12 @@ use crate::interrupt::Interruption;
 use crate::lit_scene::LitScene;
 use crate::raycast::Rays;
 use crate::rng::Rng;
+#[cfg(doc)]
+use crate::tracer::TOUCH_EPSILON;
 use crate::tracer::{Tracer, TracerGeometry};
 
 /// Seed of the reference's light samples.
 pub const REFERENCE_SEED: u64 = 0x005E_ED0F_5AD0;
-
-/// Shadow rays start this far from P, relative to the extent of the triangles and the eye: P carries the `f32`
-/// rounding of the hit (about 1e-7 of its coordinates), two orders of magnitude below.
-pub const SHADOW_EPSILON: f64 = 1e-5;
-
-/// A crossing of a triangle near P closer to P than this (relative to the scene's extent) is
-/// P touching that triangle, not the segment crossing it: P is snapped onto its own triangle's
-/// plane in `f64`, so a neighbour in that plane lies within rounding of it (about 1e-16).
-pub const TOUCH_EPSILON: f64 = 1e-9;
-
-/// A segment lies in a triangle's plane when both its ends lie within this much of it,
-/// relative to their distance from the triangle: rounding, far below any gap a scene can mean.
-pub const PLANE_HOLDS: f64 = 1e-9;
 
 /// Which light points the reference samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
