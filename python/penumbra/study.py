@@ -84,9 +84,9 @@ class SunSteps:
     def daylight(self, angular_size_deg=0.53):
         """The indices of the steps whose sun shows any of its disk above the horizon (centre
         above minus its radius) and whose weight is not zero: the steps that are rendered."""
-        return np.flatnonzero(
-            (self.elevation_deg > -0.5 * angular_size_deg) & (self.hours != 0.0)
-        )
+        return _penumbra._daylight(np.ascontiguousarray(self.elevation_deg, dtype=np.float64),
+                                   np.ascontiguousarray(self.hours, dtype=np.float64),
+                                   angular_size_deg)
 
 
 def sun_steps(latitude, longitude, start, end, step_minutes=60, timezone="UTC",

@@ -27,6 +27,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(images::write_colour_map, m)?)?;
     m.add_function(wrap_pyfunction!(scene::techniques, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sun_hours, m)?)?;
+    m.add_function(wrap_pyfunction!(study::_daylight, m)?)?;
     m.add_function(wrap_pyfunction!(scene::_scene_from_state, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

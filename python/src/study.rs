@@ -11,6 +11,44 @@ use crate::errors;
 use crate::run::{Progress, off_interpreter};
 use crate::scene::{Scene, backend, technique};
 
+/// The indices of the steps the library renders ([`SunStudy::is_day`]): any of the sun's disk
+/// of `angular_size_deg` above the horizon, and a weight that is not zero.
+#[pyfunction]
+#[pyo3(signature = (elevation_deg, hours, angular_size_deg=0.53))]
+pub fn _daylight<'py>(
+    py: Python<'py>,
+    elevation_deg: PyReadonlyArray1<'py, f64>,
+    hours: PyReadonlyArray1<'py, f64>,
+    angular_size_deg: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (el, w) = (elevation_deg.as_slice()?, hours.as_slice()?);
+    if el.len() != w.len() {
+        return Err(PyValueError::new_err(format!(
+            "{} elevations and {} hours: give one of each per step",
+            el.len(),
+            w.len()
+        )));
+    }
+    let study = SunStudy {
+        angular_size_deg,
+        ..SunStudy::default()
+    };
+    let days: Vec<i64> = el
+        .iter()
+        .zip(w)
+        .enumerate()
+        .filter(|&(_, (&elevation_deg, &hours))| {
+            study.is_day(&SunStep {
+                azimuth_deg: 0.0,
+                elevation_deg,
+                hours,
+            })
+        })
+        .map(|(k, _)| k as i64)
+        .collect();
+    Ok(days.into_pyarray(py).into_any())
+}
+
 /// The hours of direct sun over one run of steps (`azimuth_deg`, `elevation_deg`, `hours`, as
 /// many of each): float64, `(height, width)` for the camera's pixels, or `(n,)` for `points`
 /// with `normals` (`(n, 3)`, or one normal for all). A step whose sun is wholly below the
