@@ -172,12 +172,8 @@ impl Renderer {
                 if study.technique == Technique::DepthComplexity
                     && !self.uses_gpu(study.technique)? =>
             {
-                let kept = self.kept.take();
-                Some(
-                    self.series
-                        .take()
-                        .unwrap_or_else(|| SunSeries::reusing(kept)),
-                )
+                let series = self.series.take();
+                Some(series.unwrap_or_else(|| SunSeries::reusing(self.kept.take())))
             }
             _ => None,
         };

@@ -266,30 +266,29 @@ impl Tracer {
         // The extent of what P's rounding comes from: the triangles and the eye. Not the light:
         // a far light (the sun as a rectangle 1e5 away) made the offsets as long as the gap
         // between an occluder and its receiver, and the shadow was lost.
-        let extent =
+        let extent_of =
             |(lo, hi): (DVec3, DVec3), eye: DVec3| (hi.max(eye) - lo.min(eye)).length().max(1e-30);
-        let (triangles, bounds, world) = match &scene.distant {
-            None => (geometry.triangles.clone(), geometry.bounds, None),
-            Some(view) => {
+        let (triangles, bounds) = match &scene.distant {
+            None => (geometry.triangles.clone(), geometry.bounds),
+            Some(_) => {
                 let triangles: Arc<[[DVec3; 3]]> = scene.triangles().into();
                 let bounds = bounds_of(&triangles);
-                let world = WorldRays {
-                    warp: view.warp,
-                    epsilon: SHADOW_EPSILON * extent(geometry.bounds, view.camera.eye),
-                    near: 0.0,
-                    bounds: geometry.bounds,
-                };
-                (triangles, bounds, Some(world))
+                (triangles, bounds)
             }
         };
-        let extent = extent(bounds, scene.camera.eye);
+        let extent = extent_of(bounds, scene.camera.eye);
         let epsilon = SHADOW_EPSILON * extent;
-        let world = world.map(|w| World {
-            triangles: geometry.triangles.clone(),
-            rays: WorldRays {
-                near: 3.0 * w.epsilon.max(epsilon),
-                ..w
-            },
+        let world = scene.distant.as_ref().map(|view| {
+            let world_epsilon = SHADOW_EPSILON * extent_of(geometry.bounds, view.camera.eye);
+            World {
+                triangles: geometry.triangles.clone(),
+                rays: WorldRays {
+                    warp: view.warp,
+                    epsilon: world_epsilon,
+                    near: 3.0 * world_epsilon.max(epsilon),
+                    bounds: geometry.bounds,
+                },
+            }
         });
         let in_front = triangles
             .par_iter()
