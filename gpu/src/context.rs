@@ -42,6 +42,24 @@ pub enum GpuError {
         /// The technique asked for.
         technique: penumbra_geom::Technique,
     },
+    /// [`crate::GpuScene::set_positions`] given another number of vertices than the mesh has.
+    #[error("mesh {mesh} has {expected} vertices, {given} positions were given")]
+    PositionCount {
+        /// The mesh.
+        mesh: usize,
+        /// Its vertices.
+        expected: usize,
+        /// The positions given.
+        given: usize,
+    },
+    /// [`crate::GpuScene::set_positions`] given a position that is not finite.
+    #[error("mesh {mesh}: vertex {vertex} is not finite")]
+    NonFinitePosition {
+        /// The mesh.
+        mesh: usize,
+        /// The vertex.
+        vertex: usize,
+    },
     /// [`crate::GpuScene::render_lights`] given another number of targets than of lights.
     #[error("{lights} lights and {targets} targets: one target per light")]
     LightTargets {

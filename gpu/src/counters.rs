@@ -15,6 +15,8 @@ use crate::readback::read_u64;
 pub enum Pass {
     /// [`crate::PassTimes::depth`].
     Depth,
+    /// [`crate::PassTimes::build`].
+    Build,
     /// [`crate::PassTimes::stencil`].
     Stencil,
     /// [`crate::PassTimes::wedge`].
@@ -40,6 +42,7 @@ impl Pass {
     pub(crate) fn name(self) -> &'static str {
         match self {
             Pass::Depth => "depth",
+            Pass::Build => "build",
             Pass::Stencil => "stencil",
             Pass::Wedge => "wedge",
             Pass::Blend => "blend",
@@ -87,7 +90,7 @@ impl Statistics {
 /// What the passes of one kind did in one frame.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PassCounts {
-    /// The kind of pass, as [`crate::PassTimes`] names its fields ("depth", "stencil", "wedge",
+    /// The kind of pass, as [`crate::PassTimes`] names its fields ("depth", "build", "stencil", "wedge",
     /// "blend", "resolve", "light_map", "preprocess", "filter", "edge_lists", "count").
     pub pass: &'static str,
     /// Passes of this kind recorded.

@@ -40,7 +40,9 @@ pub use context::{
 };
 pub use counters::{PassCounters, PassCounts, Statistics};
 pub use frame_uniforms::{CameraError, FrameCamera};
-pub use gpu_scene::{ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, Uploads};
+pub use gpu_scene::{
+    ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, ShadowBuilder, Uploads,
+};
 pub use passes::count::{count_buffer_bytes, storage_binding_limit};
 pub use passes::depth::{GBuffer, visibility_target};
 pub use passes::{DEPTH_FORMAT, NORMAL_FORMAT, POSITION_FORMAT, VISIBILITY_FORMAT};

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use crate::context::{GpuContext, GpuError};
 use crate::passes::{
     blend::BlendPass,
+    build::BuildPass,
     candidates::CandidatePass,
     complexity::{ComplexityPass, inputs_layout},
     count::CountPass,
@@ -22,6 +23,8 @@ pub(crate) struct Pipelines {
     pub(crate) frame_layout: wgpu::BindGroupLayout,
     pub(crate) depth: DepthPass,
     pub(crate) stencil: StencilPass,
+    /// The shadows built on the GPU.
+    pub(crate) build: BuildPass,
     pub(crate) wedge: WedgePass,
     pub(crate) blend: BlendPass,
     pub(crate) resolve: ResolvePass,
@@ -74,6 +77,7 @@ impl GpuRenderer {
             complexity_layout,
             depth: DepthPass::new(device, &frame_layout),
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
+            build: BuildPass::new(device),
             blend: BlendPass::new(device, &frame_layout),
             wedge,
             resolve,

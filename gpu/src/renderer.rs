@@ -75,7 +75,7 @@ impl GpuRenderer {
             if technique == Technique::WedgesBlend {
                 2 + 3 * volumes.unit_count()
             } else {
-                4
+                5
             },
             self.counters(),
         );

@@ -13,6 +13,8 @@ use penumbra_geom::VisibilityImage;
 pub struct PassTimes {
     /// Depth pre-pass.
     pub depth: f64,
+    /// The shadows' build on the GPU (silhouettes, volumes and wedges; `hard` and `wedges`).
+    pub build: f64,
     /// z-fail stencil pass.
     pub stencil: f64,
     /// Penumbra-wedge passes (0 for `hard`).
@@ -39,6 +41,7 @@ impl PassTimes {
     /// Sum of the passes.
     pub fn total(&self) -> f64 {
         self.depth
+            + self.build
             + self.stencil
             + self.wedge
             + self.blend
@@ -55,6 +58,7 @@ impl PassTimes {
     pub fn plus(&self, other: &PassTimes) -> PassTimes {
         PassTimes {
             depth: self.depth + other.depth,
+            build: self.build + other.build,
             stencil: self.stencil + other.stencil,
             wedge: self.wedge + other.wedge,
             blend: self.blend + other.blend,
@@ -70,6 +74,7 @@ impl PassTimes {
     fn slot(&mut self, kind: Pass) -> &mut f64 {
         match kind {
             Pass::Depth => &mut self.depth,
+            Pass::Build => &mut self.build,
             Pass::Stencil => &mut self.stencil,
             Pass::Wedge => &mut self.wedge,
             Pass::Blend => &mut self.blend,

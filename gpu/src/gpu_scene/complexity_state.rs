@@ -33,6 +33,7 @@ use crate::constants::{COUNT_GROUP, MAX_AXIS};
 use crate::context::{GpuContext, GpuError};
 use crate::counters::{Pass, Traffic};
 use crate::frame_uniforms::FrameCamera;
+use crate::passes::stencil::VolumeDraws;
 use crate::passes::complexity::ComplexityParams;
 use crate::passes::count::{
     band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,
@@ -332,8 +333,10 @@ impl ComplexityState {
             p.stencil.record(
                 encoder,
                 bindings,
-                &data.volume,
-                &data.volume_ranges,
+                VolumeDraws::Vertices {
+                    vertices: &data.volume,
+                    ranges: &data.volume_ranges,
+                },
                 timer.pass(
                     Pass::Stencil,
                     Traffic::new().reads(&data.volume).updates(&gbuffer.depth),

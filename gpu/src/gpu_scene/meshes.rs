@@ -39,6 +39,17 @@ impl StoredMesh {
         }
     }
 
+    /// Moves its vertices to `positions` (its own space, as many as it has).
+    pub(super) fn move_vertices(&mut self, positions: &[DVec3]) {
+        self.mesh.positions.copy_from_slice(positions);
+        self.stored = positions
+            .iter()
+            .map(|&p| (p - self.origin).as_vec3().to_array())
+            .collect();
+        self.bounds = bounds(positions);
+        self.around = [None; 2];
+    }
+
     /// Whether this closed mesh, where it is, is a room around the light seen from inside: it
     /// winds around `lamp` (a point just in front of the light's centre) and `eye`, each
     /// remembered for the same transform and point (the eye is asked only of a mesh around

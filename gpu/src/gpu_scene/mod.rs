@@ -1,13 +1,16 @@
 //! A scene on the GPU, uploaded once and rendered every frame into an application's targets:
 //! its meshes' vertices stay on the device; per frame only the camera, the meshes' model
-//! matrices and (for `wedges-blend`) the blend's tile lists are written. The silhouettes, shadow
-//! volumes and wedges depend on the light and on where the meshes are: they are rebuilt on the
-//! CPU and uploaded again only in frames where the light or a mesh's transform changed.
+//! matrices, the vertices of meshes the application deformed and (for `wedges-blend`) the
+//! blend's tile lists are written. The silhouettes, shadow volumes and wedges depend on the
+//! light and on where the meshes are: in frames where either changed, `hard` and `wedges` build
+//! them on the GPU from the vertices there ([`ShadowBuilder::Gpu`], where the scene allows it),
+//! the other techniques on the CPU, uploading them.
 
 mod complexity;
 mod complexity_buffers;
 mod complexity_receivers;
 mod complexity_state;
+mod built;
 mod distant;
 mod meshes;
 mod record;
@@ -19,18 +22,19 @@ mod uploads;
 use std::ops::Range;
 use std::sync::Arc;
 
-use glam::DMat4;
+use glam::{DMat4, DVec3};
 use penumbra_geom::{HalfEdgeMesh, Light, LitScene, RectLight, Technique, TriangleMesh};
 use penumbra_volumes::Volumes;
 use penumbra_volumes::outward_sign;
 
-use crate::context::GpuContext;
+use crate::context::{GpuContext, GpuError};
 use crate::frame_uniforms::{FrameCamera, FrameUniforms, ModelMatrix, frame_group, model_matrix};
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
 use complexity_state::ComplexityState;
 pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
+use built::{Built, TooLarge};
 use distant::SceneLight;
 use meshes::{StoredMesh, centre, world};
 use scratch::Scratch;
@@ -39,6 +43,21 @@ pub use uploads::Uploads;
 
 /// How many lights' shadows a [`GpuScene`] keeps besides the current light's.
 const KEPT_LIGHTS: usize = 8;
+
+/// Where a [`GpuScene`] builds the silhouettes, shadow volumes and wedges of `hard` and
+/// `wedges`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadowBuilder {
+    /// On the GPU, in a compute pass, from the meshes' vertices as they are there: nothing is
+    /// uploaded when the light or a mesh moves. Scenes it does not take are built on the CPU:
+    /// a mesh reaching the light's plane (a lamp in a room, a mesh through its light), more than
+    /// 65,535 meshes or faces on one edge, or buffers beyond the device's binding size
+    /// (`docs/gpu.md`, "Shadows built on the GPU").
+    #[default]
+    Gpu,
+    /// On the CPU (`penumbra_volumes`, the oracle), uploaded each time.
+    Cpu,
+}
 
 /// What a frame renders: the camera and the technique.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,6 +105,15 @@ pub struct GpuScene {
     uploads: Uploads,
     /// Depth-complexity sampling's own state.
     complexity: ComplexityState,
+    /// Where `hard` and `wedges` build their shadows.
+    builder: ShadowBuilder,
+    /// The meshes' topology and the build's buffers on the GPU, made when first needed (an
+    /// error where the scene is too large for them).
+    built: Option<Result<Built, TooLarge>>,
+    /// Whether the build's outputs are those of the current light, transforms and vertices.
+    built_fresh: bool,
+    /// Whether the meshes' corners must be rewritten from moved vertices before a depth pass.
+    corners_stale: bool,
 }
 
 impl GpuScene {
@@ -157,7 +185,12 @@ impl GpuScene {
             );
             vertex_ranges.push(start..corners.len() as u32);
         }
-        let vertices = buffer(device, "meshes", &corners, wgpu::BufferUsages::VERTEX);
+        let vertices = buffer(
+            device,
+            "meshes",
+            &corners,
+            wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+        );
         let uploads = Uploads {
             geometry: std::mem::size_of_val(corners.as_slice()) as u64,
             ..Default::default()
@@ -201,6 +234,10 @@ impl GpuScene {
             cube,
             scratch: Scratch::default(),
             uploads,
+            builder: ShadowBuilder::default(),
+            built: None,
+            built_fresh: false,
+            corners_stale: false,
         }
     }
 
@@ -258,10 +295,113 @@ impl GpuScene {
         let m = &mut self.meshes[mesh];
         if m.transform != transform {
             m.transform = transform;
-            self.shadows = None;
-            self.kept.clear();
-            self.complexity.light_changed();
+            self.meshes_moved();
         }
+    }
+
+    /// Moves mesh `mesh`'s vertices to `positions` (in its own space, one per vertex, in the
+    /// order it was given) from the next frame on: a deforming mesh (skinned, simulated). Only
+    /// the positions are written to the GPU; under [`ShadowBuilder::Gpu`], `hard` and `wedges`
+    /// build their shadows from them there.
+    ///
+    /// # Panics
+    ///
+    /// If there is no mesh `mesh`.
+    pub fn set_positions(&mut self, mesh: usize, positions: &[DVec3]) -> Result<(), GpuError> {
+        let count = self.meshes[mesh].mesh.positions.len();
+        if positions.len() != count {
+            return Err(GpuError::PositionCount {
+                mesh,
+                expected: count,
+                given: positions.len(),
+            });
+        }
+        if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(GpuError::NonFinitePosition { mesh, vertex });
+        }
+        self.meshes[mesh].move_vertices(positions);
+        self.built();
+        let m = &self.meshes[mesh];
+        let stored = bytemuck::cast_slice::<[f32; 3], u8>(&m.stored);
+        match &self.built {
+            Some(Ok(built)) => {
+                let at = 12 * u64::from(built.first_vertex[mesh]);
+                self.ctx.queue.write_buffer(&built.positions, at, stored);
+                self.corners_stale = true;
+            }
+            _ => {
+                // The corners written from here: the GPU cannot expand them.
+                let corners: Vec<[f32; 3]> = m
+                    .mesh
+                    .triangles
+                    .iter()
+                    .flatten()
+                    .map(|&i| m.stored[i as usize])
+                    .collect();
+                let at = 12 * u64::from(self.vertex_ranges[mesh].start);
+                let bytes = bytemuck::cast_slice(&corners);
+                self.ctx.queue.write_buffer(&self.vertices, at, bytes);
+                self.uploads.geometry += bytes.len() as u64;
+            }
+        }
+        self.uploads.geometry += stored.len() as u64;
+        self.meshes_moved();
+        Ok(())
+    }
+
+    /// Drops what was built for the meshes where they were.
+    fn meshes_moved(&mut self) {
+        self.shadows = None;
+        self.kept.clear();
+        self.built_fresh = false;
+        self.complexity.light_changed();
+    }
+
+    /// Where `hard` and `wedges` build their shadows from the next frame on
+    /// ([`ShadowBuilder::Gpu`] unless set).
+    pub fn set_shadow_builder(&mut self, builder: ShadowBuilder) {
+        self.builder = builder;
+    }
+
+    /// Where they do.
+    pub fn shadow_builder(&self) -> ShadowBuilder {
+        self.builder
+    }
+
+    /// The build's buffers, made (and the topology uploaded) on first use; `None` where the
+    /// scene is too large for them.
+    fn built(&mut self) -> Option<&Built> {
+        if self.built.is_none() {
+            let p = &self.pipelines;
+            let built = Built::new(
+                &self.ctx.device,
+                (&p.build, &p.stencil),
+                &self.meshes,
+                &self.vertices,
+                (&self.uniforms, &self.models),
+            );
+            if let Ok(b) = &built {
+                self.uploads.geometry += b.uploaded;
+            }
+            self.built = Some(built);
+        }
+        self.built.as_ref().and_then(|b| b.as_ref().ok())
+    }
+
+    /// Whether this frame's `hard` or `wedges` shadows are built on the GPU: so asked, the
+    /// scene fits the build, and every mesh lies wholly in front of the light's plane (its
+    /// bounding box's corners, where the passes see them), so that none is cut by it.
+    fn builds_on_gpu(&mut self) -> bool {
+        if self.builder != ShadowBuilder::Gpu {
+            return false;
+        }
+        let rect = *self.light.rect();
+        let warp = self.light.warp().copied();
+        let in_front = meshes::world_corners(&self.meshes).into_iter().all(|c| {
+            let c = warp.map_or(c, |w| w.point(c));
+            rect.to_light_space(c).z > 0.0
+        });
+        in_front && self.built().is_some()
     }
 
     /// The light: a rectangle light, or a distant light.
@@ -308,6 +448,7 @@ impl GpuScene {
     /// Drops what was built for the light.
     fn light_changed(&mut self) {
         self.shadows = None;
+        self.built_fresh = false;
         self.complexity.light_changed();
     }
 

@@ -9,6 +9,7 @@ use crate::context::GpuError;
 use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::{GBuffer, MeshDraws};
 use crate::passes::resolve::ResolveInput;
+use crate::passes::stencil::VolumeDraws;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
 use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group};
 use crate::timing::Timer;
@@ -49,6 +50,7 @@ impl GpuScene {
         same_size(camera.size, "G-buffer", gbuffer.size())?;
         let seen = self.frame_camera(camera);
         self.write_frame(camera, &seen);
+        self.expand_corners(encoder);
         self.pipelines.depth.record(
             encoder,
             &self.frame,
@@ -105,15 +107,54 @@ impl GpuScene {
         if technique == Technique::DepthComplexity {
             return self.record_complexity(encoder, camera, gbuffer, Some(target), timer);
         }
-        self.shadows();
+        self.expand_corners(encoder);
+        let on_gpu = technique != Technique::WedgesBlend && self.builds_on_gpu();
+        if on_gpu {
+            self.record_build(encoder, timer);
+        } else {
+            self.shadows();
+        }
         self.scratch
             .prepare(&self.ctx.device, technique, camera.size);
         if technique == Technique::WedgesBlend {
             self.record_blend(encoder, camera, gbuffer, target, timer);
         } else {
-            self.record_additive(encoder, technique, gbuffer, target, timer);
+            self.record_additive(encoder, technique, on_gpu, gbuffer, target, timer);
         }
         Ok(())
+    }
+
+    /// Records the rewriting of the meshes' corners where the application moved vertices
+    /// ([`GpuScene::set_positions`]).
+    fn expand_corners(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if !self.corners_stale {
+            return;
+        }
+        self.corners_stale = false;
+        let Some(Ok(built)) = &self.built else {
+            return;
+        };
+        self.pipelines
+            .build
+            .record_expand(encoder, &built.frame_group, &built.groups);
+    }
+
+    /// Records the shadows' build on the GPU where the light or a mesh moved since the last.
+    fn record_build(&mut self, encoder: &mut wgpu::CommandEncoder, timer: &Timer) {
+        if self.built_fresh {
+            return;
+        }
+        let Some(Ok(built)) = &self.built else {
+            return;
+        };
+        self.pipelines.build.record(
+            encoder,
+            &built.frame_group,
+            &built.groups,
+            &built.bounds,
+            timer.pass(Pass::Build, Traffic::new().reads(&self.models).writes(&built.wedges)),
+        );
+        self.built_fresh = true;
     }
 
     /// Renders the frame of `inputs` under each of `lights` into the target of the same index,
@@ -170,11 +211,11 @@ impl GpuScene {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         technique: Technique,
+        on_gpu: bool,
         gbuffer: &GBuffer,
         target: &wgpu::TextureView,
         timer: &Timer,
     ) {
-        let shadows = self.shadows.as_ref().expect("built by record");
         let p = &self.pipelines;
         let device = &self.ctx.device;
         let position = p.resolve.receivers(device, gbuffer);
@@ -183,15 +224,47 @@ impl GpuScene {
             depth: &gbuffer.depth_view,
             position: &position,
         };
+        // The volumes and wedges, built on the GPU or uploaded.
+        let built = match &self.built {
+            Some(Ok(b)) if on_gpu => Some(b),
+            _ => None,
+        };
+        let shadows = match built {
+            Some(_) => None,
+            None => Some(self.shadows.as_ref().expect("built by record")),
+        };
+        let (volumes, volume_bytes) = match (built, shadows) {
+            (Some(b), _) => (
+                VolumeDraws::Built {
+                    group: &b.stencil_group,
+                    faces: b.faces,
+                    args: &b.args,
+                },
+                b.volume_bytes(),
+            ),
+            (None, Some(s)) => (
+                VolumeDraws::Vertices {
+                    vertices: &s.volume,
+                    ranges: &s.volume_ranges,
+                },
+                s.volume.size(),
+            ),
+            (None, None) => unreachable!("one of them is built"),
+        };
+        let all_instances = 0..shadows.map_or(0, |s| s.instances.len() as u32);
+        let (wedges, indirect) = match (built, shadows) {
+            (Some(b), _) => (&b.wedges, Some((&b.args, 16))),
+            (None, Some(s)) => (&s.instance_buffer, None),
+            (None, None) => unreachable!("one of them is built"),
+        };
         p.stencil.record(
             encoder,
             bindings,
-            &shadows.volume,
-            &shadows.volume_ranges,
+            volumes,
             timer.pass(
                 Pass::Stencil,
                 Traffic::new()
-                    .reads(&shadows.volume)
+                    .reads(&volume_bytes)
                     .updates(&gbuffer.depth),
             ),
         );
@@ -200,21 +273,21 @@ impl GpuScene {
             ResolveInput::Hard
         } else {
             let occlusion = self.scratch.occlusion.as_ref().expect("prepared by record");
-            let all_instances = 0..shadows.instances.len() as u32;
             p.wedge.record(
                 encoder,
                 bindings,
                 WedgeDraws {
                     cube: &self.cube,
-                    wedges: &shadows.instance_buffer,
+                    wedges,
                     ranges: std::slice::from_ref(&all_instances),
+                    indirect,
                 },
                 WedgeOutput::Additive(occlusion),
                 timer.pass(
                     Pass::Wedge,
                     Traffic::new()
                         .reads(&self.cube)
-                        .reads(&shadows.instance_buffer)
+                        .reads(wedges)
                         .reads(&gbuffer.depth)
                         .reads(&gbuffer.position)
                         .updates(occlusion),

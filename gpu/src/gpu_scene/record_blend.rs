@@ -12,6 +12,7 @@ use crate::frame_uniforms::FrameCamera;
 use crate::passes::blend::{SILHOUETTE_ADDED, TileMask, TileRange, disjoint_groups};
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
+use crate::passes::stencil::VolumeDraws;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
 use crate::passes::{FrameBindings, bind_group, buffer};
 use crate::pipelines::Pipelines;
@@ -96,8 +97,10 @@ impl GpuScene {
             p.stencil.record(
                 encoder,
                 bindings,
-                &shadows.volume,
-                &volumes,
+                VolumeDraws::Vertices {
+                    vertices: &shadows.volume,
+                    ranges: &volumes,
+                },
                 timer.pass(
                     Pass::Stencil,
                     Traffic::new()
@@ -112,6 +115,7 @@ impl GpuScene {
                     cube: &self.cube,
                     wedges: &shadows.instance_buffer,
                     ranges: &instances,
+                    indirect: None,
                 },
                 WedgeOutput::Silhouette {
                     targets: &clears,

@@ -1,6 +1,7 @@
 //! One module per pass, each driving the WGSL file of the same name in `src/shaders/`.
 
 pub mod blend;
+pub mod build;
 pub mod candidates;
 pub mod complexity;
 pub mod count;
@@ -50,6 +51,15 @@ pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float
 /// model matrices (binding 1, vertex stage; `frame_uniforms::ModelMatrix`, one per mesh, indexed by
 /// the instance index of the depth and stencil passes' draws).
 pub fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    frame_layout_for(device, wgpu::ShaderStages::VERTEX)
+}
+
+/// [`frame_layout`] with the model matrices visible to `models` (the shadows' build reads them
+/// in its compute stage, where the counting pass of depth-complexity has no binding to spare).
+pub fn frame_layout_for(
+    device: &wgpu::Device,
+    models: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("frame"),
         entries: &[
@@ -65,7 +75,7 @@ pub fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             },
             wgpu::BindGroupLayoutEntry {
                 binding: 1,
-                visibility: wgpu::ShaderStages::VERTEX,
+                visibility: models,
                 ty: wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Storage { read_only: true },
                     has_dynamic_offset: false,

@@ -102,6 +102,9 @@ pub struct WedgeDraws<'a> {
     pub wedges: &'a wgpu::Buffer,
     /// The ranges of `wedges` to draw.
     pub ranges: &'a [std::ops::Range<u32>],
+    /// Instead of `ranges`, the draw's arguments in this buffer at this offset (the GPU-built
+    /// wedges, `passes::build`).
+    pub indirect: Option<(&'a wgpu::Buffer, u64)>,
 }
 
 /// The wedge pipeline of fragment entry `entry` in `module`, writing `targets`: the unit cube's
@@ -281,8 +284,13 @@ impl WedgePass {
             }
             WedgeOutput::Additive(_) => pass.set_pipeline(&self.pipeline),
         }
-        for r in draws.ranges.iter().filter(|r| !r.is_empty()) {
-            pass.draw(0..36, r.clone());
+        match draws.indirect {
+            Some((args, offset)) => pass.draw_indirect(args, offset),
+            None => {
+                for r in draws.ranges.iter().filter(|r| !r.is_empty()) {
+                    pass.draw(0..36, r.clone());
+                }
+            }
         }
         queries.end_render(&mut pass);
     }

@@ -31,8 +31,9 @@ pub(crate) struct Timing {
 }
 
 /// The passes `penumbra bench` reports, in order.
-pub(crate) const BENCH_PASSES: [&str; 12] = [
+pub(crate) const BENCH_PASSES: [&str; 13] = [
     "depth",
+    "build",
     "stencil",
     "wedge",
     "blend",
@@ -147,6 +148,7 @@ pub(crate) fn bench_one(
         "frames": frames,
         "median_ms": {
             "depth": pass(|p| p.depth),
+            "build": pass(|p| p.build),
             "stencil": pass(|p| p.stencil),
             "wedge": pass(|p| p.wedge),
             "blend": pass(|p| p.blend),
@@ -186,6 +188,7 @@ pub(crate) fn print_bench(report: &serde_json::Value, technique: Technique, what
     for k in BENCH_PASSES {
         let relevant = match k {
             "stencil" => volume || counted,
+            "build" => volume,
             "wedge" | "blend" => volume,
             "edge_lists" | "count" => counted,
             "light_map" | "preprocess" | "filter" => technique.is_shadow_map(),
