@@ -13,8 +13,8 @@ use penumbra_geom::{
     Camera, DistantLight, RectLight, Scene, Technique, TriangleMesh, VisibilityImage, compare,
 };
 use penumbra_gpu::{
-    FrameCamera, FrameInputs, GBuffer, GpuContext, GpuRenderer, GpuScene, read_r32f,
-    visibility_target,
+    FrameCamera, FrameInputs, GBuffer, GpuContext, GpuError, GpuRenderer, GpuScene,
+    ShadowBuilder, read_r32f, visibility_target,
 };
 use penumbra_testkit::square;
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
@@ -273,18 +273,119 @@ fn only_what_changed_is_uploaded() {
     let view = view::look_at_mat4(EYE + DVec3::X, TARGET, DVec3::Y);
     let projection = directx::perspective_infinite_reverse(0.8, 96.0 / 72.0, 0.01);
     camera = FrameCamera::from_matrices(&view, &projection, SIZE).unwrap();
+    // `hard` builds its shadows on the GPU: the meshes' topology goes up once, with their
+    // vertices indexed (positions 12 bytes a vertex, faces 16 a face, edges 16 an edge,
+    // and the faces on each edge 4 bytes each).
     frame(&ctx, &mut scene, &camera, Technique::Hard);
     let moved = scene.take_uploads();
-    assert_eq!(moved.geometry, 0);
+    let topology: usize = meshes
+        .iter()
+        .map(|(m, _)| {
+            let he = penumbra_geom::HalfEdgeMesh::build(m);
+            12 * m.positions.len() + 16 * m.triangles.len() + 16 * he.edges.len()
+                + 4 * 3 * m.triangles.len()
+        })
+        .sum();
+    assert_eq!(moved.geometry, topology as u64, "{moved:?}");
     assert_eq!(moved.shadows, 0);
     assert_eq!(moved.frame, 192 + 3 * 64, "{moved:?}");
-    // A mesh turns: its shadows again, never its vertices.
+    // A mesh turns: `hard` builds its shadows again on the GPU, uploading nothing but the
+    // model matrices; `wedges-blend` builds them on the CPU and uploads them.
     scene.set_transform(1, box_transform(0.5));
     frame(&ctx, &mut scene, &camera, Technique::Hard);
     let turned = scene.take_uploads();
-    assert_eq!(turned.geometry, 0);
-    assert!(turned.shadows > 0, "{turned:?}");
+    assert_eq!((turned.geometry, turned.shadows), (0, 0), "{turned:?}");
     assert_eq!(turned.frame, 3 * 64, "{turned:?}");
+    scene.set_transform(1, box_transform(0.7));
+    frame(&ctx, &mut scene, &camera, Technique::WedgesBlend);
+    let blended = scene.take_uploads();
+    assert_eq!(blended.geometry, 0);
+    assert!(blended.shadows > 0, "{blended:?}");
+    // Under the CPU builder `hard` uploads its shadows too.
+    scene.set_shadow_builder(ShadowBuilder::Cpu);
+    scene.set_transform(1, box_transform(0.9));
+    frame(&ctx, &mut scene, &camera, Technique::Hard);
+    assert!(scene.take_uploads().shadows > 0);
+}
+
+/// The sphere of [`meshes`] squashed and bulged by `t`, in its own space.
+fn deformed(sphere: &TriangleMesh, t: f64) -> Vec<DVec3> {
+    sphere
+        .positions
+        .iter()
+        .map(|p| DVec3::new(p.x * (1.0 + 0.4 * t * p.y), p.y * (1.0 - 0.3 * t), p.z))
+        .collect()
+}
+
+#[test]
+fn a_deforming_mesh_is_built_on_the_gpu_from_its_uploaded_vertices() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::with_context(&ctx);
+    let mut meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let mut scene = GpuScene::new(&renderer, &refs, light(-1.0));
+    let camera = camera();
+    frame(&ctx, &mut scene, &camera, Technique::Wedges);
+    scene.take_uploads();
+    let sphere = meshes[1].0.clone();
+    for (k, t) in [0.5, 1.0].into_iter().enumerate() {
+        let moved = deformed(&sphere, t);
+        scene.set_positions(1, &moved).unwrap();
+        meshes[1].0.positions = moved;
+        let transforms: Vec<DMat4> = meshes.iter().map(|m| m.1).collect();
+        let oracle = cpu_scene(&meshes, &transforms, light(-1.0 + k as f64));
+        scene.set_light(light(-1.0 + k as f64));
+        for technique in [Technique::Hard, Technique::Wedges, Technique::WedgesBlend] {
+            let image = frame(&ctx, &mut scene, &camera, technique);
+            assert_matches_cpu(&image, &oracle, technique, &format!("deformed by {t}"));
+        }
+        // Only the sphere's vertices went up for `hard` and `wedges`, and the frame's; the
+        // CPU-built `wedges-blend` uploaded its own shadows.
+        let up = scene.take_uploads();
+        assert_eq!(up.geometry, 12 * sphere.positions.len() as u64, "{up:?}");
+        // The GPU's build and the CPU's give the same images.
+        for technique in [Technique::Hard, Technique::Wedges] {
+            scene.set_shadow_builder(ShadowBuilder::Cpu);
+            let cpu_built = frame(&ctx, &mut scene, &camera, technique);
+            scene.set_shadow_builder(ShadowBuilder::Gpu);
+            let gpu_built = frame(&ctx, &mut scene, &camera, technique);
+            let c = compare(&gpu_built, &cpu_built).unwrap();
+            assert!(
+                c.all.max <= 0.02 && c.all.mae <= 1e-5,
+                "{technique}: GPU-built against CPU-built: {c:?}"
+            );
+            if technique == Technique::Hard {
+                assert_eq!(gpu_built.data, cpu_built.data);
+            }
+        }
+    }
+    // Another count of vertices, or a vertex that is not finite, is refused.
+    let err = scene.set_positions(1, &sphere.positions[1..]).unwrap_err();
+    assert!(matches!(err, GpuError::PositionCount { mesh: 1, .. }), "{err}");
+    let mut bad = sphere.positions.clone();
+    bad[3].y = f64::NAN;
+    let err = scene.set_positions(1, &bad).unwrap_err();
+    assert!(matches!(err, GpuError::NonFinitePosition { mesh: 1, vertex: 3 }), "{err}");
+}
+
+#[test]
+fn a_mesh_through_the_light_s_plane_is_built_on_the_cpu() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::with_context(&ctx);
+    let meshes = meshes();
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    // The light at the height of the box's middle: the box reaches behind its plane.
+    let low = RectLight::new(DVec3::new(-2.0, 0.9, 0.5), DVec3::X, DVec3::Z, DVec2::splat(0.5))
+        .unwrap();
+    let mut scene = GpuScene::new(&renderer, &refs, low);
+    let camera = camera();
+    let image = frame(&ctx, &mut scene, &camera, Technique::Wedges);
+    assert!(scene.take_uploads().shadows > 0);
+    let transforms: Vec<DMat4> = meshes.iter().map(|m| m.1).collect();
+    let oracle = CpuRenderer::new(&cpu_scene(&meshes, &transforms, low).lit(0))
+        .render(Technique::Wedges, &|_| {});
+    let c = compare(&image, &oracle).unwrap();
+    assert!(c.all.mae <= 1e-3, "MAE {}", c.all.mae);
 }
 
 #[test]
