@@ -111,6 +111,28 @@ pub struct PassCounters {
     pub pixels: u64,
     /// One entry per kind of pass.
     pub passes: Vec<PassCounts>,
+    /// The bytes the frame wrote to the GPU from the CPU, for the volume techniques (`None`
+    /// for the others): the scene's vertices (and topology) as a one-shot frame uploads them,
+    /// the shadow volumes and wedges the CPU built, the frame's uniforms and lists.
+    pub uploads: Option<crate::Uploads>,
+}
+
+impl PassCounters {
+    /// Passes recorded in the frame.
+    pub fn pass_count(&self) -> u32 {
+        self.passes.iter().map(|p| p.passes).sum()
+    }
+
+    /// Shader invocations of every kind (vertex, fragment and compute) per pixel; `None`
+    /// without statistics queries.
+    pub fn invocations_per_pixel(&self) -> Option<f64> {
+        let mut total = 0u64;
+        for p in &self.passes {
+            let s = p.statistics.as_ref()?;
+            total += s.vertices + s.fragments + s.compute;
+        }
+        Some(total as f64 / self.pixels.max(1) as f64)
+    }
 }
 
 /// Something whose size in bytes a pass moves: a buffer, a texture, a view of one, or a number
@@ -306,6 +328,10 @@ impl CountsReadback {
                 s.add(&v[VALUES * i..VALUES * (i + 1)]);
             }
         }
-        Ok(PassCounters { pixels, passes })
+        Ok(PassCounters {
+            pixels,
+            passes,
+            uploads: None,
+        })
     }
 }

@@ -68,7 +68,7 @@ impl GpuRenderer {
         GpuScene::check_technique(technique)?;
         let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
-        let mut gpu_scene = GpuScene::for_scene(self, scene, volumes);
+        let mut gpu_scene = GpuScene::for_scene(self, scene, volumes, technique);
         // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
         let timer = Timer::new(
             self.context(),
@@ -83,7 +83,11 @@ impl GpuRenderer {
         gpu_scene.record_depth_timed(&mut enc, &camera, &gbuffer, &timer)?;
         let inputs = FrameInputs { camera, technique };
         gpu_scene.record_timed(&mut enc, &inputs, &gbuffer, &view(&visibility), &timer)?;
-        read_frame(self.context(), enc, &timer, &visibility)
+        let mut frame = read_frame(self.context(), enc, &timer, &visibility)?;
+        if let Some(c) = frame.counters.as_mut() {
+            c.uploads = Some(gpu_scene.take_uploads());
+        }
+        Ok(frame)
     }
 
     /// Renders V of `scene` by depth-complexity sampling with `samples` light samples per pixel

@@ -242,9 +242,18 @@ impl GpuScene {
     }
 
     /// The meshes of `scene` (world space, stored relative to the eye: the one-shot renderer's
-    /// exact layout) with the silhouettes' products of `volumes`, built for `scene`.
-    pub(crate) fn for_scene(renderer: &GpuRenderer, scene: &LitScene, volumes: &Volumes) -> Self {
+    /// exact layout) for a frame of `technique`, with the silhouettes' products of `volumes`,
+    /// built for `scene`, uploaded unless the GPU builds its own.
+    pub(crate) fn for_scene(
+        renderer: &GpuRenderer,
+        scene: &LitScene,
+        volumes: &Volumes,
+        technique: Technique,
+    ) -> Self {
         let mut s = Self::of_scene(renderer, scene, |i| volumes.occluders[i].outward);
+        if technique != Technique::WedgesBlend && s.builds_on_gpu() {
+            return s;
+        }
         let (shadows, bytes) = Shadows::build(
             &s.ctx.device,
             &s.meshes,

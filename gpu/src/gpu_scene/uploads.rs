@@ -1,7 +1,7 @@
 //! What a [`super::GpuScene`] writes to the GPU, counted by kind.
 
 /// Bytes written to the GPU's buffers, by kind ([`super::GpuScene::take_uploads`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Uploads {
     /// The meshes' vertices, written when the scene is made and when the application moves
     /// them ([`super::GpuScene::set_positions`]), and their topology, written once for the

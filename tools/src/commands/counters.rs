@@ -123,6 +123,17 @@ pub(crate) fn table(c: &PassCounters) -> String {
             "  /pixel", "", pixel[0], pixel[1], pixel[2], pixel[3], pixel[4], pixel[5]
         );
     }
+    out += &format!("  passes a frame: {}", c.pass_count());
+    if let Some(n) = c.invocations_per_pixel() {
+        out += &format!("; shader invocations a pixel: {n:.1}");
+    }
+    out += "\n";
+    if let Some(u) = c.uploads {
+        out += &format!(
+            "  uploaded: geometry {} B, shadow volumes and wedges {} B, frame {} B\n",
+            u.geometry, u.shadows, u.frame
+        );
+    }
     if c.passes.iter().all(|p| p.statistics.is_none()) {
         out += "  (no pipeline-statistics queries on this device: invocations and primitives \
                 are not counted; bytes are)\n";
