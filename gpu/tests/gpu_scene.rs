@@ -429,3 +429,49 @@ fn frames_that_do_not_fit_are_refused() {
         .unwrap_err();
     assert!(err.to_string().contains("R32Float"), "{err}");
 }
+
+/// A rippled sheet of `n` x `n` quads over the ground of [`meshes`], in its own space.
+fn sheet(n: u32) -> TriangleMesh {
+    let positions: Vec<DVec3> = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            let h = 1.5 + 0.2 * (17.0 * u).sin() * (13.0 * v).cos();
+            DVec3::new(-2.0 + 3.0 * u, h, -1.5 + 3.0 * v)
+        })
+        .collect();
+    let w = n + 1;
+    let triangles: Vec<[u32; 3]> = (0..n)
+        .flat_map(|j| (0..n).map(move |i| j * w + i))
+        .flat_map(|a| [[a, a + 1, a + w + 1], [a, a + w + 1, a + w]])
+        .collect();
+    TriangleMesh::from_raw("sheet", &positions, &triangles).unwrap()
+}
+
+#[test]
+#[ignore = "a million triangles: a minute on lavapipe"]
+fn a_million_triangles_are_built_on_the_gpu() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::with_context(&ctx);
+    // 720 x 720 quads: 1,036,800 triangles and 1.56 million edges, room for more wedges than
+    // one binding of 128 MiB holds (1.2 million): the build binds them in two parts.
+    let mut meshes = meshes();
+    meshes.push((sheet(720), DMat4::IDENTITY));
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let mut scene = GpuScene::new(&renderer, &refs, light(-1.0));
+    let camera = camera();
+    for technique in [Technique::Hard, Technique::Wedges] {
+        let gpu_built = frame(&ctx, &mut scene, &camera, technique);
+        assert_eq!(scene.take_uploads().shadows, 0, "{technique}: built on the CPU");
+        scene.set_shadow_builder(ShadowBuilder::Cpu);
+        let cpu_built = frame(&ctx, &mut scene, &camera, technique);
+        // Built on the CPU and uploaded for the first technique, kept for the second.
+        assert_eq!(scene.take_uploads().shadows > 0, technique == Technique::Hard);
+        scene.set_shadow_builder(ShadowBuilder::Gpu);
+        let c = compare(&gpu_built, &cpu_built).unwrap();
+        println!("{technique}: GPU-built against CPU-built: {:?}", c.all);
+        let shadowed = cpu_built.data.iter().filter(|&&v| v < 0.5).count();
+        assert!(shadowed > 300, "{technique}: {shadowed} shadowed pixels");
+        assert!(c.all.mae <= 1e-4 && c.all.share_over <= 1e-3, "{technique}: {c:?}");
+    }
+}

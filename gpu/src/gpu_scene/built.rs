@@ -38,6 +38,9 @@ pub(super) struct Built {
     pub(super) uploaded: u64,
     /// Bytes the stencil pass binds: the vertices, faces, casters and side quads.
     volume_bytes: u64,
+    /// Bytes the build binds for reading (the vertices and topology) and for writing (the
+    /// rest, whole).
+    pub(super) build_bytes: (u64, u64),
 }
 
 /// Why a scene's shadows are built on the CPU.
@@ -101,11 +104,15 @@ impl Built {
         }
         let limits = device.limits();
         let (face_count, edge_count) = (faces.len() as u64, edges.len() as u64);
-        let wedge_bytes = edge_count.max(1) * std::mem::size_of::<WedgeInstance>() as u64;
+        let instance = std::mem::size_of::<WedgeInstance>() as u64;
+        let wedge_bytes = edge_count.max(1) * instance;
         let side_bytes = (incidences.len() as u64).max(1) * SIDE_BYTES;
-        let largest = wedge_bytes.max(side_bytes).max(12 * 3 * face_count);
-        if largest > u64::from(limits.max_storage_buffer_binding_size) || largest > limits.max_buffer_size
-        {
+        let binding = u64::from(limits.max_storage_buffer_binding_size);
+        // The wedges are bound in two parts (`wedges` and `wedges_more` in `build.wgsl`), split
+        // at a multiple of 16 instances (1,792 bytes, a multiple of every offset alignment).
+        let split = (binding / instance) / 16 * 16;
+        let bound = side_bytes.max(12 * 3 * face_count).max(wedge_bytes - split.min(edge_count.max(1)) * instance);
+        if bound > binding || wedge_bytes > limits.max_buffer_size || split == 0 {
             return Err(TooLarge::Binding);
         }
         let storage = wgpu::BufferUsages::STORAGE;
@@ -148,19 +155,37 @@ impl Built {
         let sides = empty("side quads", side_bytes, storage);
         let wedges = empty("built wedges", wedge_bytes, storage | wgpu::BufferUsages::VERTEX);
         let args = empty("build draws", 32, storage | wgpu::BufferUsages::INDIRECT);
+        let spare = empty("no more wedges", instance, storage);
+        let first = split.min(edge_count.max(1));
+        fn part(buffer: &wgpu::Buffer, offset: u64, size: u64) -> wgpu::BufferBinding<'_> {
+            wgpu::BufferBinding {
+                buffer,
+                offset,
+                size: wgpu::BufferSize::new(size),
+            }
+        }
+        fn whole(b: &wgpu::Buffer) -> wgpu::BufferBinding<'_> {
+            part(b, 0, b.size())
+        }
+        let more = if edge_count > split {
+            part(&wedges, first * instance, (edge_count - split) * instance)
+        } else {
+            whole(&spare)
+        };
         let slots = [
-            &positions_buf,
-            &faces_buf,
-            &edges_buf,
-            &incidences_buf,
-            &caster_sign,
-            &bounds,
-            &edge_counts,
-            &blocks,
-            &sides,
-            &wedges,
-            &args,
-            corners,
+            whole(&positions_buf),
+            whole(&faces_buf),
+            whole(&edges_buf),
+            whole(&incidences_buf),
+            whole(&caster_sign),
+            whole(&bounds),
+            whole(&edge_counts),
+            whole(&blocks),
+            whole(&sides),
+            part(&wedges, 0, first * instance),
+            whole(&args),
+            whole(corners),
+            more,
         ];
         let groups = build.groups(
             device,
@@ -188,6 +213,11 @@ impl Built {
         });
         let frame_group =
             crate::frame_uniforms::frame_group(device, &build.frame_layout, uniforms, models);
+        let size = |b: &[&wgpu::Buffer]| b.iter().map(|b| b.size()).sum::<u64>();
+        let build_bytes = (
+            size(&[&positions_buf, &faces_buf, &edges_buf, &incidences_buf]),
+            size(&[&caster_sign, &bounds, &edge_counts, &blocks, &sides, &wedges, &args]),
+        );
         let volume_bytes =
             positions_buf.size() + faces_buf.size() + caster_sign.size() + sides.size();
         Ok(Built {
@@ -202,6 +232,7 @@ impl Built {
             faces: face_count as u32,
             uploaded,
             volume_bytes,
+            build_bytes,
         })
     }
 

@@ -152,7 +152,13 @@ impl GpuScene {
             &built.frame_group,
             &built.groups,
             &built.bounds,
-            timer.pass(Pass::Build, Traffic::new().reads(&self.models).writes(&built.wedges)),
+            timer.pass(
+                Pass::Build,
+                Traffic::new()
+                    .reads(&self.models)
+                    .reads(&built.build_bytes.0)
+                    .writes(&built.build_bytes.1),
+            ),
         );
         self.built_fresh = true;
     }

@@ -42,6 +42,8 @@ pub enum Slot {
     Args = 10,
     /// The meshes' triangles' corners.
     Corners = 11,
+    /// The wedge instances beyond those [`Slot::Wedges`] binds.
+    MoreWedges = 12,
 }
 
 /// A dispatch: its entry point and the slots it binds, read only or not.
@@ -93,6 +95,7 @@ const ENTRIES: [Entry; 5] = [
             (Slot::Blocks, false),
             (Slot::Sides, false),
             (Slot::Wedges, false),
+            (Slot::MoreWedges, false),
         ],
     },
     Entry {
@@ -152,8 +155,8 @@ pub fn workgroups(n: u32) -> (u32, u32) {
 
 /// The buffers of one scene's build, by slot, and how many faces, edges and corners it has.
 pub struct BuildBuffers<'a> {
-    /// The buffer of each [`Slot`], in slot order.
-    pub slots: [&'a wgpu::Buffer; 12],
+    /// The buffer (or a range of one) of each [`Slot`], in slot order.
+    pub slots: [wgpu::BufferBinding<'a>; 13],
     /// Faces.
     pub faces: u32,
     /// Edges.
@@ -211,7 +214,7 @@ impl BuildPass {
                     .iter()
                     .map(|&(s, _)| wgpu::BindGroupEntry {
                         binding: s as u32,
-                        resource: buffers.slots[s as usize].as_entire_binding(),
+                        resource: wgpu::BindingResource::Buffer(buffers.slots[s as usize].clone()),
                     })
                     .collect();
                 device.create_bind_group(&wgpu::BindGroupDescriptor {

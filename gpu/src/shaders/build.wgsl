@@ -52,6 +52,9 @@ struct Instance {
     caster: vec4<f32>,
 }
 @group(1) @binding(9) var<storage, read_write> wedges: array<Instance>;
+// The wedges beyond `wedges`, in the rest of the same buffer: one binding holds at most the
+// device's `max_storage_buffer_binding_size` (128 MiB on lavapipe, 1.2 million wedges).
+@group(1) @binding(12) var<storage, read_write> wedges_more: array<Instance>;
 // The draws of the side quads and of the wedges (`wgpu::util::DrawIndirectArgs` each).
 @group(1) @binding(10) var<storage, read_write> args: array<u32, 8>;
 // The meshes' triangles' corners, as the depth pre-pass draws them (`expand` rewrites them
@@ -371,7 +374,12 @@ fn write_edges(
     w.near = s.near;
     w.far = s.far;
     w.caster = vec4<f32>(0.0);
-    wedges[at.y] = w;
+    let first = arrayLength(&wedges);
+    if (at.y < first) {
+        wedges[at.y] = w;
+    } else {
+        wedges_more[at.y - first] = w;
+    }
 }
 
 // Per corner of the meshes' triangles: the stored vertex it stands for.
