@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""Writes the two scenes of the "Scale" table of docs/benchmarks.md into a folder:
+"""Writes the scenes of the "Scale" table of docs/benchmarks.md into a folder:
 
-  many-meshes.toml  700,000 [[mesh]] entries naming one quad (1.4M triangles) over a ground;
-  bumpy-grid.toml   a 1000 x 1000-quad bumpy grid (2M triangles) over a ground.
+  many-meshes.toml     700,000 [[mesh]] entries naming one quad (1.4M triangles) over a ground;
+  bumpy-grid.toml      a 1000 x 1000-quad bumpy grid (2M triangles) over a ground;
+  nefertiti-N.toml     N = 1, 5, 10 copies of the Nefertiti scan (99,938 triangles each) 3 m
+                       apart on a ground under a 5 x 5 light (the GPU build's growth table).
 
 Usage: python3 scripts/scale-scenes.py OUT_DIR
 """
@@ -61,6 +63,38 @@ def bumpy_grid(out):
         f.write('\n[[mesh]]\nobj = "bumpy.obj"\ntranslate = [0.0, 1.5, 0.0]\n')
 
 
+NEFERTITI = """[camera]
+eye = [0.0, 9.0, 12.0]
+target = [0.0, 0.5, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_y_deg = 50.0
+width = 320
+height = 240
+
+[light]
+center = [-1.5, 9.0, 2.5]
+normal = [0.15094638162798826, -0.9559937503105924, -0.2515773027133138]
+tangent = [0.987762965329069, 0.15596257347301087, 0.0]
+size = [5.0, 5.0]
+
+[[mesh]]
+obj = "quad.obj"
+scale = 20.0
+"""
+
+
+def nefertiti(out, n):
+    meshes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fixtures", "meshes")
+    scan = os.path.normpath(os.path.join(meshes, "nefertiti.obj"))
+    with open(os.path.join(out, f"nefertiti-{n}.toml"), "w") as f:
+        f.write(NEFERTITI)
+        for i in range(n):
+            x, z = -4.5 + 3.0 * (i % 4), -3.0 + 3.0 * (i // 4)
+            f.write(f'\n[[mesh]]\nobj = "{scan}"\nscale = 0.006\n'
+                    f'rotate_axis_angle = [1.0, 0.0, 0.0, -90.0]\n'
+                    f'translate = [{x}, 1.504, {z}]\n')
+
+
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -70,3 +104,5 @@ if __name__ == "__main__":
         f.write(QUAD)
     many_meshes(out)
     bumpy_grid(out)
+    for n in (1, 5, 10):
+        nefertiti(out, n)

@@ -13,8 +13,8 @@ use penumbra_geom::{
     Camera, DistantLight, RectLight, Scene, Technique, TriangleMesh, VisibilityImage, compare,
 };
 use penumbra_gpu::{
-    FrameCamera, FrameInputs, GBuffer, GpuContext, GpuError, GpuRenderer, GpuScene,
-    ShadowBuilder, read_r32f, visibility_target,
+    FrameCamera, FrameInputs, GBuffer, GpuContext, GpuError, GpuRenderer, GpuScene, ShadowBuilder,
+    read_r32f, visibility_target,
 };
 use penumbra_testkit::square;
 use penumbra_volumes::{CpuRenderer, DepthComplexity, SamplePattern};
@@ -282,7 +282,9 @@ fn only_what_changed_is_uploaded() {
         .iter()
         .map(|(m, _)| {
             let he = penumbra_geom::HalfEdgeMesh::build(m);
-            12 * m.positions.len() + 16 * m.triangles.len() + 16 * he.edges.len()
+            12 * m.positions.len()
+                + 16 * m.triangles.len()
+                + 16 * he.edges.len()
                 + 4 * 3 * m.triangles.len()
         })
         .sum();
@@ -361,11 +363,17 @@ fn a_deforming_mesh_is_built_on_the_gpu_from_its_uploaded_vertices() {
     }
     // Another count of vertices, or a vertex that is not finite, is refused.
     let err = scene.set_positions(1, &sphere.positions[1..]).unwrap_err();
-    assert!(matches!(err, GpuError::PositionCount { mesh: 1, .. }), "{err}");
+    assert!(
+        matches!(err, GpuError::PositionCount { mesh: 1, .. }),
+        "{err}"
+    );
     let mut bad = sphere.positions.clone();
     bad[3].y = f64::NAN;
     let err = scene.set_positions(1, &bad).unwrap_err();
-    assert!(matches!(err, GpuError::NonFinitePosition { mesh: 1, vertex: 3 }), "{err}");
+    assert!(
+        matches!(err, GpuError::NonFinitePosition { mesh: 1, vertex: 3 }),
+        "{err}"
+    );
 }
 
 #[test]
@@ -375,8 +383,13 @@ fn a_mesh_through_the_light_s_plane_is_built_on_the_cpu() {
     let meshes = meshes();
     let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
     // The light at the height of the box's middle: the box reaches behind its plane.
-    let low = RectLight::new(DVec3::new(-2.0, 0.9, 0.5), DVec3::X, DVec3::Z, DVec2::splat(0.5))
-        .unwrap();
+    let low = RectLight::new(
+        DVec3::new(-2.0, 0.9, 0.5),
+        DVec3::X,
+        DVec3::Z,
+        DVec2::splat(0.5),
+    )
+    .unwrap();
     let mut scene = GpuScene::new(&renderer, &refs, low);
     let camera = camera();
     let image = frame(&ctx, &mut scene, &camera, Technique::Wedges);
@@ -462,16 +475,26 @@ fn a_million_triangles_are_built_on_the_gpu() {
     let camera = camera();
     for technique in [Technique::Hard, Technique::Wedges] {
         let gpu_built = frame(&ctx, &mut scene, &camera, technique);
-        assert_eq!(scene.take_uploads().shadows, 0, "{technique}: built on the CPU");
+        assert_eq!(
+            scene.take_uploads().shadows,
+            0,
+            "{technique}: built on the CPU"
+        );
         scene.set_shadow_builder(ShadowBuilder::Cpu);
         let cpu_built = frame(&ctx, &mut scene, &camera, technique);
         // Built on the CPU and uploaded for the first technique, kept for the second.
-        assert_eq!(scene.take_uploads().shadows > 0, technique == Technique::Hard);
+        assert_eq!(
+            scene.take_uploads().shadows > 0,
+            technique == Technique::Hard
+        );
         scene.set_shadow_builder(ShadowBuilder::Gpu);
         let c = compare(&gpu_built, &cpu_built).unwrap();
         println!("{technique}: GPU-built against CPU-built: {:?}", c.all);
         let shadowed = cpu_built.data.iter().filter(|&&v| v < 0.5).count();
         assert!(shadowed > 300, "{technique}: {shadowed} shadowed pixels");
-        assert!(c.all.mae <= 1e-4 && c.all.share_over <= 1e-3, "{technique}: {c:?}");
+        assert!(
+            c.all.mae <= 1e-4 && c.all.share_over <= 1e-3,
+            "{technique}: {c:?}"
+        );
     }
 }

@@ -5,8 +5,8 @@
 use penumbra_geom::HalfEdgeMesh;
 
 use super::meshes::StoredMesh;
-use crate::passes::build::{BuildBuffers, BuildGroups, BuildPass, SIDE_BYTES, workgroups};
 use crate::passes::buffer;
+use crate::passes::build::{BuildBuffers, BuildGroups, BuildPass, SIDE_BYTES, workgroups};
 use crate::passes::stencil::StencilPass;
 use crate::passes::wedge::WedgeInstance;
 
@@ -91,7 +91,8 @@ impl Built {
                 let first = incidences.len() as u32;
                 for &h in &e.half_edges {
                     let runs_forward = he.half_edges[h as usize].origin == e.vertices[0];
-                    incidences.push(((first_face + HalfEdgeMesh::face(h)) << 1) | runs_forward as u32);
+                    incidences
+                        .push(((first_face + HalfEdgeMesh::face(h)) << 1) | runs_forward as u32);
                 }
                 let [u, v] = e.vertices;
                 edges.push([
@@ -107,11 +108,13 @@ impl Built {
         let instance = std::mem::size_of::<WedgeInstance>() as u64;
         let wedge_bytes = edge_count.max(1) * instance;
         let side_bytes = (incidences.len() as u64).max(1) * SIDE_BYTES;
-        let binding = u64::from(limits.max_storage_buffer_binding_size);
+        let binding = limits.max_storage_buffer_binding_size;
         // The wedges are bound in two parts (`wedges` and `wedges_more` in `build.wgsl`), split
         // at a multiple of 16 instances (1,792 bytes, a multiple of every offset alignment).
         let split = (binding / instance) / 16 * 16;
-        let bound = side_bytes.max(12 * 3 * face_count).max(wedge_bytes - split.min(edge_count.max(1)) * instance);
+        let bound = side_bytes
+            .max(12 * 3 * face_count)
+            .max(wedge_bytes - split.min(edge_count.max(1)) * instance);
         if bound > binding || wedge_bytes > limits.max_buffer_size || split == 0 {
             return Err(TooLarge::Binding);
         }
@@ -153,7 +156,11 @@ impl Built {
         let (x, y) = workgroups(edge_count as u32);
         let blocks = empty("edge blocks", 8 * u64::from(x * y), storage);
         let sides = empty("side quads", side_bytes, storage);
-        let wedges = empty("built wedges", wedge_bytes, storage | wgpu::BufferUsages::VERTEX);
+        let wedges = empty(
+            "built wedges",
+            wedge_bytes,
+            storage | wgpu::BufferUsages::VERTEX,
+        );
         let args = empty("build draws", 32, storage | wgpu::BufferUsages::INDIRECT);
         let spare = empty("no more wedges", instance, storage);
         let first = split.min(edge_count.max(1));
@@ -216,7 +223,15 @@ impl Built {
         let size = |b: &[&wgpu::Buffer]| b.iter().map(|b| b.size()).sum::<u64>();
         let build_bytes = (
             size(&[&positions_buf, &faces_buf, &edges_buf, &incidences_buf]),
-            size(&[&caster_sign, &bounds, &edge_counts, &blocks, &sides, &wedges, &args]),
+            size(&[
+                &caster_sign,
+                &bounds,
+                &edge_counts,
+                &blocks,
+                &sides,
+                &wedges,
+                &args,
+            ]),
         );
         let volume_bytes =
             positions_buf.size() + faces_buf.size() + caster_sign.size() + sides.size();

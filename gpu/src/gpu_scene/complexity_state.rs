@@ -33,13 +33,13 @@ use crate::constants::{COUNT_GROUP, MAX_AXIS};
 use crate::context::{GpuContext, GpuError};
 use crate::counters::{Pass, Traffic};
 use crate::frame_uniforms::FrameCamera;
-use crate::passes::stencil::VolumeDraws;
 use crate::passes::complexity::ComplexityParams;
 use crate::passes::count::{
     band_rows, chunks, count_bytes, edges_per_dispatch, storage_binding_limit,
 };
 use crate::passes::depth::GBuffer;
 use crate::passes::resolve::ResolveInput;
+use crate::passes::stencil::VolumeDraws;
 use crate::passes::{FrameBindings, bind_group};
 use crate::pipelines::Pipelines;
 use crate::timing::Timer;

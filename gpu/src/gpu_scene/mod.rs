@@ -6,11 +6,11 @@
 //! them on the GPU from the vertices there ([`ShadowBuilder::Gpu`], where the scene allows it),
 //! the other techniques on the CPU, uploading them.
 
+mod built;
 mod complexity;
 mod complexity_buffers;
 mod complexity_receivers;
 mod complexity_state;
-mod built;
 mod distant;
 mod meshes;
 mod record;
@@ -32,9 +32,9 @@ use crate::frame_uniforms::{FrameCamera, FrameUniforms, ModelMatrix, frame_group
 use crate::passes::buffer;
 use crate::passes::wedge::unit_cube;
 use crate::pipelines::{GpuRenderer, Pipelines};
+use built::{Built, TooLarge};
 use complexity_state::ComplexityState;
 pub use complexity_state::{ComplexityReport, SOFTWARE_LOOP_BUDGET};
-use built::{Built, TooLarge};
 use distant::SceneLight;
 use meshes::{StoredMesh, centre, world};
 use scratch::Scratch;

@@ -269,9 +269,7 @@ impl GpuScene {
             volumes,
             timer.pass(
                 Pass::Stencil,
-                Traffic::new()
-                    .reads(&volume_bytes)
-                    .updates(&gbuffer.depth),
+                Traffic::new().reads(&volume_bytes).updates(&gbuffer.depth),
             ),
         );
         let group;

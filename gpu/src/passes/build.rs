@@ -268,7 +268,12 @@ impl BuildPass {
             timestamp_writes: None,
         });
         pass.set_bind_group(0, frame, &[]);
-        self.dispatch(&mut pass, groups, EXPAND_CORNERS, workgroups(3 * groups.faces));
+        self.dispatch(
+            &mut pass,
+            groups,
+            EXPAND_CORNERS,
+            workgroups(3 * groups.faces),
+        );
     }
 
     fn dispatch(

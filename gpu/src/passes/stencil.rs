@@ -145,7 +145,8 @@ impl StencilPass {
             immediate_size: 0,
         });
         let pair = |layout, entry| {
-            [false, true].map(|front| pipeline(device, layout, &module, entry, unclipped_depth, front))
+            [false, true]
+                .map(|front| pipeline(device, layout, &module, entry, unclipped_depth, front))
         };
         let [back, front] = pair(&layout, "vs");
         StencilPass {
