@@ -10,6 +10,11 @@ pub const FINAL_WORDS: u64 = 6;
 /// ([`shared_constants`]).
 pub const TILE: u32 = 8;
 
+/// Side in pixels of the square screen tiles over which `wedges` culls its wedges, one workgroup
+/// (of `WEDGE_TILE²` = 256 invocations) per tile (`shaders/wedge_tiles.wgsl`). Shared with the
+/// shaders ([`shared_constants`]).
+pub const WEDGE_TILE: u32 = 16;
+
 /// Largest workgroup count along one dispatch dimension (WebGPU's default limit); the blend's
 /// tile index is `x + MAX_WORKGROUPS y`.
 pub const MAX_WORKGROUPS: u32 = 65535;
@@ -68,6 +73,7 @@ pub const STENCIL_SIGN: u32 = 0x80;
 pub fn shared_constants() -> String {
     let words = [
         ("TILE", TILE),
+        ("WEDGE_TILE", WEDGE_TILE),
         ("MAX_WORKGROUPS", MAX_WORKGROUPS),
         ("FINAL_WORDS", FINAL_WORDS as u32),
         ("MAX_TAPS", MAX_TAPS as u32),

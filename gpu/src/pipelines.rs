@@ -16,6 +16,7 @@ use crate::passes::{
     resolve::ResolvePass,
     stencil::StencilPass,
     wedge::WedgePass,
+    wedge_tiles::WedgeTilesPass,
 };
 
 /// The pipelines of every pass, built once per device.
@@ -26,6 +27,8 @@ pub(crate) struct Pipelines {
     /// The shadows built on the GPU.
     pub(crate) build: BuildPass,
     pub(crate) wedge: WedgePass,
+    /// `wedges`' tiled wedge pass.
+    pub(crate) wedge_tiles: WedgeTilesPass,
     pub(crate) blend: BlendPass,
     pub(crate) resolve: ResolvePass,
     /// Depth-complexity sampling's group 1 and its compute passes.
@@ -80,6 +83,7 @@ impl GpuRenderer {
             build: BuildPass::new(device),
             blend: BlendPass::new(device, &frame_layout),
             wedge,
+            wedge_tiles: WedgeTilesPass::new(device, &frame_layout),
             resolve,
             frame_layout,
         };

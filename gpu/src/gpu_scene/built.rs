@@ -9,6 +9,7 @@ use crate::passes::buffer;
 use crate::passes::build::{BuildBuffers, BuildGroups, BuildPass, SIDE_BYTES, workgroups};
 use crate::passes::stencil::StencilPass;
 use crate::passes::wedge::WedgeInstance;
+use crate::passes::wedge_tiles::two_parts;
 
 /// A face's mesh is closed (`CLOSED_MESH` in `build.wgsl`).
 const CLOSED_MESH: u32 = 0x8000_0000;
@@ -28,6 +29,10 @@ pub(super) struct Built {
     /// (side quads at 0, wedges at 16).
     pub(super) wedges: wgpu::Buffer,
     pub(super) args: wgpu::Buffer,
+    /// Room for this many wedges (the edges), and a buffer of one instance that stands for the
+    /// second part of their binding where the first holds them all.
+    pub(super) wedge_capacity: u64,
+    pub(super) spare: wgpu::Buffer,
     /// The build's bind groups, the stencil pass's group of the built volumes and the frame's
     /// group as the build binds it.
     pub(super) groups: BuildGroups,
@@ -109,13 +114,10 @@ impl Built {
         let wedge_bytes = edge_count.max(1) * instance;
         let side_bytes = (incidences.len() as u64).max(1) * SIDE_BYTES;
         let binding = limits.max_storage_buffer_binding_size;
-        // The wedges are bound in two parts (`wedges` and `wedges_more` in `build.wgsl`), split
-        // at a multiple of 16 instances (1,792 bytes, a multiple of every offset alignment).
-        let split = (binding / instance) / 16 * 16;
-        let bound = side_bytes
-            .max(12 * 3 * face_count)
-            .max(wedge_bytes - split.min(edge_count.max(1)) * instance);
-        if bound > binding || wedge_bytes > limits.max_buffer_size || split == 0 {
+        // The wedges are bound in two parts (`wedges` and `wedges_more` in `build.wgsl`,
+        // `two_parts`).
+        let bound = side_bytes.max(12 * 3 * face_count);
+        if bound > binding || wedge_bytes > limits.max_buffer_size {
             return Err(TooLarge::Binding);
         }
         let storage = wgpu::BufferUsages::STORAGE;
@@ -163,22 +165,15 @@ impl Built {
         );
         let args = empty("build draws", 32, storage | wgpu::BufferUsages::INDIRECT);
         let spare = empty("no more wedges", instance, storage);
-        let first = split.min(edge_count.max(1));
-        fn part(buffer: &wgpu::Buffer, offset: u64, size: u64) -> wgpu::BufferBinding<'_> {
+        let [first_wedges, more_wedges] =
+            two_parts(&wedges, edge_count, &spare, binding).ok_or(TooLarge::Binding)?;
+        fn whole(buffer: &wgpu::Buffer) -> wgpu::BufferBinding<'_> {
             wgpu::BufferBinding {
                 buffer,
-                offset,
-                size: wgpu::BufferSize::new(size),
+                offset: 0,
+                size: None,
             }
         }
-        fn whole(b: &wgpu::Buffer) -> wgpu::BufferBinding<'_> {
-            part(b, 0, b.size())
-        }
-        let more = if edge_count > split {
-            part(&wedges, first * instance, (edge_count - split) * instance)
-        } else {
-            whole(&spare)
-        };
         let slots = [
             whole(&positions_buf),
             whole(&faces_buf),
@@ -189,10 +184,10 @@ impl Built {
             whole(&edge_counts),
             whole(&blocks),
             whole(&sides),
-            part(&wedges, 0, first * instance),
+            first_wedges,
             whole(&args),
             whole(corners),
-            more,
+            more_wedges,
         ];
         let groups = build.groups(
             device,
@@ -241,6 +236,8 @@ impl Built {
             bounds,
             wedges,
             args,
+            wedge_capacity: edge_count,
+            spare,
             groups,
             stencil_group,
             frame_group,

@@ -11,6 +11,7 @@ use crate::passes::depth::{GBuffer, MeshDraws};
 use crate::passes::resolve::ResolveInput;
 use crate::passes::stencil::VolumeDraws;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
+use crate::passes::wedge_tiles::{WedgeTilesInputs, two_parts};
 use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group};
 use crate::timing::Timer;
 
@@ -263,6 +264,24 @@ impl GpuScene {
             (None, Some(s)) => (&s.instance_buffer, None),
             (None, None) => unreachable!("one of them is built"),
         };
+        // The tiled pass's wedges: the buffer (its room, in instances), their count's
+        // arguments, and the stand-in for a second part.
+        let max_binding = device.limits().max_storage_buffer_binding_size;
+        let tiled = match (built, shadows) {
+            (Some(b), _) => two_parts(&b.wedges, b.wedge_capacity, &b.spare, max_binding)
+                .map(|parts| (parts, &b.args)),
+            (None, Some(s)) if s.instances.is_empty() => {
+                two_parts(&s.spare, 1, &s.spare, max_binding).map(|parts| (parts, &s.args))
+            }
+            (None, Some(s)) => two_parts(
+                &s.instance_buffer,
+                s.instances.len() as u64,
+                &s.spare,
+                max_binding,
+            )
+            .map(|parts| (parts, &s.args)),
+            (None, None) => unreachable!("one of them is built"),
+        };
         p.stencil.record(
             encoder,
             bindings,
@@ -277,26 +296,49 @@ impl GpuScene {
             ResolveInput::Hard
         } else {
             let occlusion = self.scratch.occlusion.as_ref().expect("prepared by record");
-            p.wedge.record(
-                encoder,
-                bindings,
-                WedgeDraws {
-                    cube: &self.cube,
-                    wedges,
-                    ranges: std::slice::from_ref(&all_instances),
-                    indirect,
-                },
-                WedgeOutput::Additive(occlusion),
-                timer.pass(
-                    Pass::Wedge,
-                    Traffic::new()
-                        .reads(&self.cube)
-                        .reads(wedges)
-                        .reads(&gbuffer.depth)
-                        .reads(&gbuffer.position)
-                        .updates(occlusion),
+            match tiled {
+                // Culled per screen tile, one invocation a pixel.
+                Some((parts, args)) => p.wedge_tiles.record(
+                    encoder,
+                    device,
+                    &self.frame,
+                    WedgeTilesInputs {
+                        position: &gbuffer.position_view,
+                        wedges: parts,
+                        args,
+                        occlusion,
+                    },
+                    gbuffer.size(),
+                    timer.pass(
+                        Pass::Wedge,
+                        Traffic::new()
+                            .reads(wedges)
+                            .reads(&gbuffer.position)
+                            .writes(occlusion),
+                    ),
                 ),
-            );
+                // More wedges than two bindings hold: each one's solid rasterised.
+                None => p.wedge.record(
+                    encoder,
+                    bindings,
+                    WedgeDraws {
+                        cube: &self.cube,
+                        wedges,
+                        ranges: std::slice::from_ref(&all_instances),
+                        indirect,
+                    },
+                    WedgeOutput::Additive(occlusion),
+                    timer.pass(
+                        Pass::Wedge,
+                        Traffic::new()
+                            .reads(&self.cube)
+                            .reads(wedges)
+                            .reads(&gbuffer.depth)
+                            .reads(&gbuffer.position)
+                            .updates(occlusion),
+                    ),
+                ),
+            }
             group = bind_group(
                 device,
                 "occlusion",

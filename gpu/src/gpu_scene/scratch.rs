@@ -40,7 +40,7 @@ impl Scratch {
                     "occlusion",
                     size,
                     OCCLUSION_FORMAT,
-                    sampled,
+                    sampled | wgpu::TextureUsages::STORAGE_BINDING,
                 )));
             }
             Technique::WedgesBlend if self.silhouettes.is_none() => {

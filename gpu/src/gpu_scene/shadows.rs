@@ -21,6 +21,10 @@ pub(super) struct Shadows {
     pub(super) instances: Vec<WedgeInstance>,
     pub(super) instance_buffer: wgpu::Buffer,
     pub(super) instance_ranges: Vec<Range<u32>>,
+    /// Draw arguments whose word 5 is the number of instances (the tiled wedge pass reads it),
+    /// and a buffer of one instance for the second part of their binding.
+    pub(super) args: wgpu::Buffer,
+    pub(super) spare: wgpu::Buffer,
     /// Each unit's nearest silhouette edge (light space), and the receivers' clusters.
     pub(super) nearest: Vec<f64>,
     pub(super) clusters: ReceiverClusters,
@@ -46,7 +50,24 @@ impl Shadows {
         let shadows = Shadows {
             volume: buffer(device, "volume triangles", &vol, wgpu::BufferUsages::VERTEX),
             volume_ranges: ranges,
-            instance_buffer: buffer(device, "wedges", &instances, wgpu::BufferUsages::VERTEX),
+            instance_buffer: buffer(
+                device,
+                "wedges",
+                &instances,
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+            ),
+            args: buffer(
+                device,
+                "wedge count",
+                &[0, 0, 0, 0, 36, instances.len() as u32, 0, 0],
+                wgpu::BufferUsages::STORAGE,
+            ),
+            spare: buffer(
+                device,
+                "no more wedges",
+                &[<WedgeInstance as bytemuck::Zeroable>::zeroed()],
+                wgpu::BufferUsages::STORAGE,
+            ),
             instances,
             instance_ranges,
             nearest: nearest_edges(volumes),

@@ -10,6 +10,7 @@ pub mod fullscreen;
 pub mod resolve;
 pub mod stencil;
 pub mod wedge;
+pub mod wedge_tiles;
 
 #[cfg(test)]
 mod shaders_tests;

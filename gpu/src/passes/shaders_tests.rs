@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use super::complexity::COMPLEXITY_WGSL;
 use super::count::COUNT_WGSL;
 use super::fullscreen::{SHADOW_MAP_SHADERS, SHADOW_WGSL};
+use super::wedge::WEDGE_INTEGRAL_WGSL;
 use super::wgsl_source;
 
 #[test]
@@ -26,6 +27,7 @@ fn every_wgsl_file_validates_with_naga() {
             "count_regions",
             "count_pattern",
             "count_receiver",
+            "wedge_integral",
         ]
         .contains(&stem.as_str())
         {
@@ -40,6 +42,8 @@ fn every_wgsl_file_validates_with_naga() {
             format!("{SHADOW_WGSL}\n{file}")
         } else if stem == "count" {
             format!("{COMPLEXITY_WGSL}\n{COUNT_WGSL}")
+        } else if stem == "wedge" || stem == "wedge_tiles" {
+            format!("{WEDGE_INTEGRAL_WGSL}\n{file}")
         } else if stem == "edge_lists" || stem == "candidates" {
             format!("{COMPLEXITY_WGSL}\n{file}")
         } else {

@@ -7,6 +7,10 @@ use penumbra_volumes::WedgeFrustum;
 use super::FrameBindings;
 use super::blend::{SILHOUETTE_ADDED, SILHOUETTE_FORMATS};
 
+/// A wedge's integral at a receiver (`shaders/wedge_integral.wgsl`), prepended to the passes
+/// that evaluate wedges.
+pub const WEDGE_INTEGRAL_WGSL: &str = include_str!("../shaders/wedge_integral.wgsl");
+
 /// Format of the per-radial-part occlusion target (one channel per part).
 pub const OCCLUSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -174,7 +178,11 @@ impl WedgePass {
         frame_layout: &wgpu::BindGroupLayout,
         position_layout: &wgpu::BindGroupLayout,
     ) -> Self {
-        let module = super::shader(device, "wedge", include_str!("../shaders/wedge.wgsl"));
+        let source = format!(
+            "{WEDGE_INTEGRAL_WGSL}\n{}",
+            include_str!("../shaders/wedge.wgsl")
+        );
+        let module = super::shader(device, "wedge", &source);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("wedge"),
             bind_group_layouts: &[Some(frame_layout), Some(position_layout)],

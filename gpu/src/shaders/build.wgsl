@@ -75,16 +75,6 @@ fn placed(mesh: u32, i: u32) -> vec3<f32> {
     return eye_relative(mesh, stored(i)).xyz;
 }
 
-// A float as a key whose unsigned order is the float's.
-fn ordered(x: f32) -> u32 {
-    let b = bitcast<u32>(x);
-    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
-}
-
-fn unordered(k: u32) -> f32 {
-    return bitcast<f32>(select(~k, k & 0x7fffffffu, (k & 0x80000000u) != 0u));
-}
-
 fn index(id: vec3<u32>, groups: vec3<u32>) -> u32 {
     return (id.y * groups.x) * BUILD_GROUP + id.x;
 }

@@ -66,6 +66,16 @@ fn strictly_in_front(rel: vec3<f32>, side: f32) -> bool {
 // Relative rounding of a receiver's light depth: 4 ulps of f32.
 const PLANE_ROUNDING: f32 = 4.8e-7;
 
+// A float as a key whose unsigned order is the float's.
+fn ordered(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+fn unordered(k: u32) -> f32 {
+    return bitcast<f32>(select(~k, k & 0x7fffffffu, (k & 0x80000000u) != 0u));
+}
+
 // Light space to eye-relative world.
 fn from_light(l: vec3<f32>) -> vec3<f32> {
     return frame.light_center.xyz

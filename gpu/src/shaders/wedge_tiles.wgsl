@@ -1,0 +1,159 @@
+// Tiled penumbra wedges (`wedges`): one workgroup per screen tile of WEDGE_TILE x WEDGE_TILE
+// pixels, one invocation per pixel, culling the wedges per tile as tiled shading culls lights
+// (Olsson and Assarsson 2011, "Tiled shading"; Harada, McKee and Yang 2012, "Forward+"). The
+// workgroup bounds its receivers in light space; then it takes the wedges a workgroup at a time,
+// each invocation testing one wedge's solid against that box, keeps those that meet it in their
+// order, and each pixel adds the integral (`wedge_integral.wgsl`) of those whose solid holds its
+// receiver. The expensive work, the integrals, is bounded by the wedges that reach the tile; the
+// cheap one, the box tests, by the wedges over the tiles. Every pixel is written, in the same
+// order of wedges, so the image is the same from run to run.
+
+// The receivers (the depth pre-pass's eye-relative positions, `w` non-zero where hit).
+@group(1) @binding(0) var position: texture_2d<f32>;
+// The wedges, as `passes::wedge::WedgeInstance` lays them out, in two bindings (one binding
+// holds at most the device's `max_storage_buffer_binding_size`): those past `wedges`' end are in
+// `wedges_more`.
+struct TileWedge {
+    lo: vec4<f32>,
+    hi: vec4<f32>,
+    edge_from: vec4<f32>,
+    edge_to: vec4<f32>,
+    near: vec4<f32>,
+    far: vec4<f32>,
+    caster: vec4<f32>,
+}
+@group(1) @binding(1) var<storage, read> wedges: array<TileWedge>;
+@group(1) @binding(2) var<storage, read> wedges_more: array<TileWedge>;
+// Draw arguments whose word 5 is the number of wedges (the build's, or the CPU's instances').
+@group(1) @binding(3) var<storage, read> wedge_args: array<u32>;
+// The signed occlusion per radial part, as the rasterised pass adds it.
+@group(1) @binding(4) var occlusion: texture_storage_2d<rgba32float, write>;
+
+const TILE_PIXELS: u32 = WEDGE_TILE * WEDGE_TILE;
+
+// The tile's receivers' box: `ordered` keys of min x, y, z (inverted) and max x, y, z.
+var<workgroup> box_keys: array<atomic<u32>, 6>;
+// Whether the tile has a receiver, and its box.
+var<workgroup> tile_box: array<vec3<f32>, 2>;
+var<workgroup> tile_has: u32;
+// Prefix sums of the wedges kept, and the kept wedges in order.
+var<workgroup> kept_sums: array<u32, TILE_PIXELS>;
+var<workgroup> kept: array<u32, TILE_PIXELS>;
+
+fn tile_wedge(i: u32) -> TileWedge {
+    let first = arrayLength(&wedges);
+    if (i < first) {
+        return wedges[i];
+    }
+    return wedges_more[i - first];
+}
+
+// The solid's rectangle at depth z.
+fn section(w: TileWedge, z: f32) -> vec4<f32> {
+    var t = 0.0;
+    if (w.hi.z > w.lo.z) {
+        t = clamp((z - w.lo.z) / (w.hi.z - w.lo.z), 0.0, 1.0);
+    }
+    return mix(w.near, w.far, t);
+}
+
+// Whether the wedge's solid meets the box [lo, hi]: over the depths they share, the solid lies in
+// the rectangle holding its sections at their ends (sections are linear in depth).
+fn meets_box(w: TileWedge, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let z0 = max(w.lo.z, lo.z);
+    let z1 = min(w.hi.z, hi.z);
+    if (!(z0 <= z1)) {
+        return false;
+    }
+    let a = section(w, z0);
+    let b = section(w, z1);
+    return all(min(a.xy, b.xy) <= hi.xy) && all(lo.xy <= max(a.zw, b.zw));
+}
+
+// The inclusive prefix sums of `mine` over the workgroup (Hillis and Steele).
+fn scan_kept(local: u32, mine: u32) -> u32 {
+    kept_sums[local] = mine;
+    workgroupBarrier();
+    for (var step = 1u; step < TILE_PIXELS; step <<= 1u) {
+        var v = kept_sums[local];
+        if (local >= step) {
+            v += kept_sums[local - step];
+        }
+        workgroupBarrier();
+        kept_sums[local] = v;
+        workgroupBarrier();
+    }
+    return kept_sums[local];
+}
+
+@compute @workgroup_size(WEDGE_TILE, WEDGE_TILE)
+fn tile(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let pixel = group.xy * WEDGE_TILE + lid.xy;
+    let inside = all(vec2<f32>(pixel) < frame.size.xy);
+    if (local < 6u) {
+        atomicStore(&box_keys[local], 0u);
+    }
+    workgroupBarrier();
+    var p = vec3<f32>(0.0);
+    var has = false;
+    if (inside) {
+        let hit = textureLoad(position, vec2<i32>(pixel), 0);
+        if (hit.w != 0.0) {
+            p = to_light(hit.xyz);
+            has = true;
+            for (var axis = 0u; axis < 3u; axis++) {
+                let key = ordered(p[axis]);
+                atomicMax(&box_keys[axis], ~key);
+                atomicMax(&box_keys[3u + axis], key);
+            }
+        }
+    }
+    workgroupBarrier();
+    if (local == 0u) {
+        tile_has = select(0u, 1u, atomicLoad(&box_keys[3]) != 0u);
+        for (var axis = 0u; axis < 3u; axis++) {
+            tile_box[0][axis] = unordered(~atomicLoad(&box_keys[axis]));
+            tile_box[1][axis] = unordered(atomicLoad(&box_keys[3u + axis]));
+        }
+    }
+    let any = workgroupUniformLoad(&tile_has) != 0u;
+    let lo = tile_box[0];
+    let hi = tile_box[1];
+    var sum = vec4<f32>(0.0);
+    let n = select(0u, wedge_args[5], any);
+    for (var first = 0u; first < n; first += TILE_PIXELS) {
+        let i = first + local;
+        var keep = 0u;
+        if (i < n && meets_box(tile_wedge(i), lo, hi)) {
+            keep = 1u;
+        }
+        let at = scan_kept(local, keep);
+        if (keep == 1u) {
+            kept[at - 1u] = i;
+        }
+        let count = workgroupUniformLoad(&kept_sums[TILE_PIXELS - 1u]);
+        for (var k = 0u; k < count; k++) {
+            let w = tile_wedge(kept[k]);
+            // Only a receiver in the solid can be in the wedge (Lengyel's test, Forest et al.
+            // 2006, section 4.2, done here on the solid itself).
+            let r = section(w, p.z);
+            let pad = 1e-5 * (1.0 + abs(p));
+            let held = p.z >= w.lo.z - pad.z && p.z <= w.hi.z + pad.z
+                && all(p.xy >= r.xy - pad.xy) && all(p.xy <= r.zw + pad.xy);
+            if (has && held) {
+                let e = integral(w.edge_from, w.edge_to, w.caster, p, AREAS_ONLY);
+                if (e.valid) {
+                    sum += e.area * e.sign;
+                }
+            }
+        }
+        workgroupBarrier();
+    }
+    if (inside) {
+        textureStore(occlusion, vec2<i32>(pixel), sum);
+    }
+}
