@@ -116,6 +116,7 @@ pub struct Renderer {
     volumes: Option<GpuRenderer>,
     shadow_maps: Vec<ShadowMapRenderer>,
     counters: bool,
+    wedge_pass: Option<penumbra_gpu::WedgePass>,
     /// The last CPU render's ray-casting hierarchy, for the next one over the same triangles.
     pub(crate) kept: Option<TracerGeometry>,
     /// The last sun study's shared state ([`SunSeries`]), for the next study of the same meshes
@@ -132,6 +133,7 @@ impl Renderer {
             volumes: None,
             shadow_maps: Vec::new(),
             counters: false,
+            wedge_pass: None,
             kept: None,
             series: None,
         }
@@ -142,6 +144,13 @@ impl Renderer {
     /// queries, and the bytes it binds. Off by default.
     pub fn set_counters(&mut self, on: bool) {
         self.counters = on;
+    }
+
+    /// How `wedges` evaluates its wedges on the GPU; `None` (the default): the faster on the
+    /// device (`penumbra::gpu::WedgePass::for_device`: rasterised on a CPU device such as
+    /// lavapipe, tiled on a GPU). The images are the same, bit for bit.
+    pub fn set_wedge_pass(&mut self, pass: Option<penumbra_gpu::WedgePass>) {
+        self.wedge_pass = pass;
     }
 
     /// A renderer on the caller's device, for the techniques that can use it.
@@ -381,6 +390,7 @@ impl Renderer {
             .volumes
             .get_or_insert_with(|| GpuRenderer::with_context(&ctx));
         r.set_counters(self.counters);
+        r.set_wedge_pass(self.wedge_pass);
         if technique == Technique::DepthComplexity {
             let out = r.render_depth_complexity(scene, options.samples as u32)?;
             let mut detail = format!(

@@ -42,6 +42,7 @@ pub use counters::{PassCounters, PassCounts, Statistics};
 pub use frame_uniforms::{CameraError, FrameCamera};
 pub use gpu_scene::{
     ComplexityReport, FrameInputs, GpuScene, SOFTWARE_LOOP_BUDGET, ShadowBuilder, Uploads,
+    WedgePass,
 };
 pub use passes::count::{count_buffer_bytes, storage_binding_limit};
 pub use passes::depth::{GBuffer, visibility_target};

@@ -56,6 +56,7 @@ pub struct GpuRenderer {
     ctx: GpuContext,
     pipelines: Arc<Pipelines>,
     counters: bool,
+    wedge_pass: Option<crate::WedgePass>,
 }
 
 impl GpuRenderer {
@@ -91,6 +92,7 @@ impl GpuRenderer {
             ctx: ctx.clone(),
             pipelines: Arc::new(pipelines),
             counters: false,
+            wedge_pass: None,
         }
     }
 
@@ -103,6 +105,17 @@ impl GpuRenderer {
     /// Whether they do.
     pub fn counters(&self) -> bool {
         self.counters
+    }
+
+    /// How its one-shot renders of `wedges` evaluate the wedges; `None` (the default): the
+    /// faster on its device ([`crate::WedgePass::for_device`]).
+    pub fn set_wedge_pass(&mut self, pass: Option<crate::WedgePass>) {
+        self.wedge_pass = pass;
+    }
+
+    /// The pass asked for, if any.
+    pub fn wedge_pass(&self) -> Option<crate::WedgePass> {
+        self.wedge_pass
     }
 
     /// The device and queue it renders with.

@@ -69,6 +69,9 @@ impl GpuRenderer {
         let device = &self.context().device;
         let (camera, gbuffer, visibility) = self.targets(scene);
         let mut gpu_scene = GpuScene::for_scene(self, scene, volumes, technique);
+        if let Some(pass) = self.wedge_pass() {
+            gpu_scene.set_wedge_pass(pass);
+        }
         // Timestamp queries (for `wedges-blend` at most three passes per blending unit: its group's).
         let timer = Timer::new(
             self.context(),

@@ -6,6 +6,7 @@ use anyhow::Result;
 use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand};
 use penumbra::geom::Scene;
+use penumbra::gpu::WedgePass;
 use penumbra::params::{Kind, PARAMS, Param, Value};
 use penumbra::{Backend, Technique};
 
@@ -152,6 +153,16 @@ pub(crate) fn backend_parser() -> impl clap::builder::TypedValueParser<Value = B
             .find(|(n, _, _)| *n == name)
             .expect("one of the possible values")
             .1
+    })
+}
+
+/// `--wedge-pass`'s values.
+pub(crate) fn wedge_pass_parser() -> impl clap::builder::TypedValueParser<Value = WedgePass> {
+    clap::builder::PossibleValuesParser::new(["tiled", "rasterised"]).map(|name| {
+        match name.as_str() {
+            "tiled" => WedgePass::Tiled,
+            _ => WedgePass::Rasterised,
+        }
     })
 }
 
@@ -411,6 +422,11 @@ pub(crate) enum Command {
         /// pixel. Counts do not depend on the device's speed (docs/gpu.md, "Pass counters").
         #[arg(long)]
         counters: bool,
+        /// How `wedges` evaluates its wedges on the GPU: `tiled` (one compute pass over screen
+        /// tiles) or `rasterised` (each wedge's solid drawn); by default the faster on the device
+        /// (rasterised on a CPU device such as lavapipe, tiled on a GPU). The same image.
+        #[arg(long, value_parser = wedge_pass_parser())]
+        wedge_pass: Option<WedgePass>,
         /// Print JSON.
         #[arg(long)]
         json: bool,

@@ -59,6 +59,31 @@ pub enum ShadowBuilder {
     Cpu,
 }
 
+/// How `wedges` evaluates its wedges.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WedgePass {
+    /// One compute pass over screen tiles: each tile culls the wedges against its receivers'
+    /// light-space box, each pixel integrates those that reach it (`docs/gpu.md`, "Tiled
+    /// wedges"). A few shader invocations a pixel, whatever the wedges' area on screen.
+    Tiled,
+    /// Each wedge's solid rasterised, one fragment a pixel it covers. The same image, bit for
+    /// bit.
+    Rasterised,
+}
+
+impl WedgePass {
+    /// The faster on a device of type `device`, as measured: rasterised on a CPU device
+    /// (lavapipe), whose rasteriser covers fragments in blocks and whose workgroups cost tens of
+    /// microseconds each, tiled on a GPU.
+    pub fn for_device(device: wgpu::DeviceType) -> Self {
+        if device == wgpu::DeviceType::Cpu {
+            WedgePass::Rasterised
+        } else {
+            WedgePass::Tiled
+        }
+    }
+}
+
 /// What a frame renders: the camera and the technique.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameInputs {
@@ -107,6 +132,8 @@ pub struct GpuScene {
     complexity: ComplexityState,
     /// Where `hard` and `wedges` build their shadows.
     builder: ShadowBuilder,
+    /// How `wedges` evaluates its wedges.
+    wedge_pass: WedgePass,
     /// The meshes' topology and the build's buffers on the GPU, made when first needed (an
     /// error where the scene is too large for them).
     built: Option<Result<Built, TooLarge>>,
@@ -235,6 +262,7 @@ impl GpuScene {
             scratch: Scratch::default(),
             uploads,
             builder: ShadowBuilder::default(),
+            wedge_pass: WedgePass::for_device(ctx.info.device_type),
             built: None,
             built_fresh: false,
             corners_stale: false,
@@ -375,6 +403,17 @@ impl GpuScene {
     /// Where they do.
     pub fn shadow_builder(&self) -> ShadowBuilder {
         self.builder
+    }
+
+    /// How `wedges` evaluates its wedges from the next frame on (by default
+    /// [`WedgePass::for_device`] of the scene's device).
+    pub fn set_wedge_pass(&mut self, pass: WedgePass) {
+        self.wedge_pass = pass;
+    }
+
+    /// How it does.
+    pub fn wedge_pass(&self) -> WedgePass {
+        self.wedge_pass
     }
 
     /// The build's buffers, made (and the topology uploaded) on first use; `None` where the

@@ -4,7 +4,7 @@
 use crate::counters::{Pass, Traffic};
 use penumbra_geom::{Light, Technique, Warp};
 
-use super::{FrameInputs, GpuScene};
+use super::{FrameInputs, GpuScene, WedgePass};
 use crate::context::GpuError;
 use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::{GBuffer, MeshDraws};
@@ -268,6 +268,7 @@ impl GpuScene {
         // arguments, and the stand-in for a second part.
         let max_binding = device.limits().max_storage_buffer_binding_size;
         let tiled = match (built, shadows) {
+            _ if self.wedge_pass == WedgePass::Rasterised => None,
             (Some(b), _) => two_parts(&b.wedges, b.wedge_capacity, &b.spare, max_binding)
                 .map(|parts| (parts, &b.args)),
             (None, Some(s)) if s.instances.is_empty() => {
@@ -317,7 +318,7 @@ impl GpuScene {
                             .writes(occlusion),
                     ),
                 ),
-                // More wedges than two bindings hold: each one's solid rasterised.
+                // Asked for, or more wedges than two bindings hold: each one's solid rasterised.
                 None => p.wedge.record(
                     encoder,
                     bindings,

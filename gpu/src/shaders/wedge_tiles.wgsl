@@ -1,9 +1,9 @@
 // Tiled penumbra wedges (`wedges`): one workgroup per screen tile of WEDGE_TILE x WEDGE_TILE
 // pixels, one invocation per pixel, culling the wedges per tile as tiled shading culls lights
 // (Olsson and Assarsson 2011, "Tiled shading"; Harada, McKee and Yang 2012, "Forward+"). The
-// workgroup bounds its receivers in light space; then it takes the wedges a workgroup at a time,
-// each invocation testing one wedge's solid against that box, keeps those that meet it in their
-// order, and each pixel adds the integral (`wedge_integral.wgsl`) of those whose solid holds its
+// workgroup bounds its receivers in light space; then it takes the wedges a round at a time, each
+// invocation testing a run of them against that box, keeps those that meet it in their order,
+// and each pixel adds the integral (`wedge_integral.wgsl`) of those whose solid holds its
 // receiver. The expensive work, the integrals, is bounded by the wedges that reach the tile; the
 // cheap one, the box tests, by the wedges over the tiles. Every pixel is written, in the same
 // order of wedges, so the image is the same from run to run.
@@ -31,6 +31,11 @@ struct TileWedge {
 
 const TILE_PIXELS: u32 = WEDGE_TILE * WEDGE_TILE;
 
+// Wedges each invocation tests in one round: a round takes TILE_PIXELS x PER_INVOCATION wedges
+// between the workgroup's barriers.
+const PER_INVOCATION: u32 = 8u;
+const ROUND: u32 = TILE_PIXELS * PER_INVOCATION;
+
 // The tile's receivers' box: `ordered` keys of min x, y, z (inverted) and max x, y, z.
 var<workgroup> box_keys: array<atomic<u32>, 6>;
 // Whether the tile has a receiver, and its box.
@@ -38,7 +43,7 @@ var<workgroup> tile_box: array<vec3<f32>, 2>;
 var<workgroup> tile_has: u32;
 // Prefix sums of the wedges kept, and the kept wedges in order.
 var<workgroup> kept_sums: array<u32, TILE_PIXELS>;
-var<workgroup> kept: array<u32, TILE_PIXELS>;
+var<workgroup> kept: array<u32, ROUND>;
 
 fn tile_wedge(i: u32) -> TileWedge {
     let first = arrayLength(&wedges);
@@ -48,25 +53,46 @@ fn tile_wedge(i: u32) -> TileWedge {
     return wedges_more[i - first];
 }
 
-// The solid's rectangle at depth z.
-fn section(w: TileWedge, z: f32) -> vec4<f32> {
-    var t = 0.0;
-    if (w.hi.z > w.lo.z) {
-        t = clamp((z - w.lo.z) / (w.hi.z - w.lo.z), 0.0, 1.0);
-    }
-    return mix(w.near, w.far, t);
+// A wedge's solid: its depths, and its rectangles at them.
+struct Solid {
+    z: vec2<f32>,
+    near: vec4<f32>,
+    far: vec4<f32>,
 }
 
-// Whether the wedge's solid meets the box [lo, hi]: over the depths they share, the solid lies in
-// the rectangle holding its sections at their ends (sections are linear in depth).
-fn meets_box(w: TileWedge, lo: vec3<f32>, hi: vec3<f32>) -> bool {
-    let z0 = max(w.lo.z, lo.z);
-    let z1 = min(w.hi.z, hi.z);
+// Wedge i's solid, read alone (40 of its 112 bytes).
+fn solid_of(i: u32) -> Solid {
+    let first = arrayLength(&wedges);
+    if (i < first) {
+        return Solid(vec2<f32>(wedges[i].lo.z, wedges[i].hi.z), wedges[i].near, wedges[i].far);
+    }
+    let j = i - first;
+    return Solid(
+        vec2<f32>(wedges_more[j].lo.z, wedges_more[j].hi.z),
+        wedges_more[j].near,
+        wedges_more[j].far,
+    );
+}
+
+// The solid's rectangle at depth z.
+fn section(s: Solid, z: f32) -> vec4<f32> {
+    var t = 0.0;
+    if (s.z.y > s.z.x) {
+        t = clamp((z - s.z.x) / (s.z.y - s.z.x), 0.0, 1.0);
+    }
+    return mix(s.near, s.far, t);
+}
+
+// Whether the solid meets the box [lo, hi]: over the depths they share, it lies in the
+// rectangle holding its sections at their ends (sections are linear in depth).
+fn meets_box(s: Solid, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let z0 = max(s.z.x, lo.z);
+    let z1 = min(s.z.y, hi.z);
     if (!(z0 <= z1)) {
         return false;
     }
-    let a = section(w, z0);
-    let b = section(w, z1);
+    let a = section(s, z0);
+    let b = section(s, z1);
     return all(min(a.xy, b.xy) <= hi.xy) && all(lo.xy <= max(a.zw, b.zw));
 }
 
@@ -125,26 +151,35 @@ fn tile(
     let hi = tile_box[1];
     var sum = vec4<f32>(0.0);
     let n = select(0u, wedge_args[5], any);
-    for (var first = 0u; first < n; first += TILE_PIXELS) {
-        let i = first + local;
+    for (var first = 0u; first < n; first += ROUND) {
+        // This invocation's run of wedges, in order, tested against the tile's box.
+        let start = first + local * PER_INVOCATION;
         var keep = 0u;
-        if (i < n && meets_box(tile_wedge(i), lo, hi)) {
-            keep = 1u;
+        var kept_here = 0u;
+        for (var j = 0u; j < PER_INVOCATION; j++) {
+            if (start + j < n && meets_box(solid_of(start + j), lo, hi)) {
+                keep |= 1u << j;
+                kept_here++;
+            }
         }
-        let at = scan_kept(local, keep);
-        if (keep == 1u) {
-            kept[at - 1u] = i;
+        var at = scan_kept(local, kept_here) - kept_here;
+        for (var j = 0u; j < PER_INVOCATION; j++) {
+            if ((keep & (1u << j)) != 0u) {
+                kept[at] = start + j;
+                at++;
+            }
         }
         let count = workgroupUniformLoad(&kept_sums[TILE_PIXELS - 1u]);
         for (var k = 0u; k < count; k++) {
-            let w = tile_wedge(kept[k]);
+            let s = solid_of(kept[k]);
             // Only a receiver in the solid can be in the wedge (Lengyel's test, Forest et al.
             // 2006, section 4.2, done here on the solid itself).
-            let r = section(w, p.z);
+            let r = section(s, p.z);
             let pad = 1e-5 * (1.0 + abs(p));
-            let held = p.z >= w.lo.z - pad.z && p.z <= w.hi.z + pad.z
+            let held = p.z >= s.z.x - pad.z && p.z <= s.z.y + pad.z
                 && all(p.xy >= r.xy - pad.xy) && all(p.xy <= r.zw + pad.xy);
             if (has && held) {
+                let w = tile_wedge(kept[k]);
                 let e = integral(w.edge_from, w.edge_to, w.caster, p, AREAS_ONLY);
                 if (e.valid) {
                     sum += e.area * e.sign;

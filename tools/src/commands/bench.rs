@@ -1,5 +1,6 @@
 //! `penumbra bench`: frame and pass times of one or several techniques.
 
+use penumbra::gpu::WedgePass;
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
@@ -51,7 +52,7 @@ pub(crate) fn bench(
     scene_path: &Path,
     techniques: &[Technique],
     timing: Timing,
-    backend: Backend,
+    (backend, wedge_pass): (Backend, Option<WedgePass>),
     options: RenderOptions,
     json: bool,
     params: &ParamArgs,
@@ -75,7 +76,7 @@ pub(crate) fn bench(
         scene_path,
         technique,
         timing.frames,
-        backend,
+        (backend, wedge_pass),
         options,
         params,
     )?;
@@ -97,7 +98,7 @@ pub(crate) fn bench_one(
     scene_path: &Path,
     technique: Technique,
     frames: usize,
-    backend: Backend,
+    (backend, wedge_pass): (Backend, Option<WedgePass>),
     options: RenderOptions,
     params: &ParamArgs,
 ) -> Result<serde_json::Value> {
@@ -105,6 +106,7 @@ pub(crate) fn bench_one(
     let mut scene = Scene::load(scene_path)?;
     params.apply(&mut scene)?;
     let mut renderer = Renderer::new(backend);
+    renderer.set_wedge_pass(wedge_pass);
     let on_gpu = renderer.uses_gpu(technique).in_command_words()?;
     // A frame of a scene of several lights renders each light alone, one after the other.
     let lights = scene.light_count();

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use anyhow::{Result, bail};
-use penumbra::gpu::PassCounters;
+use penumbra::gpu::{PassCounters, WedgePass};
 use penumbra::volumes::Volumes;
 use penumbra::{Backend, LitScene, RenderOptions, Renderer, Scene, Technique};
 
@@ -19,7 +19,7 @@ use crate::words::InCommandWords;
 pub(crate) fn counters(
     scene_path: &Path,
     techniques: &[Technique],
-    backend: Backend,
+    (backend, wedge_pass): (Backend, Option<WedgePass>),
     options: RenderOptions,
     json: bool,
     params: &ParamArgs,
@@ -28,6 +28,7 @@ pub(crate) fn counters(
     params.apply(&mut scene)?;
     let mut renderer = Renderer::new(backend);
     renderer.set_counters(true);
+    renderer.set_wedge_pass(wedge_pass);
     let mut reports = Vec::new();
     // Each light alone, for a scene of several: one frame, and one report, per light.
     let layered = !scene.single_channel();
