@@ -12,6 +12,7 @@ mod complexity_buffers;
 mod complexity_receivers;
 mod complexity_state;
 mod distant;
+mod frame_shadows;
 mod meshes;
 mod record;
 mod record_blend;

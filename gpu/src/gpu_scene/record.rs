@@ -4,14 +4,14 @@
 use crate::counters::{Pass, Traffic};
 use penumbra_geom::{Light, Technique, Warp};
 
+use super::frame_shadows::FrameShadows;
 use super::{FrameInputs, GpuScene, WedgePass};
 use crate::context::GpuError;
 use crate::frame_uniforms::FrameCamera;
 use crate::passes::depth::{GBuffer, MeshDraws};
 use crate::passes::resolve::ResolveInput;
-use crate::passes::stencil::VolumeDraws;
 use crate::passes::wedge::{WedgeDraws, WedgeOutput};
-use crate::passes::wedge_tiles::{WedgeTilesInputs, two_parts};
+use crate::passes::wedge_tiles::WedgeTilesInputs;
 use crate::passes::{FrameBindings, VISIBILITY_FORMAT, bind_group};
 use crate::timing::Timer;
 
@@ -232,56 +232,15 @@ impl GpuScene {
             position: &position,
         };
         // The volumes and wedges, built on the GPU or uploaded.
-        let built = match &self.built {
-            Some(Ok(b)) if on_gpu => Some(b),
-            _ => None,
+        let source = match &self.built {
+            Some(Ok(b)) if on_gpu => FrameShadows::Built(b),
+            _ => FrameShadows::Uploaded(self.shadows.as_ref().expect("built by record")),
         };
-        let shadows = match built {
-            Some(_) => None,
-            None => Some(self.shadows.as_ref().expect("built by record")),
-        };
-        let (volumes, volume_bytes) = match (built, shadows) {
-            (Some(b), _) => (
-                VolumeDraws::Built {
-                    group: &b.stencil_group,
-                    faces: b.faces,
-                    args: &b.args,
-                },
-                b.volume_bytes(),
-            ),
-            (None, Some(s)) => (
-                VolumeDraws::Vertices {
-                    vertices: &s.volume,
-                    ranges: &s.volume_ranges,
-                },
-                s.volume.size(),
-            ),
-            (None, None) => unreachable!("one of them is built"),
-        };
-        let all_instances = 0..shadows.map_or(0, |s| s.instances.len() as u32);
-        let (wedges, indirect) = match (built, shadows) {
-            (Some(b), _) => (&b.wedges, Some((&b.args, 16))),
-            (None, Some(s)) => (&s.instance_buffer, None),
-            (None, None) => unreachable!("one of them is built"),
-        };
-        // The tiled pass's wedges: the buffer (its room, in instances), their count's
-        // arguments, and the stand-in for a second part.
-        let max_binding = device.limits().max_storage_buffer_binding_size;
-        let tiled = match (built, shadows) {
-            _ if self.wedge_pass == WedgePass::Rasterised => None,
-            (Some(b), _) => two_parts(&b.wedges, b.wedge_capacity, &b.spare, max_binding)
-                .map(|parts| (parts, &b.args)),
-            (None, Some(s)) if s.instances.is_empty() => {
-                two_parts(&s.spare, 1, &s.spare, max_binding).map(|parts| (parts, &s.args))
-            }
-            (None, Some(s)) => two_parts(
-                &s.instance_buffer,
-                s.instances.len() as u64,
-                &s.spare,
-                max_binding,
-            )
-            .map(|parts| (parts, &s.args)),
-            (None, None) => unreachable!("one of them is built"),
+        let (volumes, volume_bytes) = source.volumes();
+        let wedges = source.wedges();
+        let tiled = match self.wedge_pass {
+            WedgePass::Tiled => source.tiled(device.limits().max_storage_buffer_binding_size),
+            WedgePass::Rasterised => None,
         };
         p.stencil.record(
             encoder,
@@ -313,7 +272,7 @@ impl GpuScene {
                     timer.pass(
                         Pass::Wedge,
                         Traffic::new()
-                            .reads(wedges)
+                            .reads(wedges.buffer)
                             .reads(&gbuffer.position)
                             .writes(occlusion),
                     ),
@@ -324,16 +283,16 @@ impl GpuScene {
                     bindings,
                     WedgeDraws {
                         cube: &self.cube,
-                        wedges,
-                        ranges: std::slice::from_ref(&all_instances),
-                        indirect,
+                        wedges: wedges.buffer,
+                        ranges: std::slice::from_ref(&wedges.range),
+                        indirect: wedges.indirect,
                     },
                     WedgeOutput::Additive(occlusion),
                     timer.pass(
                         Pass::Wedge,
                         Traffic::new()
                             .reads(&self.cube)
-                            .reads(wedges)
+                            .reads(wedges.buffer)
                             .reads(&gbuffer.depth)
                             .reads(&gbuffer.position)
                             .updates(occlusion),
