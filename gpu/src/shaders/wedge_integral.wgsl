@@ -166,6 +166,19 @@ fn meets_square(a: vec2<f32>, b: vec2<f32>) -> bool {
     return t0 <= t1;
 }
 
+// `meets_square` of the projected edge from a to b, where `far` (1: a, 2: b) says which end, if
+// any, is a direction from P's projection rather than a point: then the ray from the finite end
+// along it, taken far enough to leave the square.
+fn meets_square_towards(a: vec2<f32>, b: vec2<f32>, far: u32) -> bool {
+    if (far == 0u) {
+        return meets_square(a, b);
+    }
+    let start = select(a, b, far == 1u);
+    let d = select(b, a, far == 1u);
+    let reach = 4.0 + 2.0 * length(start);
+    return meets_square(start, start + d * (reach / max(length(d), 1e-30)));
+}
+
 // Fraction of z_P kept between the clipped edge and the local near plane (f32: coarser than the
 // CPU's 1e-9; projected coordinates stay below about 1e6).
 const NEAR_MARGIN: f32 = 1e-6;
@@ -208,17 +221,25 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, caster: vec4<f32>, p: vec3
     if (a3.z > limit && b3.z > limit) {
         return out;
     }
+    // An end beyond the near plane projects to infinity, in the direction from P to where the
+    // edge crosses P's depth: kept as that direction (`far`), not as a point a million units
+    // out, whose f32 rounding would move the line and the cone that the closed forms take.
+    var far = 0u;
     if (b3.z > limit) {
         b3 = a3 + (b3 - a3) * ((limit - a3.z) / (b3.z - a3.z));
+        far = 2u;
     } else if (a3.z > limit) {
         a3 = b3 + (a3 - b3) * ((limit - b3.z) / (a3.z - b3.z));
+        far = 1u;
     }
-    let a = p.xy + (a3.xy - p.xy) * (p.z / (p.z - a3.z));
-    let b = p.xy + (b3.xy - p.xy) * (p.z / (p.z - b3.z));
+    let a = select(p.xy + (a3.xy - p.xy) * (p.z / (p.z - a3.z)), a3.xy - p.xy, far == 1u);
+    let b = select(p.xy + (b3.xy - p.xy) * (p.z / (p.z - b3.z)), b3.xy - p.xy, far == 2u);
     // Outside the wedge: the projected edge misses the light (most fragments of the box).
-    if (!meets_square(a, b)) {
+    if (!meets_square_towards(a, b, far)) {
         return out;
     }
+    // The cone's sides from the centre (a far end's direction is its own), and the edge's
+    // line: through its finite end, along the edge or its far end's direction.
     let s0 = sign(cross2(a, b));
     if (s0 == 0.0) {
         return out;
@@ -238,8 +259,15 @@ fn integral(edge_from: vec4<f32>, edge_to: vec4<f32>, caster: vec4<f32>, p: vec3
         return out;
     }
     out.sign = sign(side);
-    let e = b - a;
-    let beyond = -s0 * vec3<f32>(-e.y, e.x, -cross2(e, a));
+    var e = b - a;
+    var on_line = a;
+    if (far == 2u) {
+        e = b;
+    } else if (far == 1u) {
+        e = -a;
+        on_line = b;
+    }
+    let beyond = -s0 * vec3<f32>(-e.y, e.x, -cross2(e, on_line));
     out.area = vec4<f32>(0.0);
     out.cover = vec4<f32>(0.0);
     let outer = out.sign > 0.0;
