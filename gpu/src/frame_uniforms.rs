@@ -39,19 +39,28 @@ pub struct FrameUniforms {
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
 
 /// A mesh's model matrix as the shaders read it (`models` in `common.wgsl`): its stored vertices
-/// to eye-relative world, column-major. The shaders use its rows x, y and z; column 0's w (row
-/// w, unused by an affine map) carries the mesh's outward sign for the depth pre-pass's normals.
+/// to eye-relative world, column-major. The shaders use its rows x, y and z; row w, unused by an
+/// affine map, carries in column 0 the mesh's outward sign for the depth pre-pass's normals
+/// (turned for a room seen from inside) and in column 1 the sign the shadows' build takes (the
+/// winding in the world, as the CPU's volumes take it).
 pub type ModelMatrix = [[f32; 4]; 4];
 
 /// The matrix that places a mesh's vertices, stored relative to `origin` in its own space,
 /// moved into the world by `transform`, relative to `eye`: `T(-eye) · transform · T(origin)`,
 /// composed in `f64` so that only the result is rounded; with `outward` (+1 or -1 for a closed
-/// mesh wound outwards or inwards in the world, 0 for an open one) in column 0's w.
-pub fn model_matrix(eye: DVec3, transform: &DMat4, origin: DVec3, outward: f64) -> ModelMatrix {
+/// mesh wound outwards or inwards as the normals take it, 0 for an open one) in column 0's w and
+/// `winding` (the same for the shadows' build) in column 1's.
+pub fn model_matrix(
+    eye: DVec3,
+    transform: &DMat4,
+    origin: DVec3,
+    (outward, winding): (f64, f64),
+) -> ModelMatrix {
     let mut m = (DMat4::from_translation(-eye) * *transform * DMat4::from_translation(origin))
         .as_mat4()
         .to_cols_array_2d();
     m[0][3] = outward as f32;
+    m[1][3] = winding as f32;
     m
 }
 

@@ -498,3 +498,80 @@ fn a_million_triangles_are_built_on_the_gpu() {
         );
     }
 }
+
+/// A closed L-shaped room of height `h`, wound outwards: its floor's outline extruded.
+fn l_shaped_room(h: f64) -> TriangleMesh {
+    let outline = [
+        (0.0, 0.0),
+        (4.0, 0.0),
+        (4.0, 2.0),
+        (2.0, 2.0),
+        (2.0, 4.0),
+        (0.0, 4.0),
+    ];
+    let n = outline.len() as u32;
+    let mut positions: Vec<DVec3> = outline
+        .iter()
+        .map(|&(x, z)| DVec3::new(x, 0.0, z))
+        .collect();
+    positions.extend(outline.iter().map(|&(x, z)| DVec3::new(x, h, z)));
+    // Floor and ceiling fanned from the inner corner (vertex 3), then the walls.
+    let mut triangles = Vec::new();
+    for k in [4u32, 5, 0, 1] {
+        let next = (k + 1) % n;
+        triangles.push([3, k, next]);
+        triangles.push([n + 3, n + next, n + k]);
+    }
+    for k in 0..n {
+        let next = (k + 1) % n;
+        triangles.push([k, next + n, next]);
+        triangles.push([k, k + n, next + n]);
+    }
+    TriangleMesh::from_raw("room", &positions, &triangles).unwrap()
+}
+
+#[test]
+fn a_room_lit_by_a_lamp_flush_with_its_ceiling_is_built_on_the_gpu() {
+    let Some(ctx) = context() else { return };
+    let renderer = GpuRenderer::with_context(&ctx);
+    // An L-shaped room seen from inside (its depth pre-pass takes it as a room: its normals'
+    // sign turned), the lamp flush with its ceiling in one arm: the inner corner's wall faces
+    // the lamp from outside and shades the other arm, which the eye sees.
+    let p = DVec3::new;
+    let room = l_shaped_room(3.0);
+    let meshes = [(room, DMat4::IDENTITY)];
+    let refs: Vec<(&TriangleMesh, DMat4)> = meshes.iter().map(|(m, t)| (m, *t)).collect();
+    let lamp = RectLight::new(p(3.2, 3.0, 0.8), DVec3::NEG_Y, DVec3::X, DVec2::splat(0.6)).unwrap();
+    let mut scene = GpuScene::new(&renderer, &refs, lamp);
+    let (eye, target) = (p(0.4, 2.6, 0.4), p(1.2, 0.0, 3.4));
+    let view = view::look_at_mat4(eye, target, DVec3::Y);
+    let projection = directx::perspective_infinite_reverse(1.2, 96.0 / 72.0, 0.01);
+    let camera = FrameCamera::from_matrices(&view, &projection, SIZE).unwrap();
+    let c = Camera::look_at(eye, target, DVec3::Y, 1.2f64.to_degrees(), SIZE.0, SIZE.1).unwrap();
+    let oracle = Scene::new(c)
+        .with_light(lamp)
+        .with_mesh("room", &meshes[0].0, DMat4::IDENTITY);
+    for technique in [Technique::Hard, Technique::Wedges] {
+        let image = frame(&ctx, &mut scene, &camera, technique);
+        assert_eq!(
+            scene.take_uploads().shadows,
+            0,
+            "{technique}: built on the CPU"
+        );
+        assert_matches_cpu(
+            &image,
+            &oracle,
+            technique,
+            "an L-shaped room under a flush lamp",
+        );
+        scene.set_shadow_builder(ShadowBuilder::Cpu);
+        let cpu_built = frame(&ctx, &mut scene, &camera, technique);
+        scene.set_shadow_builder(ShadowBuilder::Gpu);
+        scene.take_uploads();
+        let c = compare(&image, &cpu_built).unwrap();
+        assert!(
+            c.all.max <= 1e-3,
+            "{technique}: GPU-built against CPU-built: {c:?}"
+        );
+    }
+}

@@ -438,8 +438,9 @@ impl GpuScene {
     }
 
     /// Whether this frame's `hard` or `wedges` shadows are built on the GPU: so asked, the
-    /// scene fits the build, and every mesh lies wholly in front of the light's plane (its
-    /// bounding box's corners, where the passes see them), so that none is cut by it.
+    /// scene fits the build, and every mesh lies on the light's emitting side, its plane
+    /// included (its bounding box's corners, where the passes see them: a room whose ceiling
+    /// holds its lamp flush), so that none is cut by it.
     fn builds_on_gpu(&mut self) -> bool {
         if self.builder != ShadowBuilder::Gpu {
             return false;
@@ -448,7 +449,7 @@ impl GpuScene {
         let warp = self.light.warp().copied();
         let in_front = meshes::world_corners(&self.meshes).into_iter().all(|c| {
             let c = warp.map_or(c, |w| w.point(c));
-            rect.to_light_space(c).z > 0.0
+            rect.to_light_space(c).z >= 0.0
         });
         in_front && self.built().is_some()
     }
@@ -550,11 +551,12 @@ impl GpuScene {
             .iter_mut()
             .map(|m| {
                 // A mirroring transform turns an outward winding inwards.
-                let mut sign = m.outward * m.transform.determinant().signum();
+                let winding = m.outward * m.transform.determinant().signum();
+                let mut sign = winding;
                 if sign != 0.0 && in_front.is_some_and(|p| m.is_room(p, eye)) {
                     sign = -sign;
                 }
-                model_matrix(world.eye, &m.transform, m.origin, sign)
+                model_matrix(world.eye, &m.transform, m.origin, (sign, winding))
             })
             .collect();
         let bytes = |u: &FrameUniforms| bytemuck::bytes_of(u).to_vec();

@@ -109,8 +109,9 @@ fn cast_faces(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgro
     }
     if ((face.w & CLOSED_MESH) != 0u) {
         // Closed: only the faces whose outer side faces the centre (the model matrix carries
-        // the mesh's outward sign: -1 wound inwards, or mirrored).
-        let outward = select(1.0, models[mesh][0].w, models[mesh][0].w != 0.0);
+        // the mesh's winding in the world: -1 wound inwards, or mirrored; not turned for a room
+        // seen from inside, as the depth pre-pass's sign is).
+        let outward = select(1.0, models[mesh][1].w, models[mesh][1].w != 0.0);
         if (f32(s) * outward <= 0.0) {
             s = 0;
         }
@@ -168,18 +169,24 @@ fn wedge_solid(start: vec3<f32>, to: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) ->
     // `wedge_bounds`: the edge swept from the light's corners to the box's far depth.
     let zmax = hi.z;
     let zmin = min(start.z, to.z);
-    let t = max(zmax / zmin - 1.0, 0.0);
-    var blo = min(start, to);
-    var bhi = max(start, to);
-    for (var k = 0u; k < 4u; k++) {
-        let l = vec3<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u), 0.0);
-        let q0 = start + (start - l) * t;
-        let q1 = to + (to - l) * t;
-        blo = min(blo, min(q0, q1));
-        bhi = max(bhi, max(q0, q1));
+    var blo = lo;
+    var bhi = hi;
+    // An edge on the light's plane (a lamp flush with a ceiling): its wedge may reach every
+    // receiver, and the receivers' box bounds it.
+    if (zmin > 0.0) {
+        let t = max(zmax / zmin - 1.0, 0.0);
+        blo = min(start, to);
+        bhi = max(start, to);
+        for (var k = 0u; k < 4u; k++) {
+            let l = vec3<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u), 0.0);
+            let q0 = start + (start - l) * t;
+            let q1 = to + (to - l) * t;
+            blo = min(blo, min(q0, q1));
+            bhi = max(bhi, max(q0, q1));
+        }
+        blo = max(blo, lo);
+        bhi = min(bhi, hi);
     }
-    blo = max(blo, lo);
-    bhi = min(bhi, hi);
     out.ok = blo.x <= bhi.x && blo.y <= bhi.y && blo.z <= bhi.z;
     out.z = vec2<f32>(blo.z, bhi.z);
     out.near = vec4<f32>(blo.xy, bhi.xy);
