@@ -51,8 +51,9 @@ const KEPT_LIGHTS: usize = 8;
 pub enum ShadowBuilder {
     /// On the GPU, in a compute pass, from the meshes' vertices as they are there: nothing is
     /// uploaded when the light or a mesh moves. Scenes it does not take are built on the CPU:
-    /// a mesh reaching the light's plane (a lamp in a room, a mesh through its light), more than
-    /// 65,535 meshes or faces on one edge, or buffers beyond the device's binding size
+    /// a mesh reaching behind the light's plane (a lamp hanging in a room, a mesh through its
+    /// light; a lamp flush with a ceiling is taken), more than 65,535 meshes or faces on one
+    /// edge, or buffers beyond the device's binding size
     /// (`docs/gpu.md`, "Shadows built on the GPU").
     #[default]
     Gpu,
