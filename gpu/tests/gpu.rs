@@ -2,7 +2,7 @@
 //! the run when `CI` is set; on a developer's machine without one they print a skip.
 
 mod common;
-use common::{context, fixtures};
+use common::{context, fixtures, l_shaped_room};
 
 use penumbra_geom::{LightSamples, Reference, Scene, Technique, compare};
 use penumbra_gpu::{
@@ -529,37 +529,6 @@ fn a_caster_outline_pixel_snapped_onto_folding_caps_is_not_shadowed() {
         );
         assert_eq!(isolated_specks(&img, &want), [], "{t}");
     }
-}
-
-/// A closed L-shaped room of height `h`, wound outwards: its floor's outline extruded.
-fn l_shaped_room(h: f64) -> penumbra_geom::TriangleMesh {
-    let outline = [
-        (0.0, 0.0),
-        (4.0, 0.0),
-        (4.0, 2.0),
-        (2.0, 2.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ];
-    let n = outline.len() as u32;
-    let mut positions: Vec<glam::DVec3> = outline
-        .iter()
-        .map(|&(x, z)| glam::DVec3::new(x, 0.0, z))
-        .collect();
-    positions.extend(outline.iter().map(|&(x, z)| glam::DVec3::new(x, h, z)));
-    // Floor and ceiling fanned from the inner corner (vertex 3), then the walls.
-    let mut triangles = Vec::new();
-    for k in [4u32, 5, 0, 1] {
-        let next = (k + 1) % n;
-        triangles.push([3, k, next]);
-        triangles.push([n + 3, n + next, n + k]);
-    }
-    for k in 0..n {
-        let next = (k + 1) % n;
-        triangles.push([k, next + n, next]);
-        triangles.push([k, k + n, next + n]);
-    }
-    penumbra_geom::TriangleMesh::from_raw("room", &positions, &triangles).unwrap()
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! CI), as `gpu.rs` does.
 
 mod common;
-use common::context;
+use common::{context, l_shaped_room};
 
 use common::{texture, view as texture_view};
 use glam::dcamera::rh::{proj::directx, view};
@@ -497,37 +497,6 @@ fn a_million_triangles_are_built_on_the_gpu() {
             "{technique}: {c:?}"
         );
     }
-}
-
-/// A closed L-shaped room of height `h`, wound outwards: its floor's outline extruded.
-fn l_shaped_room(h: f64) -> TriangleMesh {
-    let outline = [
-        (0.0, 0.0),
-        (4.0, 0.0),
-        (4.0, 2.0),
-        (2.0, 2.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ];
-    let n = outline.len() as u32;
-    let mut positions: Vec<DVec3> = outline
-        .iter()
-        .map(|&(x, z)| DVec3::new(x, 0.0, z))
-        .collect();
-    positions.extend(outline.iter().map(|&(x, z)| DVec3::new(x, h, z)));
-    // Floor and ceiling fanned from the inner corner (vertex 3), then the walls.
-    let mut triangles = Vec::new();
-    for k in [4u32, 5, 0, 1] {
-        let next = (k + 1) % n;
-        triangles.push([3, k, next]);
-        triangles.push([n + 3, n + next, n + k]);
-    }
-    for k in 0..n {
-        let next = (k + 1) % n;
-        triangles.push([k, next + n, next]);
-        triangles.push([k, k + n, next + n]);
-    }
-    TriangleMesh::from_raw("room", &positions, &triangles).unwrap()
 }
 
 #[test]

@@ -8,6 +8,13 @@ use crate::timing::PassQueries;
 /// Invocations per workgroup of every dispatch (`BUILD_GROUP` in the shader).
 pub const BUILD_GROUP: u32 = 256;
 
+/// A prefix sum over a workgroup of 256 invocations (`shaders/workgroup_scan.wgsl`), prepended
+/// to the passes that compact their output in order: the build and the tiled wedges.
+pub const WORKGROUP_SCAN_WGSL: &str = include_str!("../shaders/workgroup_scan.wgsl");
+
+// The scan's workgroup is the build's and the tiled wedges' (`SCAN_GROUP` in the shader).
+const _: () = assert!(BUILD_GROUP == 256 && crate::constants::WEDGE_TILE.pow(2) == BUILD_GROUP);
+
 /// Workgroups per row of a dispatch: larger ones take more rows.
 const ROW: u32 = 32_768;
 
@@ -174,7 +181,11 @@ impl BuildPass {
     /// Builds the pipelines.
     pub fn new(device: &wgpu::Device) -> Self {
         let frame_layout = &super::frame_layout_for(device, wgpu::ShaderStages::COMPUTE);
-        let module = super::shader(device, "build", include_str!("../shaders/build.wgsl"));
+        let source = format!(
+            "{WORKGROUP_SCAN_WGSL}\n{}",
+            include_str!("../shaders/build.wgsl")
+        );
+        let module = super::shader(device, "build", &source);
         let pipelines = ENTRIES
             .iter()
             .map(|e| {

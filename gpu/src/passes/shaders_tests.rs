@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use super::build::WORKGROUP_SCAN_WGSL;
 use super::complexity::COMPLEXITY_WGSL;
 use super::count::COUNT_WGSL;
 use super::fullscreen::{SHADOW_MAP_SHADERS, SHADOW_WGSL};
@@ -28,6 +29,7 @@ fn every_wgsl_file_validates_with_naga() {
             "count_pattern",
             "count_receiver",
             "wedge_integral",
+            "workgroup_scan",
         ]
         .contains(&stem.as_str())
         {
@@ -42,8 +44,12 @@ fn every_wgsl_file_validates_with_naga() {
             format!("{SHADOW_WGSL}\n{file}")
         } else if stem == "count" {
             format!("{COMPLEXITY_WGSL}\n{COUNT_WGSL}")
-        } else if stem == "wedge" || stem == "wedge_tiles" {
+        } else if stem == "wedge" {
             format!("{WEDGE_INTEGRAL_WGSL}\n{file}")
+        } else if stem == "wedge_tiles" {
+            format!("{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{file}")
+        } else if stem == "build" {
+            format!("{WORKGROUP_SCAN_WGSL}\n{file}")
         } else if stem == "edge_lists" || stem == "candidates" {
             format!("{COMPLEXITY_WGSL}\n{file}")
         } else {

@@ -4,6 +4,7 @@
 //! the occlusion target the resolve reads. It replaces rasterising every wedge's solid, whose
 //! fragments cover the screen many times over on large scenes.
 
+use super::build::WORKGROUP_SCAN_WGSL;
 use super::wedge::{OCCLUSION_FORMAT, WEDGE_INTEGRAL_WGSL, WedgeInstance};
 use crate::constants::WEDGE_TILE;
 use crate::timing::PassQueries;
@@ -32,7 +33,7 @@ impl WedgeTilesPass {
     /// The pipeline over the frame's layout (group 0).
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
         let source = format!(
-            "{WEDGE_INTEGRAL_WGSL}\n{}",
+            "{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{}",
             include_str!("../shaders/wedge_tiles.wgsl")
         );
         let module = super::shader(device, "wedge tiles", &source);

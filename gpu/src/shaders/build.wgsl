@@ -8,7 +8,8 @@
 // The light caps and dark caps are not written: the stencil pass draws them from the meshes'
 // corners, reading each face's `caster_sign` (`stencil.wgsl`, `vs_cap`).
 
-// `frame` and `models` (group 0) are declared in common.wgsl.
+// `frame` and `models` (group 0) are declared in common.wgsl, `workgroup_scan` (over
+// BUILD_GROUP = SCAN_GROUP invocations) in workgroup_scan.wgsl.
 
 const BUILD_GROUP: u32 = 256u;
 
@@ -241,22 +242,9 @@ fn edge_ends(e: vec4<u32>, m: i32) -> array<u32, 2> {
     return array<u32, 2>(e.y, e.x);
 }
 
-var<workgroup> sums: array<vec2<u32>, 256>;
-
-// The inclusive prefix sums of `mine` over the workgroup's invocations (Hillis and Steele).
-fn workgroup_scan(local: u32, mine: vec2<u32>) -> vec2<u32> {
-    sums[local] = mine;
-    workgroupBarrier();
-    for (var step = 1u; step < BUILD_GROUP; step <<= 1u) {
-        var v = sums[local];
-        if (local >= step) {
-            v += sums[local - step];
-        }
-        workgroupBarrier();
-        sums[local] = v;
-        workgroupBarrier();
-    }
-    return sums[local];
+// Edge i's multiplicity, as `count_edges` packed it (signed, in the low 16 bits).
+fn counted_multiplicity(i: u32) -> i32 {
+    return bitcast<i32>(edge_counts[i] << 16u) >> 16u;
 }
 
 // What edge `i` writes: its side quads and whether it has a wedge (0 past the last edge).
@@ -264,9 +252,7 @@ fn edge_output(i: u32) -> vec2<u32> {
     if (i >= arrayLength(&edges)) {
         return vec2<u32>(0u);
     }
-    let c = edge_counts[i];
-    let m = bitcast<i32>(c << 16u) >> 16u;
-    return vec2<u32>(u32(abs(m)), (c >> 16u) & 1u);
+    return vec2<u32>(u32(abs(counted_multiplicity(i))), (edge_counts[i] >> 16u) & 1u);
 }
 
 // Per edge: its multiplicity and whether its wedge reaches the receivers' box; per block, how
@@ -318,7 +304,7 @@ fn scan_blocks(@builtin(local_invocation_index) local: u32) {
         if (i < total) {
             blocks[i] = carry + inclusive - mine;
         }
-        carry += sums[BUILD_GROUP - 1u];
+        carry += scan_sums[SCAN_GROUP - 1u];
         workgroupBarrier();
     }
     if (local == 0u) {
@@ -348,7 +334,7 @@ fn write_edges(
         return;
     }
     let e = edges[i];
-    let m = bitcast<i32>(edge_counts[i] << 16u) >> 16u;
+    let m = counted_multiplicity(i);
     let mesh = e.w >> 16u;
     let ends = edge_ends(e, m);
     let start = stored(ends[0]);

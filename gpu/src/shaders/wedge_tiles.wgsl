@@ -41,8 +41,8 @@ var<workgroup> box_keys: array<atomic<u32>, 6>;
 // Whether the tile has a receiver, and its box.
 var<workgroup> tile_box: array<vec3<f32>, 2>;
 var<workgroup> tile_has: u32;
-// Prefix sums of the wedges kept, and the kept wedges in order.
-var<workgroup> kept_sums: array<u32, TILE_PIXELS>;
+// The kept wedges in order (their prefix sums by `workgroup_scan`, over TILE_PIXELS =
+// SCAN_GROUP invocations, workgroup_scan.wgsl).
 var<workgroup> kept: array<u32, ROUND>;
 
 fn tile_wedge(i: u32) -> TileWedge {
@@ -96,22 +96,6 @@ fn meets_box(s: Solid, lo: vec3<f32>, hi: vec3<f32>) -> bool {
     return all(min(a.xy, b.xy) <= hi.xy) && all(lo.xy <= max(a.zw, b.zw));
 }
 
-// The inclusive prefix sums of `mine` over the workgroup (Hillis and Steele).
-fn scan_kept(local: u32, mine: u32) -> u32 {
-    kept_sums[local] = mine;
-    workgroupBarrier();
-    for (var step = 1u; step < TILE_PIXELS; step <<= 1u) {
-        var v = kept_sums[local];
-        if (local >= step) {
-            v += kept_sums[local - step];
-        }
-        workgroupBarrier();
-        kept_sums[local] = v;
-        workgroupBarrier();
-    }
-    return kept_sums[local];
-}
-
 @compute @workgroup_size(WEDGE_TILE, WEDGE_TILE)
 fn tile(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -162,14 +146,14 @@ fn tile(
                 kept_here++;
             }
         }
-        var at = scan_kept(local, kept_here) - kept_here;
+        var at = workgroup_scan(local, vec2<u32>(kept_here, 0u)).x - kept_here;
         for (var j = 0u; j < PER_INVOCATION; j++) {
             if ((keep & (1u << j)) != 0u) {
                 kept[at] = start + j;
                 at++;
             }
         }
-        let count = workgroupUniformLoad(&kept_sums[TILE_PIXELS - 1u]);
+        let count = workgroupUniformLoad(&scan_sums[SCAN_GROUP - 1u]).x;
         for (var k = 0u; k < count; k++) {
             let s = solid_of(kept[k]);
             // Only a receiver in the solid can be in the wedge (Lengyel's test, Forest et al.

@@ -1,8 +1,9 @@
-//! What the GPU test files share: the adapter and the fixtures.
+//! What the GPU test files share: the adapter, the fixtures and scenes made in code.
 
 use std::path::PathBuf;
 
-use penumbra_geom::Scene;
+use glam::DVec3;
+use penumbra_geom::{Scene, TriangleMesh};
 use penumbra_gpu::GpuContext;
 
 /// The adapter: in CI Mesa's lavapipe, and a missing one fails the run when `CI` is set; on a
@@ -116,4 +117,37 @@ pub fn against_the_oracle(
             (samples, cpu, gpu)
         })
         .collect()
+}
+
+/// A closed L-shaped room of height `h`, wound outwards: the outline (0, 0) (4, 0) (4, 2)
+/// (2, 2) (2, 4) (0, 4) of its floor (x, z) extruded along y.
+#[allow(dead_code)] // Not every test file that shares this module uses it.
+pub fn l_shaped_room(h: f64) -> TriangleMesh {
+    let outline = [
+        (0.0, 0.0),
+        (4.0, 0.0),
+        (4.0, 2.0),
+        (2.0, 2.0),
+        (2.0, 4.0),
+        (0.0, 4.0),
+    ];
+    let n = outline.len() as u32;
+    let mut positions: Vec<DVec3> = outline
+        .iter()
+        .map(|&(x, z)| DVec3::new(x, 0.0, z))
+        .collect();
+    positions.extend(outline.iter().map(|&(x, z)| DVec3::new(x, h, z)));
+    // Floor and ceiling fanned from the inner corner (vertex 3), then the walls.
+    let mut triangles = Vec::new();
+    for k in [4u32, 5, 0, 1] {
+        let next = (k + 1) % n;
+        triangles.push([3, k, next]);
+        triangles.push([n + 3, n + next, n + k]);
+    }
+    for k in 0..n {
+        let next = (k + 1) % n;
+        triangles.push([k, next + n, next]);
+        triangles.push([k, k + n, next + n]);
+    }
+    TriangleMesh::from_raw("room", &positions, &triangles).unwrap()
 }
