@@ -27,6 +27,18 @@ pub(crate) struct Candidates {
     /// A copy of each edge and, for a two-face edge, of its faces: the exact test reads them
     /// in the list's order instead of across the whole scene's edges.
     pub(crate) edges: Vec<(PotentialEdge, [EdgeFace; 2])>,
+    /// What the pre-test reads of each.
+    lanes: Lanes,
+    /// Whether the last pre-test kept each.
+    keep: Vec<bool>,
+    /// The indices (into `ids` and `edges`) of those it kept, in order.
+    pub(crate) kept: Vec<u32>,
+}
+
+/// What the pre-test reads of a list of edges, in `f32`, one array per number so that the test
+/// runs four edges to an instruction.
+#[derive(Default)]
+pub(crate) struct Lanes {
     a: [Vec<f32>; 3],
     b: [Vec<f32>; 3],
     n0: [Vec<f32>; 3],
@@ -34,10 +46,6 @@ pub(crate) struct Candidates {
     /// `(MARGIN |n_k|)^2`.
     t0: Vec<f32>,
     t1: Vec<f32>,
-    /// Whether the last pre-test kept each.
-    keep: Vec<bool>,
-    /// The indices (into `ids` and `edges`) of those it kept, in order.
-    pub(crate) kept: Vec<u32>,
 }
 
 /// What the pre-test reads for an edge without exactly two faces: a zero normal, never dropped.
@@ -55,6 +63,68 @@ impl Candidates {
     pub(crate) fn clear(&mut self) {
         self.ids.clear();
         self.edges.clear();
+        self.lanes.clear();
+    }
+
+    pub(crate) fn push(&mut self, edges: &PotentialEdges, ei: u32) {
+        let e = &edges.edges[ei as usize];
+        let faces = edges.faces_of(e);
+        let (n0, n1) = match faces {
+            [f0, f1] => (f0, f1),
+            _ => (&NO_FACE, &NO_FACE),
+        };
+        self.ids.push(ei);
+        self.edges.push((*e, [*n0, *n1]));
+        self.lanes.push(e, n0, n1);
+    }
+
+    /// Lists in `kept` the edges that may change a count seen from `p`; `r2` is `R^2`. With
+    /// `pyramid`, also drops those outside the point's pyramid (worth its cost where the
+    /// candidates are a wider region's than the point's: under a small light).
+    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32, pyramid: bool) {
+        let n = self.ids.len();
+        self.lanes.test(0..n, p, r2, pyramid, &mut self.keep);
+        // The list without a branch: every index is written, and the count moves past the kept.
+        // A pass of its own: written inside the test's loop, the list's count chains its steps,
+        // and the test no longer runs four edges at a time (with every tile of the scale scene
+        // counting, the render took 12% longer than with no list at all).
+        self.kept.clear();
+        self.kept.resize(n + 1, 0);
+        let mut count = 0;
+        for (k, &kept) in self.keep.iter().enumerate() {
+            self.kept[count] = k as u32;
+            count += usize::from(kept);
+        }
+        self.kept.truncate(count);
+    }
+
+    /// Replaces the list with those of the edges `ids` that the pre-test (with the pyramid)
+    /// keeps at `p`, `lanes[range]` holding what it reads of them; every one is kept.
+    pub(crate) fn pretested_from(
+        &mut self,
+        edges: &PotentialEdges,
+        ids: &[u32],
+        lanes: &Lanes,
+        range: std::ops::Range<usize>,
+        p: DVec3,
+        r2: f32,
+    ) {
+        self.clear();
+        let mut keep = std::mem::take(&mut self.keep);
+        lanes.test(range.clone(), p, r2, true, &mut keep);
+        for (&kept, &ei) in keep.iter().zip(&ids[range]) {
+            if kept {
+                self.push(edges, ei);
+            }
+        }
+        self.keep = keep;
+        self.kept.clear();
+        self.kept.extend(0..self.ids.len() as u32);
+    }
+}
+
+impl Lanes {
+    pub(crate) fn clear(&mut self) {
         for v in self
             .a
             .iter_mut()
@@ -68,15 +138,8 @@ impl Candidates {
         self.t1.clear();
     }
 
-    pub(crate) fn push(&mut self, edges: &PotentialEdges, ei: u32) {
-        let e = &edges.edges[ei as usize];
-        let faces = edges.faces_of(e);
-        let (n0, n1) = match faces {
-            [f0, f1] => (f0, f1),
-            _ => (&NO_FACE, &NO_FACE),
-        };
-        self.ids.push(ei);
-        self.edges.push((*e, [*n0, *n1]));
+    /// Appends the edge `e` with its faces `n0` and `n1` ([`NO_FACE`] for an edge without two).
+    fn push(&mut self, e: &PotentialEdge, n0: &EdgeFace, n1: &EdgeFace) {
         for k in 0..3 {
             self.a[k].push(e.a[k] as f32);
             self.b[k].push(e.b[k] as f32);
@@ -88,18 +151,37 @@ impl Candidates {
         self.t1.push(t(n1));
     }
 
-    /// Lists in `kept` the edges that may change a count seen from `p`; `r2` is `R^2`. With
-    /// `pyramid`, also drops those outside the point's pyramid (worth its cost where the
-    /// candidates are a wider region's than the point's: under a small light).
-    pub(crate) fn pretest(&mut self, p: DVec3, r2: f32, pyramid: bool) {
-        let n = self.ids.len();
-        self.keep.clear();
-        self.keep.resize(n, false);
+    /// Appends the potential edge `ei` of `edges`.
+    pub(crate) fn push_edge(&mut self, edges: &PotentialEdges, ei: u32) {
+        let e = &edges.edges[ei as usize];
+        match edges.faces_of(e) {
+            [f0, f1] => self.push(e, f0, f1),
+            _ => self.push(e, &NO_FACE, &NO_FACE),
+        }
+    }
+
+    /// Into `keep`, one flag for each edge of `range`: whether it may change a count seen from
+    /// `p` ([`Candidates::pretest`]).
+    fn test(
+        &self,
+        range: std::ops::Range<usize>,
+        p: DVec3,
+        r2: f32,
+        pyramid: bool,
+        keep: &mut Vec<bool>,
+    ) {
+        let n = range.len();
+        keep.clear();
+        keep.resize(n, false);
         // Slices of one length, so that the loop runs without bounds checks, four to a step.
-        let [ax, ay, az] = self.a.each_ref().map(|v| &v[..n]);
-        let [n0x, n0y, n0z] = self.n0.each_ref().map(|v| &v[..n]);
-        let [n1x, n1y, n1z] = self.n1.each_ref().map(|v| &v[..n]);
-        let (t0, t1, keep) = (&self.t0[..n], &self.t1[..n], &mut self.keep[..n]);
+        let [ax, ay, az] = self.a.each_ref().map(|v| &v[range.clone()]);
+        let [n0x, n0y, n0z] = self.n0.each_ref().map(|v| &v[range.clone()]);
+        let [n1x, n1y, n1z] = self.n1.each_ref().map(|v| &v[range.clone()]);
+        let (t0, t1, keep) = (
+            &self.t0[range.clone()],
+            &self.t1[range.clone()],
+            &mut keep[..n],
+        );
         let (px, py, pz) = (p.x as f32, p.y as f32, p.z as f32);
         for k in 0..n {
             let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
@@ -116,7 +198,7 @@ impl Candidates {
                 let s = planes[k + 1].n.as_vec3();
                 (s, (MARGIN * s.length()).powi(2))
             });
-            let [bx, by, bz] = self.b.each_ref().map(|v| &v[..n]);
+            let [bx, by, bz] = self.b.each_ref().map(|v| &v[range.clone()]);
             for k in 0..n {
                 let (dx, dy, dz) = (px - ax[k], py - ay[k], pz - az[k]);
                 let (ex, ey, ez) = (px - bx[k], py - by[k], pz - bz[k]);
@@ -132,17 +214,5 @@ impl Candidates {
                 keep[k] &= !(out(q0) | out(q1) | out(q2) | out(q3));
             }
         }
-        // The list without a branch: every index is written, and the count moves past the kept.
-        // A pass of its own: written inside the test's loop, the list's count chains its steps,
-        // and the test no longer runs four edges at a time (with every tile of the scale scene
-        // counting, the render took 12% longer than with no list at all).
-        self.kept.clear();
-        self.kept.resize(n + 1, 0);
-        let mut count = 0;
-        for (k, &kept) in keep.iter().enumerate() {
-            self.kept[count] = k as u32;
-            count += usize::from(kept);
-        }
-        self.kept.truncate(count);
     }
 }

@@ -64,6 +64,7 @@ use rayon::prelude::*;
 
 use crate::candidates::Candidates;
 use crate::potential::{PotentialEdges, pyramid_planes};
+use crate::pyramid_grid::PyramidGrid;
 use crate::region::{Region, crossing_region, edge_region};
 pub use crate::samples::SamplePattern;
 use crate::sectors::Sectors;
@@ -181,6 +182,9 @@ pub struct DepthComplexity {
     cast_pixels: std::sync::atomic::AtomicU64,
     /// Whether the light is thinner than [`THIN_LIGHT`]: every sample is cast.
     thin: bool,
+    /// Whether [`DepthComplexity::render`] gives each point its edges from a [`PyramidGrid`]:
+    /// under a distant light.
+    pub(crate) by_grid: bool,
 }
 
 /// A light whose long side exceeds its short one this many times is too thin for counts: its
@@ -207,9 +211,12 @@ impl DepthComplexity {
     pub fn from_parts(scene: &LitScene, tracer: Tracer, edges: PotentialEdges) -> Self {
         let light = &tracer.light;
         let reach = edges.reach;
+        let thin = !(light.size.max_element() <= THIN_LIGHT * light.size.min_element());
+        let by_grid = scene.distant.is_some() && !thin;
         DepthComplexity {
             reach2: (reach * reach) as f32,
-            thin: !(light.size.max_element() <= THIN_LIGHT * light.size.min_element()),
+            thin,
+            by_grid,
             tracer,
             edges,
             camera: scene.camera,
@@ -376,6 +383,24 @@ impl DepthComplexity {
             })
     }
 
+    /// Gathers into `candidates` the edges of the light-space point `p`'s cell of `grid`,
+    /// pre-tested at `p`, and returns whether the point should cast its `samples` instead
+    /// ([`CAST_FROM`], as [`DepthComplexity::tile_candidates`] decides for a point).
+    fn grid_candidates(
+        &self,
+        grid: &PyramidGrid,
+        p: DVec3,
+        samples: usize,
+        candidates: &mut Candidates,
+    ) -> bool {
+        candidates.clear();
+        if grid.count_near(p) as f64 > self.cast_from.candidates * samples as f64 {
+            return true;
+        }
+        grid.candidates(&self.edges, p, self.reach2, candidates);
+        candidates.kept.len() as f64 > self.cast_from.kept * samples as f64
+    }
+
     /// How many pixels of the last [`DepthComplexity::render`] had their samples tested by rays
     /// rather than counted from the edges.
     pub fn cast_pixels(&self) -> u64 {
@@ -408,6 +433,10 @@ impl DepthComplexity {
     /// their pyramids many times the edges of any one: each point takes its own, by the same
     /// rules. A point none of whose edges passes the pre-test needs only whether its count at
     /// the centre is zero: one ray that stops at its first crossing.
+    ///
+    /// Under a distant light every point takes its own edges, read from a grid laid over the
+    /// image's points as the light sees them ([`PyramidGrid`]): the same edges change the same
+    /// counts as the hierarchy's, and a point reads a few instead of its tile's hundreds.
     pub fn render(
         &self,
         pattern: SamplePattern,
@@ -435,6 +464,35 @@ impl DepthComplexity {
         pattern: SamplePattern,
         progress: &(dyn Fn(u64) + Sync),
         surface: &(dyn Fn(u32, u32) -> Option<SurfacePoint> + Sync),
+    ) -> VisibilityImage {
+        if !self.by_grid {
+            return self.render_with(pattern, progress, surface, None);
+        }
+        // The grid is built for the image's points: found first.
+        let (w, h) = (self.camera.width as usize, self.camera.height as usize);
+        let points: Vec<Option<SurfacePoint>> = (0..w * h)
+            .into_par_iter()
+            .map(|k| surface((k % w) as u32, (k / w) as u32))
+            .collect();
+        let light = &self.tracer.light;
+        let receivers: Vec<DVec3> = points
+            .iter()
+            .flatten()
+            .map(|p| light.to_light_space(p.position))
+            .filter(|p| p.z > 0.0)
+            .collect();
+        let grid = PyramidGrid::build(&self.edges, &receivers);
+        let at = |i: u32, j: u32| points[j as usize * w + i as usize];
+        self.render_with(pattern, progress, &at, grid.as_ref())
+    }
+
+    /// [`DepthComplexity::render_at`], each point's edges from `grid` where there is one.
+    fn render_with(
+        &self,
+        pattern: SamplePattern,
+        progress: &(dyn Fn(u64) + Sync),
+        surface: &(dyn Fn(u32, u32) -> Option<SurfacePoint> + Sync),
+        grid: Option<&PyramidGrid>,
     ) -> VisibilityImage {
         let cam = &self.camera;
         let w = cam.width as usize;
@@ -471,24 +529,36 @@ impl DepthComplexity {
                             }
                         }
                     }
-                    at.clear();
-                    at.extend(lit.iter().map(|l| l.2));
                     let mut candidates = std::mem::take(&mut scratch.candidates);
                     let samples = pattern.per_axis * pattern.per_axis;
-                    // Points far apart under a small light (the sun): each point's pyramid
-                    // holds a small part of the tile's. Its pre-test drops the edges outside
-                    // it, and where the tile has too many, the point takes its own.
-                    let wide = wider_than_the_light(&at);
-                    let tile_casts = self.tile_candidates(&at, samples, &mut candidates, false);
-                    let per_point = tile_casts && wide;
+                    // Under a small light each point reads its own edges from the grid;
+                    // otherwise a tile's points share one query of the edge hierarchy.
+                    let (tile_casts, per_point, wide) = match grid {
+                        Some(_) => (false, true, true),
+                        None => {
+                            at.clear();
+                            at.extend(lit.iter().map(|l| l.2));
+                            // Points far apart under a small light: each point's pyramid holds
+                            // a small part of the tile's. Its pre-test drops the edges outside
+                            // it, and where the tile has too many, the point takes its own.
+                            let wide = wider_than_the_light(&at);
+                            let casts = self.tile_candidates(&at, samples, &mut candidates, false);
+                            (casts, casts && wide, wide)
+                        }
+                    };
                     for (k, p, pl) in &lit {
                         if stop.happened() {
                             return;
                         }
                         let pixel = (tile_row * TILE * w + k) as u64;
-                        let casts = match per_point {
-                            true => self.tile_candidates(&[*pl], samples, &mut candidates, true),
-                            false => tile_casts,
+                        let casts = match (per_point, grid) {
+                            (true, Some(grid)) => {
+                                self.grid_candidates(grid, *pl, samples, &mut candidates)
+                            }
+                            (true, None) => {
+                                self.tile_candidates(&[*pl], samples, &mut candidates, true)
+                            }
+                            (false, _) => tile_casts,
                         };
                         if casts {
                             self.cast_pixels
@@ -497,7 +567,9 @@ impl DepthComplexity {
                             block[*k] = self.cast(p, pattern, pixel, &mut scratch) as f32;
                             continue;
                         }
-                        candidates.pretest(*pl, self.reach2, wide);
+                        if grid.is_none() {
+                            candidates.pretest(*pl, self.reach2, wide);
+                        }
                         if candidates.kept.is_empty() && self.edges.crossings.is_empty() {
                             // No edge comes between the point and the light: every sample's
                             // count is the centre's, and only whether it is zero matters (the

@@ -406,3 +406,54 @@ fn tiles_cast_by_rays_give_the_counts_image() {
             .all(|(_, a, b)| (a - b).abs() <= 2.0 / samples)
     );
 }
+
+#[test]
+fn the_grid_under_a_distant_light_gives_the_hierarchys_image() {
+    use penumbra_geom::{DistantLight, Light, NamedLight};
+    let mut scene = scene(
+        vec![bumpy_sheet(), open_box()],
+        DVec3::new(0.5, 6.0, 7.0),
+        DVec3::new(0.0, 0.5, 0.0),
+    );
+    // Finer pixels: the sun's penumbrae are a hundredth of the sheet's height wide.
+    scene.camera = Camera::look_at(
+        scene.camera.eye,
+        DVec3::new(0.0, 0.5, 0.0),
+        DVec3::Y,
+        45.0,
+        160,
+        120,
+    )
+    .unwrap();
+    let pattern = SamplePattern {
+        per_axis: PER_AXIS,
+        jitter: false,
+    };
+    // The sun high and low, and distant lights of a few degrees and of half the sky.
+    for (azimuth, elevation, size) in [
+        (150.0, 60.0, 0.53),
+        (250.0, 8.0, 0.53),
+        (80.0, 35.0, 4.0),
+        (200.0, 45.0, 60.0),
+    ] {
+        let sun = DistantLight::sun(azimuth, elevation, size).unwrap();
+        scene.lights = vec![NamedLight {
+            name: "sun".into(),
+            light: Light::Distant(sun),
+        }];
+        let lit = scene.lit(0);
+        let mut dc = DepthComplexity::new(&lit);
+        assert!(dc.by_grid);
+        let by_grid = dc.render(pattern, &|_| {});
+        dc.by_grid = false;
+        let by_tree = dc.render(pattern, &|_| {});
+        let penumbra = by_tree.data.iter().filter(|&&v| v > 0.0 && v < 1.0).count();
+        let dark = by_tree.data.iter().filter(|&&v| v == 0.0).count();
+        println!("{size} degrees: {penumbra} penumbra pixels, {dark} dark");
+        assert!(
+            penumbra > 20 && penumbra + dark > 400,
+            "{penumbra} penumbra, {dark} dark at {size} degrees"
+        );
+        assert_eq!(by_grid.data, by_tree.data, "{azimuth}, {elevation}, {size}");
+    }
+}

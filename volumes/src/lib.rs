@@ -18,6 +18,7 @@ mod cpu_renderer;
 mod depth_complexity;
 mod light_centre;
 mod potential;
+mod pyramid_grid;
 mod region;
 mod samples;
 mod sectors;

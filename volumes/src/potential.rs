@@ -154,13 +154,17 @@ const EDGE_RUN: usize = 1 << 14;
 fn potential_in(
     mesh: &HalfEdgeMesh,
     run: &[Edge],
+    folds: Option<&[bool]>,
     pos: &[DVec3],
     first_triangle: u32,
 ) -> (Vec<PotentialEdge>, Vec<EdgeFace>) {
     let (mut edges, mut faces) = (Vec::new(), Vec::new());
     // One list for every edge's apices: allocating one per edge cost as much as the tests.
     let mut apices: Vec<DVec3> = Vec::new();
-    for e in run {
+    for (k, e) in run.iter().enumerate() {
+        if folds.is_some_and(|f| !f[k]) {
+            continue;
+        }
         let [ia, ib] = e.vertices;
         let (a, b) = (pos[ia as usize], pos[ib as usize]);
         if a.z <= 0.0 && b.z <= 0.0 {
@@ -236,6 +240,18 @@ impl PotentialEdges {
         meshes: impl IntoIterator<Item = (&'a HalfEdgeMesh, &'a [DVec3])>,
         light: &RectLight,
     ) -> Self {
+        Self::build_folding(meshes.into_iter().map(|(m, p)| (m, p, None)), light)
+    }
+
+    /// [`PotentialEdges::build_moved`] where the caller has ruled out some edges already: with
+    /// each mesh, `None` or one flag per edge of it, false where no point of the light can see
+    /// the edge fold (the edges of a sun study, [`crate::SunSeries`], ruled out by their faces'
+    /// normals in the world). The flags only save the test: an edge flagged false must be one
+    /// the test leaves out.
+    pub(crate) fn build_folding<'a>(
+        meshes: impl IntoIterator<Item = (&'a HalfEdgeMesh, &'a [DVec3], Option<&'a [bool]>)>,
+        light: &RectLight,
+    ) -> Self {
         let light = *light;
         let mut edges = Vec::new();
         let mut faces = Vec::new();
@@ -243,7 +259,7 @@ impl PotentialEdges {
         let mut reach = 1.0f64;
         let mut first_triangle = 0u32;
         let mut crossings = Vec::new();
-        for (mesh, positions) in meshes {
+        for (mesh, positions, folds) in meshes {
             all_edges += mesh.edges.len();
             // A large mesh on every core, in runs of edges joined in their order; a small one
             // on this thread (waking the others would cost more).
@@ -253,14 +269,20 @@ impl PotentialEdges {
                 true => positions.par_iter().map(to_light).collect(),
                 false => positions.iter().map(to_light).collect(),
             };
-            reach = pos.iter().fold(reach, |r, p| r.max(p.abs().max_element()));
+            let (mesh_reach, nearest) = pos.iter().fold((reach, f64::INFINITY), |(r, z), p| {
+                (r.max(p.abs().max_element()), z.min(p.z))
+            });
+            reach = mesh_reach;
+            let run_folds =
+                |k: usize| folds.map(|f| &f[k * EDGE_RUN..(f.len()).min((k + 1) * EDGE_RUN)]);
             let runs: Vec<(Vec<PotentialEdge>, Vec<EdgeFace>)> = match large {
                 true => mesh
                     .edges
                     .par_chunks(EDGE_RUN)
-                    .map(|run| potential_in(mesh, run, &pos, first_triangle))
+                    .enumerate()
+                    .map(|(k, run)| potential_in(mesh, run, run_folds(k), &pos, first_triangle))
                     .collect(),
-                false => vec![potential_in(mesh, &mesh.edges, &pos, first_triangle)],
+                false => vec![potential_in(mesh, &mesh.edges, folds, &pos, first_triangle)],
             };
             for (run_edges, run_faces) in runs {
                 let offset = faces.len() as u32;
@@ -273,11 +295,15 @@ impl PotentialEdges {
             let crossing = |(f, tri): (usize, &[u32; 3])| {
                 light_crossing(tri.map(|v| pos[v as usize]), first_triangle + f as u32)
             };
-            match large {
-                true => {
+            // Only a mesh with a vertex on or behind the light's plane crosses it.
+            match (large, nearest > 0.0) {
+                (_, true) => {}
+                (true, false) => {
                     crossings.par_extend(mesh.faces.par_iter().enumerate().filter_map(crossing))
                 }
-                false => crossings.extend(mesh.faces.iter().enumerate().filter_map(crossing)),
+                (false, false) => {
+                    crossings.extend(mesh.faces.iter().enumerate().filter_map(crossing))
+                }
             }
             first_triangle += mesh.faces.len() as u32;
         }
