@@ -17,6 +17,7 @@
 //! Every public name is here, at the crate root; the modules are private.
 #![warn(missing_docs)]
 
+mod blend_units;
 mod constants;
 mod context;
 mod counters;

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use crate::context::{GpuContext, GpuError};
 use crate::passes::{
     blend::BlendPass,
+    blend_tiles::BlendTilesPass,
     build::BuildPass,
     candidates::CandidatePass,
     complexity::{ComplexityPass, inputs_layout},
@@ -30,6 +31,8 @@ pub(crate) struct Pipelines {
     /// `wedges`' tiled wedge pass.
     pub(crate) wedge_tiles: WedgeTilesPass,
     pub(crate) blend: BlendPass,
+    /// `wedges-blend`'s tiled pass.
+    pub(crate) blend_tiles: BlendTilesPass,
     pub(crate) resolve: ResolvePass,
     /// Depth-complexity sampling's group 1 and its compute passes.
     pub(crate) complexity_layout: wgpu::BindGroupLayout,
@@ -83,6 +86,7 @@ impl GpuRenderer {
             stencil: StencilPass::new(device, &frame_layout, ctx.unclipped_depth),
             build: BuildPass::new(device),
             blend: BlendPass::new(device, &frame_layout),
+            blend_tiles: BlendTilesPass::new(device),
             wedge,
             wedge_tiles: WedgeTilesPass::new(device, &frame_layout),
             resolve,

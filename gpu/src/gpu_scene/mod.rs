@@ -16,6 +16,7 @@ mod frame_shadows;
 mod meshes;
 mod record;
 mod record_blend;
+mod record_blend_tiles;
 mod scratch;
 mod shadows;
 mod uploads;

@@ -118,7 +118,11 @@ impl GpuScene {
         self.scratch
             .prepare(&self.ctx.device, technique, camera.size);
         if technique == Technique::WedgesBlend {
-            self.record_blend(encoder, camera, gbuffer, target, timer);
+            let tiled = self.wedge_pass == WedgePass::Tiled
+                && self.record_blend_tiled(encoder, camera, gbuffer, target, timer);
+            if !tiled {
+                self.record_blend(encoder, camera, gbuffer, target, timer);
+            }
         } else {
             self.record_additive(encoder, technique, on_gpu, gbuffer, target, timer);
         }

@@ -8,6 +8,7 @@ use penumbra_geom::RectLight;
 use penumbra_volumes::Volumes;
 
 use super::meshes::StoredMesh;
+use crate::blend_units::BlendUnits;
 use crate::passes::buffer;
 use crate::passes::wedge::WedgeInstance;
 use crate::scene_data::{ReceiverClusters, nearest_edges, volume_vertices, wedge_instances};
@@ -30,6 +31,12 @@ pub(super) struct Shadows {
     pub(super) clusters: ReceiverClusters,
     /// Silhouette edges, for reports.
     pub(super) wedges: usize,
+    /// The blending units' items for the tiled blend, their side quads uploaded, and their
+    /// casters for the counts at the eye.
+    pub(super) units: BlendUnits,
+    pub(super) items: wgpu::Buffer,
+    pub(super) quads: wgpu::Buffer,
+    pub(super) triangle_units: wgpu::Buffer,
 }
 
 impl Shadows {
@@ -45,8 +52,23 @@ impl Shadows {
         let stored: Vec<&[[f32; 3]]> = meshes.iter().map(|m| m.stored.as_slice()).collect();
         let (vol, ranges) = volume_vertices(volumes, &stored);
         let (instances, instance_ranges) = wedge_instances(light, world, volumes);
+        let units = BlendUnits::new(volumes, &stored, &instance_ranges);
+        // A binding holds one element at least.
+        let items = match units.items.is_empty() {
+            true => vec![[0u32; 2]],
+            false => units.items.clone(),
+        };
+        let quads = match units.quads.is_empty() {
+            true => vec![bytemuck::Zeroable::zeroed()],
+            false => units.quads.clone(),
+        };
+        let mut triangle_units = units.triangle_units.clone();
+        triangle_units.push(crate::blend_units::NO_UNIT);
         let bytes = (std::mem::size_of_val(vol.as_slice())
-            + std::mem::size_of_val(instances.as_slice())) as u64;
+            + std::mem::size_of_val(instances.as_slice())
+            + std::mem::size_of_val(items.as_slice())
+            + std::mem::size_of_val(quads.as_slice())
+            + std::mem::size_of_val(triangle_units.as_slice())) as u64;
         let shadows = Shadows {
             volume: buffer(device, "volume triangles", &vol, wgpu::BufferUsages::VERTEX),
             volume_ranges: ranges,
@@ -73,6 +95,15 @@ impl Shadows {
             nearest: nearest_edges(volumes),
             clusters: ReceiverClusters::new(light, world),
             wedges: volumes.wedges.len(),
+            units,
+            items: buffer(device, "blend items", &items, wgpu::BufferUsages::STORAGE),
+            quads: buffer(device, "blend quads", &quads, wgpu::BufferUsages::STORAGE),
+            triangle_units: buffer(
+                device,
+                "triangle units",
+                &triangle_units,
+                wgpu::BufferUsages::STORAGE,
+            ),
         };
         (shadows, bytes)
     }

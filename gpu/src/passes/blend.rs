@@ -5,6 +5,10 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::constants::{MAX_WORKGROUPS, TILE};
 
+/// Forest et al.'s blending of one silhouette's part into the final buffer's, shared by the
+/// blend of each group and the tiled pass (`passes::blend_tiles`).
+pub const BLEND_PARTS_WGSL: &str = include_str!("../shaders/blend_parts.wgsl");
+
 /// Formats of the silhouette buffer's targets: signed area per part (added), the inner
 /// half-wedges' cover of each part's border (added), one rectangle per part in 8 bits per
 /// coordinate (kept by `Min` blending). 16 + 8 + 4 x 4 = 40 bytes per pixel.
@@ -198,7 +202,11 @@ pub struct BlendPass {
 impl BlendPass {
     /// Builds the pipeline.
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
-        let module = super::shader(device, "blend", include_str!("../shaders/blend.wgsl"));
+        let source = format!(
+            "{BLEND_PARTS_WGSL}\n{}",
+            include_str!("../shaders/blend.wgsl")
+        );
+        let module = super::shader(device, "blend", &source);
         let mut entries = vec![super::float_texture(); SILHOUETTE_FORMATS.len()];
         entries.push(wgpu::BindingType::Texture {
             sample_type: wgpu::TextureSampleType::Uint,

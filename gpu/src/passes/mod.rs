@@ -1,6 +1,7 @@
 //! One module per pass, each driving the WGSL file of the same name in `src/shaders/`.
 
 pub mod blend;
+pub mod blend_tiles;
 pub mod build;
 pub mod candidates;
 pub mod complexity;

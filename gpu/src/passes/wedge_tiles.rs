@@ -9,6 +9,10 @@ use super::wedge::{OCCLUSION_FORMAT, WEDGE_INTEGRAL_WGSL, WedgeInstance};
 use crate::constants::WEDGE_TILE;
 use crate::timing::PassQueries;
 
+/// What the tiled passes over wedges share: the wedges' bindings (group 1, bindings 1 and 2)
+/// and solids, and the light-space box of a tile's receivers.
+pub const TILE_WEDGES_WGSL: &str = include_str!("../shaders/tile_wedges.wgsl");
+
 /// The pass's pipeline and the layout of its group 1 (the receivers, the wedges in two parts,
 /// their count and the occlusion target).
 pub struct WedgeTilesPass {
@@ -33,7 +37,7 @@ impl WedgeTilesPass {
     /// The pipeline over the frame's layout (group 0).
     pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout) -> Self {
         let source = format!(
-            "{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{}",
+            "{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{TILE_WEDGES_WGSL}\n{}",
             include_str!("../shaders/wedge_tiles.wgsl")
         );
         let module = super::shader(device, "wedge tiles", &source);

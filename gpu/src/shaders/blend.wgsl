@@ -32,23 +32,6 @@ struct TileRange {
 // TILE (tile side in pixels) and MAX_WORKGROUPS (workgroups along x of a dispatch: the tile
 // index is x + MAX_WORKGROUPS y) come from Rust (`constants::shared_constants`).
 
-// The inner half-wedges must cover this much of a part's border (length 2) for the hard region's
-// rectangle to end at them (CPU: 2 (1 - 1e-9); the cover is summed in f16, 11 bits).
-const FULL_COVER: f32 = 1.996;
-
-// The core of a region of area a in the encoded rectangle e of part k: the decoded rectangle
-// scaled about its centre to area a (the CPU's `blend::core`).
-fn core(e: vec4<f32>, k: u32, a: f32) -> vec4<f32> {
-    let t = part_rect(k);
-    let ext = t.zw - t.xy;
-    let lo = t.xy + e.xy * ext;
-    let hi = t.zw - e.zw * ext;
-    let size = hi - lo;
-    let half = size * (0.5 * sqrt(clamp(a / (size.x * size.y), 0.0, 1.0)));
-    let c = (lo + hi) * 0.5;
-    return vec4<f32>(c - half, c + half);
-}
-
 @compute @workgroup_size(TILE, TILE)
 fn blend(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -82,34 +65,14 @@ fn blend(
     let e3 = textureLoad(sil_rect3, px, 0);
     for (var k = 0u; k < 4u; k++) {
         // The silhouette's part: its hard shadow plus its edges, as a rectangle-bounded area.
-        let s_area = s_areas[k];
-        if (s_area <= 0.0) {
+        if (s_areas[k] <= 0.0) {
             continue;
-        }
-        // In hard shadow the region reaches the part's border unless the inner half-wedges
-        // cover all of it (CPU: `Accum::buffer`): then the rectangle is the whole part, (0, 0,
-        // 0, 0) encoded.
-        var s_rect = select(select(select(e3, e2, k == 2u), e1, k == 1u), e0, k == 0u);
-        if (n > 0.0 && cover[k] < FULL_COVER) {
-            s_rect = vec4<f32>(0.0);
         }
         let w = i + 2u + k;
-        let fa = f_areas[k];
-        if (fa <= 0.0) {
-            out_areas[k] = s_area;
-            final_buffer[w] = pack4x8unorm(s_rect);
-            continue;
-        }
-        let f_rect = unpack4x8unorm(final_buffer[w]);
-        var eps = 0.0;
-        if (encoded_area(f_rect) > 0.0 && encoded_area(s_rect) > 0.0) {
-            let cf = core(f_rect, k, fa);
-            let cs = core(s_rect, k, s_area);
-            let size = max(min(cf.zw, cs.zw) - max(cf.xy, cs.xy), vec2<f32>(0.0));
-            eps = min(size.x * size.y, min(fa, s_area));
-        }
-        out_areas[k] = clamp(fa + s_area - eps, 0.0, 1.0);
-        final_buffer[w] = pack4x8unorm(min(f_rect, s_rect));
+        let e = select(select(select(e3, e2, k == 2u), e1, k == 1u), e0, k == 0u);
+        let part = blend_part(k, n, s_areas[k], cover[k], e, f_areas[k], unpack4x8unorm(final_buffer[w]));
+        out_areas[k] = part.area;
+        final_buffer[w] = pack4x8unorm(part.rect);
     }
     final_buffer[i] = pack2x16unorm(out_areas.xy);
     final_buffer[i + 1u] = pack2x16unorm(out_areas.zw);
