@@ -29,9 +29,10 @@ PLACE = dict(latitude=40.42, longitude=-3.70)  # Madrid
 DAY = ("2026-06-21", "2026-06-22")
 
 
-def per_step(scene, technique, steps, samples, with_setup=False):
+def per_step(scene, technique, steps, samples, with_setup=False, repeats=3):
     """Seconds per daylight step of a June day once the study's set-up is paid (one process,
-    every core): a study of `steps` steps less one of its first step, over `steps - 1`. With
+    every core): a study of `steps` steps less one of its first step, over `steps - 1`, the
+    median of `repeats` such pairs (single runs move by a tenth on a shared machine). With
     `with_setup`, also the set-up: the one-step study less a step."""
     s = study.sun_steps(PLACE["latitude"], PLACE["longitude"], *DAY, timezone="Europe/Madrid")
     index = s.daylight()[:steps]
@@ -45,9 +46,10 @@ def per_step(scene, technique, steps, samples, with_setup=False):
                              s.hours[index[:k]], technique=technique, samples=samples)
         return time.perf_counter() - t0
 
-    one, many = run(1), run(len(index))
-    step = (many - one) / (len(index) - 1)
-    return (step, one - step) if with_setup else step
+    pairs = [(run(1), run(len(index))) for _ in range(repeats)]
+    step = float(np.median([(many - one) / (len(index) - 1) for one, many in pairs]))
+    setup = float(np.median([one for one, _ in pairs])) - step
+    return (step, setup) if with_setup else step
 
 
 def on_ray(scene, cpus, samples, days):
@@ -74,7 +76,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", default=str(ROOT / "fixtures" / "scale" / "scale.toml"))
     ap.add_argument("--samples", type=int, default=64)
-    ap.add_argument("--steps", type=int, default=6, help="daylight steps timed per figure")
+    ap.add_argument("--steps", type=int, default=12, help="daylight steps timed per figure")
     ap.add_argument("--ray-days", type=int, default=7)
     ap.add_argument("--ray-size", default="160x120")
     args = ap.parse_args()

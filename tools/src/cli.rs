@@ -380,6 +380,10 @@ pub(crate) enum Command {
         /// Where the volume techniques run.
         #[arg(long, value_parser = backend_parser(), default_value = "auto")]
         backend: Backend,
+        /// On the GPU, how `wedges` and `wedges-blend` evaluate their wedges: `tiled` (one
+        /// compute pass over screen tiles) or `rasterised`; the device's faster by default.
+        #[arg(long, value_parser = wedge_pass_parser())]
+        wedge_pass: Option<WedgePass>,
         #[command(flatten)]
         params: ParamArgs,
     },
@@ -422,9 +426,11 @@ pub(crate) enum Command {
         /// pixel. Counts do not depend on the device's speed (docs/gpu.md, "Pass counters").
         #[arg(long)]
         counters: bool,
-        /// How `wedges` evaluates its wedges on the GPU: `tiled` (one compute pass over screen
-        /// tiles) or `rasterised` (each wedge's solid drawn); by default the faster on the device
-        /// (rasterised on a CPU device such as lavapipe, tiled on a GPU). The same image.
+        /// How `wedges` and `wedges-blend` evaluate their wedges on the GPU: `tiled` (one
+        /// compute pass over screen tiles) or `rasterised` (each wedge's solid drawn; for
+        /// `wedges-blend` a stencil, a wedge and a blend pass per group of silhouettes); by
+        /// default the faster on the device (rasterised on a CPU device such as lavapipe, tiled
+        /// on a GPU). The same image, within rounding.
         #[arg(long, value_parser = wedge_pass_parser())]
         wedge_pass: Option<WedgePass>,
         /// Print JSON.

@@ -216,13 +216,14 @@ fn run(cli: Cli) -> Result<()> {
             jitter,
             techniques,
             backend,
+            wedge_pass,
             params,
         } => accuracy::accuracy(
             &scenes,
             samples,
             (&technique_samples, jitter),
             &techniques,
-            backend,
+            (backend, wedge_pass),
             &params,
         ),
         Command::GenFixtures { out } => {

@@ -183,8 +183,10 @@ pub struct DepthComplexity {
     /// Whether the light is thinner than [`THIN_LIGHT`]: every sample is cast.
     thin: bool,
     /// Whether [`DepthComplexity::render`] gives each point its edges from a [`PyramidGrid`]:
-    /// under a distant light.
+    /// under a distant light, with [`GRID_FROM_EDGES`] edges or more.
     pub(crate) by_grid: bool,
+    /// Whether the last [`DepthComplexity::render`] read its points' edges from a grid.
+    pub(crate) gridded: std::sync::atomic::AtomicBool,
 }
 
 /// A light whose long side exceeds its short one this many times is too thin for counts: its
@@ -212,11 +214,12 @@ impl DepthComplexity {
         let light = &tracer.light;
         let reach = edges.reach;
         let thin = !(light.size.max_element() <= THIN_LIGHT * light.size.min_element());
-        let by_grid = scene.distant.is_some() && !thin;
+        let by_grid = scene.distant.is_some() && !thin && edges.edges.len() >= GRID_FROM_EDGES;
         DepthComplexity {
             reach2: (reach * reach) as f32,
             thin,
             by_grid,
+            gridded: Default::default(),
             tracer,
             edges,
             camera: scene.camera,
@@ -434,9 +437,10 @@ impl DepthComplexity {
     /// rules. A point none of whose edges passes the pre-test needs only whether its count at
     /// the centre is zero: one ray that stops at its first crossing.
     ///
-    /// Under a distant light every point takes its own edges, read from a grid laid over the
-    /// image's points as the light sees them ([`PyramidGrid`]): the same edges change the same
-    /// counts as the hierarchy's, and a point reads a few instead of its tile's hundreds.
+    /// Under a distant light over many edges ([`GRID_FROM_EDGES`]) every point takes its own
+    /// edges, read from a grid laid over the image's points as the light sees them
+    /// ([`PyramidGrid`]): the same edges change the same counts as the hierarchy's, and a point
+    /// reads a few instead of its tile's hundreds.
     pub fn render(
         &self,
         pattern: SamplePattern,
@@ -465,6 +469,8 @@ impl DepthComplexity {
         progress: &(dyn Fn(u64) + Sync),
         surface: &(dyn Fn(u32, u32) -> Option<SurfacePoint> + Sync),
     ) -> VisibilityImage {
+        self.gridded
+            .store(false, std::sync::atomic::Ordering::Relaxed);
         if !self.by_grid {
             return self.render_with(pattern, progress, surface, None);
         }
@@ -482,6 +488,8 @@ impl DepthComplexity {
             .filter(|p| p.z > 0.0)
             .collect();
         let grid = PyramidGrid::build(&self.edges, &receivers);
+        self.gridded
+            .store(grid.is_some(), std::sync::atomic::Ordering::Relaxed);
         let at = |i: u32, j: u32| points[j as usize * w + i as usize];
         self.render_with(pattern, progress, &at, grid.as_ref())
     }
@@ -612,6 +620,13 @@ fn wider_than_the_light(at: &[DVec3]) -> bool {
 /// The barycentric coordinate under which the segment to the light's centre meets a triangle
 /// on its boundary ([`DepthComplexity::centre_on_an_edge`]).
 const CENTRE_ON_EDGE: f64 = 1e-9;
+
+/// The fewest potential silhouette edges for which a render under a distant light reads each
+/// point's edges from a [`PyramidGrid`]: below it a tile's query of the edge hierarchy finds its
+/// few edges in less time than the grid takes to build (a sun over `fixtures/scenes/sun.toml`,
+/// about 450 edges: a step 10% slower with the grid; over the scale scene, about 12,000: 25%
+/// faster, `docs/benchmarks.md`).
+pub const GRID_FROM_EDGES: usize = 2048;
 
 /// Side of the square tiles of pixels that share one query of the edge hierarchy.
 pub const TILE: usize = 8;

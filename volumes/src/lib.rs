@@ -40,7 +40,9 @@ mod wedge_tests;
 
 pub use clip::Rect;
 pub use cpu_renderer::CpuRenderer;
-pub use depth_complexity::{DepthComplexity, PointVisibility, Scratch, THIN_LIGHT, TILE};
+pub use depth_complexity::{
+    DepthComplexity, GRID_FROM_EDGES, PointVisibility, Scratch, THIN_LIGHT, TILE,
+};
 pub use light_centre::{
     Enclosure, NEAR_LIGHT, enclosure, in_front_of, near_light, passes_through_light, winds_around,
 };

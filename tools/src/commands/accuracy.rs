@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use penumbra::geom::compare;
+use penumbra::gpu::WedgePass;
 use penumbra::volumes::Volumes;
 use penumbra::{Backend, RenderOptions, Renderer, Runs, Scene, Technique};
 
@@ -16,7 +17,7 @@ pub(crate) fn accuracy(
     samples: usize,
     (counts, jitter): (&[usize], bool),
     techniques: &[Technique],
-    backend: Backend,
+    (backend, wedge_pass): (Backend, Option<WedgePass>),
     params: &ParamArgs,
 ) -> Result<()> {
     let truth_options = RenderOptions {
@@ -39,6 +40,7 @@ pub(crate) fn accuracy(
     // back end asked for where a technique can take it, the CPU for the CPU-only techniques and
     // the truth.
     let mut renderer = Renderer::new(backend);
+    renderer.set_wedge_pass(wedge_pass);
     let mut cpu = Renderer::new(penumbra::Backend::Cpu);
     for &t in techniques {
         if Runs::of(t) != Runs::CpuOnly {
