@@ -86,8 +86,11 @@ impl SceneText {
         SceneText(s)
     }
 
-    fn mesh(&mut self, obj: &str, scale: &str, rotate: Option<[f64; 4]>, translate: [f64; 3]) {
-        let _ = writeln!(self.0, "[[mesh]]\nobj = \"../meshes/{obj}\"");
+    /// A `[[mesh]]` of `fixtures/meshes/{file}`, under the key of its format (`ply` for a
+    /// `.ply`, `obj` otherwise).
+    fn mesh(&mut self, file: &str, scale: &str, rotate: Option<[f64; 4]>, translate: [f64; 3]) {
+        let key = if file.ends_with(".ply") { "ply" } else { "obj" };
+        let _ = writeln!(self.0, "[[mesh]]\n{key} = \"../meshes/{file}\"");
         if !scale.is_empty() {
             let _ = writeln!(self.0, "scale = {scale}");
         }
@@ -300,6 +303,45 @@ fn scale_scene() -> SceneText {
     s
 }
 
+/// The gallery: six real meshes close together under a 4 x 4 light from the other side of the
+/// scale scene's, the second large scene of the GPU frame's counts (docs/gpu.md).
+fn gallery_scene() -> SceneText {
+    let mut s = SceneText::new(
+        "A gallery of real meshes close together on a ground under a 4 x 4 light about as large as\nthe group, from the other side and nearer than the scale scene's: the Igea bust (268,686\ntriangles, a closed scan read from a PLY triangle strip) in the middle, two open VW beetles\nbehind it, Cheburashka and Spot in front, and the flat Woody cut-out standing beside them,\n366,457 triangles in all. The second large scene of the GPU frame's counts (docs/gpu.md).\nMeshes copied byte for byte from the public collection common-3d-test-models by Alec Jacobson\n(github.com/alecjacobson/common-3d-test-models, data/): igea.ply (Cyberware scan),\nbeetle-alt.obj (Ivan Sutherland, 1972), cheburashka.obj (Ilya Baran), spot.obj (Keenan\nCrane, CC0), woody.obj (Scott Schaefer).",
+        [-2.5, 3.8, 6.0],
+        [0.2, 0.9, 0.0],
+        &aimed_light([2.5, 5.5, 2.0], [0.0, 0.8, 0.0], 0.0, [4.0, 4.0]),
+    );
+    s.ground();
+    s.mesh(
+        "igea.ply",
+        "20.0",
+        Some([0.0, 1.0, 0.0, 20.0]),
+        [0.0, 0.994, 0.0],
+    );
+    s.mesh(
+        "beetle-alt.obj",
+        "2.2",
+        Some([0.0, 1.0, 0.0, 60.0]),
+        [-1.6, 0.392, -1.4],
+    );
+    s.mesh(
+        "beetle-alt.obj",
+        "2.2",
+        Some([0.0, 1.0, 0.0, -40.0]),
+        [1.7, 0.392, -1.2],
+    );
+    s.mesh("cheburashka.obj", "1.4", None, [-1.2, -0.09, 1.3]);
+    s.mesh(
+        "spot.obj",
+        "0.9",
+        Some([0.0, 1.0, 0.0, 150.0]),
+        [1.1, 0.68, 1.5],
+    );
+    s.mesh("woody.obj", "0.004", None, [2.3, 0.0, 0.2]);
+    s
+}
+
 /// Writes every generated fixture mesh to `dir/meshes` and every scene to `dir/scenes` (the
 /// scenes of [`REAL_SCENES`] refer to the copied meshes beside the generated ones).
 pub fn generate(dir: &Path) -> Result<Vec<String>> {
@@ -498,6 +540,7 @@ pub fn generate(dir: &Path) -> Result<Vec<String>> {
     let scale = dir.join("scale");
     std::fs::create_dir_all(&scale).with_context(|| format!("creating {}", scale.display()))?;
     write(scale.join("scale.toml"), scale_scene().0)?;
+    write(scale.join("gallery.toml"), gallery_scene().0)?;
 
     // The interiors: a room lit from its ceiling, in a folder of its own.
     write(

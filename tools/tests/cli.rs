@@ -223,8 +223,8 @@ const COPIED_MESHES: [&str; 5] = [
     "woody.obj",
 ];
 
-/// The two large meshes copied from the same collection, used by the scale scene only.
-const SCALE_MESHES: [&str; 2] = ["nefertiti.obj", "beetle-alt.obj"];
+/// The large meshes copied from the same collection, used by the scale scenes only.
+const SCALE_MESHES: [&str; 3] = ["nefertiti.obj", "beetle-alt.obj", "igea.ply"];
 
 #[test]
 fn committed_fixtures_are_what_the_generator_writes() {
@@ -272,16 +272,22 @@ fn committed_fixtures_are_what_the_generator_writes() {
         );
     }
     let scale = std::fs::read_to_string(d.join("scale/scale.toml")).unwrap();
+    let gallery = std::fs::read_to_string(d.join("scale/gallery.toml")).unwrap();
     for c in SCALE_MESHES {
+        let key = if c.ends_with(".ply") { "ply" } else { "obj" };
         assert!(
-            scale.contains(&format!("obj = \"../meshes/{c}\"")),
-            "scale.toml: {c}"
+            [&scale, &gallery]
+                .iter()
+                .any(|s| s.contains(&format!("{key} = \"../meshes/{c}\""))),
+            "the scale scenes: {c}"
         );
     }
-    assert!(
-        scale.contains("common-3d-test-models by Alec Jacobson"),
-        "scale.toml: attribution"
-    );
+    for (name, text) in [("scale.toml", &scale), ("gallery.toml", &gallery)] {
+        assert!(
+            text.contains("common-3d-test-models by Alec Jacobson"),
+            "{name}: attribution"
+        );
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
 
