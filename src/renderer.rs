@@ -146,9 +146,10 @@ impl Renderer {
         self.counters = on;
     }
 
-    /// How `wedges` evaluates its wedges on the GPU; `None` (the default): the faster on the
-    /// device (`penumbra::gpu::WedgePass::for_device`: rasterised on a CPU device such as
-    /// lavapipe, tiled on a GPU). The images are the same, bit for bit.
+    /// How `wedges` and `wedges-blend` evaluate their wedges on the GPU; `None` (the default):
+    /// the faster on the device (`penumbra::gpu::WedgePass::for_device`: rasterised on a CPU
+    /// device such as lavapipe, tiled on a GPU). The images are the same, bit for bit for
+    /// `wedges` and within rounding for `wedges-blend`.
     pub fn set_wedge_pass(&mut self, pass: Option<penumbra_gpu::WedgePass>) {
         self.wedge_pass = pass;
     }

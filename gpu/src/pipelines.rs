@@ -111,8 +111,8 @@ impl GpuRenderer {
         self.counters
     }
 
-    /// How its one-shot renders of `wedges` evaluate the wedges; `None` (the default): the
-    /// faster on its device ([`crate::WedgePass::for_device`]).
+    /// How its one-shot renders of `wedges` and `wedges-blend` evaluate the wedges; `None` (the
+    /// default): the faster on its device ([`crate::WedgePass::for_device`]).
     pub fn set_wedge_pass(&mut self, pass: Option<crate::WedgePass>) {
         self.wedge_pass = pass;
     }

@@ -63,14 +63,7 @@ fn tiled_wedges_equal_the_rasterised_ones_and_the_cpu_oracle() {
     let Some(ctx) = context() else { return };
     let mut r = GpuRenderer::with_context(&ctx);
     for (name, scene) in fixtures() {
-        let volumes = Volumes::build(&scene.lit(0));
-        let mut render = |pass| {
-            r.set_wedge_pass(Some(pass));
-            r.render(&scene.lit(0), &volumes, Technique::Wedges)
-                .unwrap()
-        };
-        let tiled = render(WedgePass::Tiled);
-        let rasterised = render(WedgePass::Rasterised);
+        let [tiled, rasterised] = tiled_and_rasterised(&mut r, &scene, Technique::Wedges);
         let c = compare(&tiled, &rasterised).unwrap();
         let cpu = CpuRenderer::new(&scene.lit(0)).render(Technique::Wedges, &|_| {});
         let (t, r) = (
@@ -95,6 +88,19 @@ fn tiled_wedges_equal_the_rasterised_ones_and_the_cpu_oracle() {
         );
         assert!(t.all.mae <= 1e-3 && t.all.p99 <= 0.02, "{name}: {t:?}");
     }
+}
+
+/// `scene` rendered with `technique` by the tiled pass and by the rasterised one.
+fn tiled_and_rasterised(
+    r: &mut GpuRenderer,
+    scene: &Scene,
+    technique: Technique,
+) -> [penumbra_geom::VisibilityImage; 2] {
+    let volumes = Volumes::build(&scene.lit(0));
+    [WedgePass::Tiled, WedgePass::Rasterised].map(|pass| {
+        r.set_wedge_pass(Some(pass));
+        r.render(&scene.lit(0), &volumes, technique).unwrap()
+    })
 }
 
 fn gpu_matches_cpu(t: Technique) {
@@ -582,14 +588,7 @@ fn tiled_wedges_blend_matches_the_rasterised_passes_and_the_cpu_oracle() {
     let Some(ctx) = context() else { return };
     let mut r = GpuRenderer::with_context(&ctx);
     for (name, scene) in fixtures() {
-        let volumes = Volumes::build(&scene.lit(0));
-        let mut render = |pass| {
-            r.set_wedge_pass(Some(pass));
-            r.render(&scene.lit(0), &volumes, Technique::WedgesBlend)
-                .unwrap()
-        };
-        let tiled = render(WedgePass::Tiled);
-        let rasterised = render(WedgePass::Rasterised);
+        let [tiled, rasterised] = tiled_and_rasterised(&mut r, &scene, Technique::WedgesBlend);
         let c = compare(&tiled, &rasterised).unwrap();
         let cpu = CpuRenderer::new(&scene.lit(0)).render(Technique::WedgesBlend, &|_| {});
         let (t, r) = (

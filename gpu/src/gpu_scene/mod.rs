@@ -62,15 +62,18 @@ pub enum ShadowBuilder {
     Cpu,
 }
 
-/// How `wedges` evaluates its wedges.
+/// How `wedges` and `wedges-blend` evaluate their wedges.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WedgePass {
     /// One compute pass over screen tiles: each tile culls the wedges against its receivers'
     /// light-space box, each pixel integrates those that reach it (`docs/gpu.md`, "Tiled
-    /// wedges"). A few shader invocations a pixel, whatever the wedges' area on screen.
+    /// wedges"); for `wedges-blend` the same pass also counts each blending unit's shadow
+    /// volume and blends the units ("Tiled blending"). A few shader invocations a pixel,
+    /// whatever the wedges' area on screen, and three passes a frame.
     Tiled,
-    /// Each wedge's solid rasterised, one fragment a pixel it covers. The same image, bit for
-    /// bit.
+    /// Each wedge's solid rasterised, one fragment a pixel it covers; for `wedges-blend` a
+    /// stencil, a wedge and a blend pass per group of units. The same image, bit for bit for
+    /// `wedges` and within rounding for `wedges-blend`.
     Rasterised,
 }
 
@@ -408,7 +411,7 @@ impl GpuScene {
         self.builder
     }
 
-    /// How `wedges` evaluates its wedges from the next frame on (by default
+    /// How `wedges` and `wedges-blend` evaluate their wedges from the next frame on (by default
     /// [`WedgePass::for_device`] of the scene's device).
     pub fn set_wedge_pass(&mut self, pass: WedgePass) {
         self.wedge_pass = pass;

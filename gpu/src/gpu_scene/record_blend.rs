@@ -155,6 +155,28 @@ impl GpuScene {
                 }),
             );
         }
+        self.record_blended_resolve(encoder, gbuffer, final_buffer, target, timer);
+    }
+}
+
+impl GpuScene {
+    /// Records the resolve of `wedges-blend`'s final buffer into `target`.
+    pub(super) fn record_blended_resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        gbuffer: &GBuffer,
+        final_buffer: &wgpu::Buffer,
+        target: &wgpu::TextureView,
+        timer: &Timer,
+    ) {
+        let p = &self.pipelines;
+        let device = &self.ctx.device;
+        let position = p.resolve.receivers(device, gbuffer);
+        let bindings = FrameBindings {
+            frame: &self.frame,
+            depth: &gbuffer.depth_view,
+            position: &position,
+        };
         let final_group = bind_group(
             device,
             "final buffer",

@@ -7,9 +7,8 @@ use super::GpuScene;
 use super::frame_shadows::FrameShadows;
 use crate::frame_uniforms::FrameCamera;
 use crate::passes::blend_tiles::BlendTilesInputs;
+use crate::passes::buffer;
 use crate::passes::depth::GBuffer;
-use crate::passes::resolve::ResolveInput;
-use crate::passes::{FrameBindings, bind_group, buffer};
 use crate::timing::Timer;
 
 impl GpuScene {
@@ -83,28 +82,7 @@ impl GpuScene {
                     .writes(final_buffer),
             ),
         );
-        let position = p.resolve.receivers(device, gbuffer);
-        let bindings = FrameBindings {
-            frame: &self.frame,
-            depth: &gbuffer.depth_view,
-            position: &position,
-        };
-        let final_group = bind_group(
-            device,
-            "final buffer",
-            &p.resolve.final_layout,
-            &[final_buffer.as_entire_binding()],
-        );
-        p.resolve.record(
-            encoder,
-            bindings,
-            ResolveInput::Blended(&final_group),
-            target,
-            timer.pass(
-                Pass::Resolve,
-                gbuffer.receivers_read().reads(final_buffer).writes(target),
-            ),
-        );
+        self.record_blended_resolve(encoder, gbuffer, final_buffer, target, timer);
         true
     }
 }

@@ -8,7 +8,6 @@ use super::blend::BLEND_PARTS_WGSL;
 use super::build::WORKGROUP_SCAN_WGSL;
 use super::wedge::WEDGE_INTEGRAL_WGSL;
 use super::wedge_tiles::TILE_WEDGES_WGSL;
-use crate::constants::WEDGE_TILE;
 use crate::timing::PassQueries;
 
 /// The pass's pipeline and the layout of its group 1.
@@ -121,15 +120,13 @@ impl BlendTilesPass {
                 inputs.triangle_units.as_entire_binding(),
             ],
         );
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("blend tiles"),
-            timestamp_writes: queries.compute_writes(),
-        });
-        queries.begin_compute(&mut pass);
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, &group, &[]);
-        pass.dispatch_workgroups(size.0.div_ceil(WEDGE_TILE), size.1.div_ceil(WEDGE_TILE), 1);
-        queries.end_compute(&mut pass);
+        super::dispatch_tiles(
+            encoder,
+            "blend tiles",
+            &self.pipeline,
+            [frame, &group],
+            size,
+            queries,
+        );
     }
 }

@@ -307,3 +307,27 @@ pub fn cleared(
         },
     })
 }
+
+/// Records a compute pass of `pipeline` over the screen tiles of an image of `size` pixels, one
+/// workgroup of [`crate::constants::WEDGE_TILE`]² invocations per tile, with the frame's group
+/// 0 and the pass's group 1: the tiled wedges' and the tiled blend's dispatch.
+pub(crate) fn dispatch_tiles(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    [frame, group]: [&wgpu::BindGroup; 2],
+    size: (u32, u32),
+    queries: crate::timing::PassQueries<'_>,
+) {
+    use crate::constants::WEDGE_TILE;
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: queries.compute_writes(),
+    });
+    queries.begin_compute(&mut pass);
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, frame, &[]);
+    pass.set_bind_group(1, group, &[]);
+    pass.dispatch_workgroups(size.0.div_ceil(WEDGE_TILE), size.1.div_ceil(WEDGE_TILE), 1);
+    queries.end_compute(&mut pass);
+}

@@ -6,7 +6,6 @@
 
 use super::build::WORKGROUP_SCAN_WGSL;
 use super::wedge::{OCCLUSION_FORMAT, WEDGE_INTEGRAL_WGSL, WedgeInstance};
-use crate::constants::WEDGE_TILE;
 use crate::timing::PassQueries;
 
 /// What the tiled passes over wedges share: the wedges' bindings (group 1, bindings 1 and 2)
@@ -102,16 +101,14 @@ impl WedgeTilesPass {
                 wgpu::BindingResource::TextureView(inputs.occlusion),
             ],
         );
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("wedge tiles"),
-            timestamp_writes: queries.compute_writes(),
-        });
-        queries.begin_compute(&mut pass);
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, &group, &[]);
-        pass.dispatch_workgroups(size.0.div_ceil(WEDGE_TILE), size.1.div_ceil(WEDGE_TILE), 1);
-        queries.end_compute(&mut pass);
+        super::dispatch_tiles(
+            encoder,
+            "wedge tiles",
+            &self.pipeline,
+            [frame, &group],
+            size,
+            queries,
+        );
     }
 }
 

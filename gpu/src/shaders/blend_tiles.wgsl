@@ -53,14 +53,6 @@ const WEDGE_ITEM: u32 = 0x80000000u;
 const KIND: u32 = 0xc0000000u;
 const NO_UNIT: u32 = 0xffffffffu;
 
-const TILE_PIXELS: u32 = WEDGE_TILE * WEDGE_TILE;
-
-// Items each invocation tests in one round.
-const PER_INVOCATION: u32 = 8u;
-const ROUND: u32 = TILE_PIXELS * PER_INVOCATION;
-
-// The kept items in order (their prefix sums by `workgroup_scan`).
-var<workgroup> kept: array<u32, ROUND>;
 // The tile's farthest receiver's view depth (clip w), as an `ordered` key, and as read.
 var<workgroup> depth_key: atomic<u32>;
 var<workgroup> depth_far: f32;
@@ -268,14 +260,7 @@ fn tile(
                 kept_here++;
             }
         }
-        var at = workgroup_scan(local, vec2<u32>(kept_here, 0u)).x - kept_here;
-        for (var j = 0u; j < PER_INVOCATION; j++) {
-            if ((keep & (1u << j)) != 0u) {
-                kept[at] = start + j;
-                at++;
-            }
-        }
-        let count = workgroupUniformLoad(&scan_sums[SCAN_GROUP - 1u]).x;
+        let count = keep_in_order(local, start, keep, kept_here);
         for (var k = 0u; k < count; k++) {
             let item = items[kept[k]];
             if (item.x != unit) {

@@ -107,3 +107,28 @@ fn receivers_box(local: u32, has: bool, p: vec3<f32>) -> bool {
     }
     return workgroupUniformLoad(&tile_has) != 0u;
 }
+
+const TILE_PIXELS: u32 = WEDGE_TILE * WEDGE_TILE;
+
+// Items (wedges, or the tiled blend's items) each invocation tests in one round: a round takes
+// TILE_PIXELS x PER_INVOCATION of them between the workgroup's barriers.
+const PER_INVOCATION: u32 = 8u;
+const ROUND: u32 = TILE_PIXELS * PER_INVOCATION;
+
+// The kept items of a round, in order (their prefix sums by `workgroup_scan`, over TILE_PIXELS =
+// SCAN_GROUP invocations, workgroup_scan.wgsl).
+var<workgroup> kept: array<u32, ROUND>;
+
+// Writes into `kept`, in order, the items of this invocation's run from `start` whose bits
+// `keep` sets (`kept_here` of them), after those of the invocations before it; returns how many
+// the whole workgroup kept. Called by every invocation (it holds the workgroup's barriers).
+fn keep_in_order(local: u32, start: u32, keep: u32, kept_here: u32) -> u32 {
+    var at = workgroup_scan(local, vec2<u32>(kept_here, 0u)).x - kept_here;
+    for (var j = 0u; j < PER_INVOCATION; j++) {
+        if ((keep & (1u << j)) != 0u) {
+            kept[at] = start + j;
+            at++;
+        }
+    }
+    return workgroupUniformLoad(&scan_sums[SCAN_GROUP - 1u]).x;
+}

@@ -15,17 +15,6 @@
 // The signed occlusion per radial part, as the rasterised pass adds it.
 @group(1) @binding(4) var occlusion: texture_storage_2d<rgba32float, write>;
 
-const TILE_PIXELS: u32 = WEDGE_TILE * WEDGE_TILE;
-
-// Wedges each invocation tests in one round: a round takes TILE_PIXELS x PER_INVOCATION wedges
-// between the workgroup's barriers.
-const PER_INVOCATION: u32 = 8u;
-const ROUND: u32 = TILE_PIXELS * PER_INVOCATION;
-
-// The kept wedges in order (their prefix sums by `workgroup_scan`, over TILE_PIXELS =
-// SCAN_GROUP invocations, workgroup_scan.wgsl).
-var<workgroup> kept: array<u32, ROUND>;
-
 @compute @workgroup_size(WEDGE_TILE, WEDGE_TILE)
 fn tile(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -59,14 +48,7 @@ fn tile(
                 kept_here++;
             }
         }
-        var at = workgroup_scan(local, vec2<u32>(kept_here, 0u)).x - kept_here;
-        for (var j = 0u; j < PER_INVOCATION; j++) {
-            if ((keep & (1u << j)) != 0u) {
-                kept[at] = start + j;
-                at++;
-            }
-        }
-        let count = workgroupUniformLoad(&scan_sums[SCAN_GROUP - 1u]).x;
+        let count = keep_in_order(local, start, keep, kept_here);
         for (var k = 0u; k < count; k++) {
             let s = solid_of(kept[k]);
             let held = holds(s, p);
