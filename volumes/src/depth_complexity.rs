@@ -439,8 +439,8 @@ impl DepthComplexity {
     ///
     /// Under a distant light over many edges ([`GRID_FROM_EDGES`]) every point takes its own
     /// edges, read from a grid laid over the image's points as the light sees them
-    /// ([`PyramidGrid`]): the same edges change the same counts as the hierarchy's, and a point
-    /// reads a few instead of its tile's hundreds.
+    /// (`volumes/src/pyramid_grid.rs`): the same edges change the same counts as the
+    /// hierarchy's, and a point reads a few instead of its tile's hundreds.
     pub fn render(
         &self,
         pattern: SamplePattern,
@@ -622,10 +622,10 @@ fn wider_than_the_light(at: &[DVec3]) -> bool {
 const CENTRE_ON_EDGE: f64 = 1e-9;
 
 /// The fewest potential silhouette edges for which a render under a distant light reads each
-/// point's edges from a [`PyramidGrid`]: below it a tile's query of the edge hierarchy finds its
-/// few edges in less time than the grid takes to build (a sun over `fixtures/scenes/sun.toml`,
-/// about 450 edges: a step 10% slower with the grid; over the scale scene, about 12,000: 25%
-/// faster, `docs/benchmarks.md`).
+/// point's edges from a grid (`volumes/src/pyramid_grid.rs`): below it a tile's query of the
+/// edge hierarchy finds its few edges in less time than the grid takes to build (a sun over
+/// `fixtures/scenes/sun.toml`, about 450 edges: a step 10% slower with the grid; over the scale
+/// scene, about 12,000: 25% faster).
 pub const GRID_FROM_EDGES: usize = 2048;
 
 /// Side of the square tiles of pixels that share one query of the edge hierarchy.
