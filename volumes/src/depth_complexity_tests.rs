@@ -10,6 +10,7 @@ use penumbra_geom::{RectLight, Scene, TriangleMesh};
 use penumbra_params::TechniqueParams;
 
 use crate::depth_complexity::*;
+use crate::depth_complexity_image::GRID_FROM_EDGES;
 
 /// Light samples per axis: 64 per pixel.
 const PER_AXIS: usize = 8;

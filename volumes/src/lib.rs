@@ -16,6 +16,7 @@ mod candidates;
 mod clip;
 mod cpu_renderer;
 mod depth_complexity;
+mod depth_complexity_image;
 mod light_centre;
 mod potential;
 mod pyramid_grid;
@@ -40,9 +41,8 @@ mod wedge_tests;
 
 pub use clip::Rect;
 pub use cpu_renderer::CpuRenderer;
-pub use depth_complexity::{
-    DepthComplexity, GRID_FROM_EDGES, PointVisibility, Scratch, THIN_LIGHT, TILE,
-};
+pub use depth_complexity::{DepthComplexity, PointVisibility, Scratch, THIN_LIGHT};
+pub use depth_complexity_image::{GRID_FROM_EDGES, TILE};
 pub use light_centre::{
     Enclosure, NEAR_LIGHT, enclosure, in_front_of, near_light, passes_through_light, winds_around,
 };
