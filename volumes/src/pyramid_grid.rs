@@ -82,7 +82,8 @@ impl PyramidGrid {
             return None;
         }
         let u_of = |p: DVec3| p.truncate() / p.z;
-        let (lo, hi, nearest) = receivers.iter().fold(
+        // The receivers' box in `u`, and the least `w` of any (the farthest from the light).
+        let (lo, hi, least_w) = receivers.iter().fold(
             (
                 DVec2::splat(f64::INFINITY),
                 DVec2::splat(f64::NEG_INFINITY),
@@ -91,7 +92,7 @@ impl PyramidGrid {
             |(lo, hi, w), &p| (lo.min(u_of(p)), hi.max(u_of(p)), w.min(1.0 / p.z)),
         );
         let span = hi - lo;
-        if !(span.is_finite() && nearest.is_finite()) {
+        if !(span.is_finite() && least_w.is_finite()) {
             return None;
         }
         // Square cells, about `RECEIVERS_PER_CELL` receivers to each were they spread evenly.
@@ -136,7 +137,7 @@ impl PyramidGrid {
             // `w`, far below any reach that matters.
             let w = 1.0 / near;
             let slack = 1e-9 * w + 1e-12 * ua.abs().max(ub.abs()).max_element();
-            let widest = w - nearest + slack;
+            let widest = w - least_w + slack;
             if widest < 0.0 {
                 continue;
             }
@@ -150,7 +151,8 @@ impl PyramidGrid {
                     }
                     // The L-infinity distance from the edge's box to the cell's.
                     let clo = lo + DVec2::new(x as f64, y as f64) * cell;
-                    let gap = (clo - ehi).max(elo - (clo + cell)).max_element() - 1e-9 * cell;
+                    // A hair wide of the cell: a receiver at the grid's far side is clamped into it.
+                    let gap = (clo - ehi).max(elo - (clo + cell)).max_element() - 1e-6 * cell;
                     if gap <= reach {
                         listed.push((c as u32, ei as u32));
                     }
