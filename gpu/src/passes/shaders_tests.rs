@@ -2,11 +2,13 @@
 
 use std::path::PathBuf;
 
+use super::blend::BLEND_PARTS_WGSL;
 use super::build::WORKGROUP_SCAN_WGSL;
 use super::complexity::COMPLEXITY_WGSL;
 use super::count::COUNT_WGSL;
 use super::fullscreen::{SHADOW_MAP_SHADERS, SHADOW_WGSL};
 use super::wedge::WEDGE_INTEGRAL_WGSL;
+use super::wedge_tiles::TILE_WEDGES_WGSL;
 use super::wgsl_source;
 
 #[test]
@@ -30,6 +32,8 @@ fn every_wgsl_file_validates_with_naga() {
             "count_receiver",
             "wedge_integral",
             "workgroup_scan",
+            "tile_wedges",
+            "blend_parts",
         ]
         .contains(&stem.as_str())
         {
@@ -38,7 +42,8 @@ fn every_wgsl_file_validates_with_naga() {
         // Each pass's shader is compiled after the shared constants and common.wgsl
         // (`wgsl_source`), the shadow-map techniques' with shadow.wgsl too
         // (`fullscreen::shadow_shader`), depth-complexity sampling's passes (and its receiver
-        // candidates) with complexity.wgsl, and the counting pass from its four files (`count::COUNT_WGSL`).
+        // candidates) with complexity.wgsl, the counting pass from its four files
+        // (`count::COUNT_WGSL`), and the tiled passes and the blends with the parts they share.
         let file = std::fs::read_to_string(&p).unwrap();
         let source = if SHADOW_MAP_SHADERS.contains(&stem.as_str()) {
             format!("{SHADOW_WGSL}\n{file}")
@@ -47,7 +52,13 @@ fn every_wgsl_file_validates_with_naga() {
         } else if stem == "wedge" {
             format!("{WEDGE_INTEGRAL_WGSL}\n{file}")
         } else if stem == "wedge_tiles" {
-            format!("{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{file}")
+            format!("{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{TILE_WEDGES_WGSL}\n{file}")
+        } else if stem == "blend_tiles" {
+            format!(
+                "{WEDGE_INTEGRAL_WGSL}\n{WORKGROUP_SCAN_WGSL}\n{TILE_WEDGES_WGSL}\n{BLEND_PARTS_WGSL}\n{file}"
+            )
+        } else if stem == "blend" {
+            format!("{BLEND_PARTS_WGSL}\n{file}")
         } else if stem == "build" {
             format!("{WORKGROUP_SCAN_WGSL}\n{file}")
         } else if stem == "edge_lists" || stem == "candidates" {
