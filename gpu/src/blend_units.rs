@@ -71,9 +71,8 @@ impl BlendUnits {
         for (oi, (o, stored)) in volumes.occluders.iter().zip(stored).enumerate() {
             let sil = &o.silhouette;
             let p = &o.mesh.positions;
-            let faces = sil.is_caster.iter().enumerate().filter(|(_, c)| **c);
-            for ((f, _), caster) in faces.zip(&sil.casters) {
-                let u = first_unit + sil.patch[f] as usize;
+            for (f, caster, patch) in sil.caster_faces() {
+                let u = first_unit + patch as usize;
                 triangle_units[o.first_triangle as usize + f] = u as u32;
                 let unit = &mut casters[u];
                 let t = caster.map(|v| p[v as usize]);
@@ -83,21 +82,15 @@ impl BlendUnits {
                 }
                 unit.triangles.push(t);
             }
-            for (e, patches) in sil.edges.iter().zip(&sil.edge_patches) {
-                for &(patch, m) in patches {
-                    let (from, to) = match m > 0 {
-                        true => (e.from, e.to),
-                        false => (e.to, e.from),
-                    };
-                    let at = |v: u32, w: f32| {
-                        let [x, y, z] = stored[v as usize];
-                        [x, y, z, w]
-                    };
-                    quads_of[first_unit + patch as usize].push(BlendQuad {
-                        from: at(from, oi as f32),
-                        to: at(to, m.unsigned_abs() as f32),
-                    });
-                }
+            let at = |v: u32, w: f32| {
+                let [x, y, z] = stored[v as usize];
+                [x, y, z, w]
+            };
+            for (patch, from, to, count) in sil.patch_sides() {
+                quads_of[first_unit + patch as usize].push(BlendQuad {
+                    from: at(from, oi as f32),
+                    to: at(to, count as f32),
+                });
             }
             first_unit += sil.patches as usize;
         }

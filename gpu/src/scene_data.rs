@@ -289,25 +289,12 @@ pub fn volume_vertices(volumes: &Volumes, stored: &[&[[f32; 3]]]) -> UnitVolumes
         };
         // Each patch's triangles, in patch order.
         let mut per_patch: Vec<Vec<[VolumeVertex; 3]>> = vec![Vec::new(); sil.patches as usize];
-        let casters = sil
-            .is_caster
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| **c)
-            .map(|(f, _)| f);
-        for (f, &caster) in casters.zip(&sil.casters) {
-            per_patch[sil.patch[f] as usize].extend(caps(caster));
+        for (_, caster, patch) in sil.caster_faces() {
+            per_patch[patch as usize].extend(caps(caster));
         }
-        for (e, patches) in sil.edges.iter().zip(&sil.edge_patches) {
-            for &(patch, m) in patches {
-                let (from, to) = if m > 0 {
-                    (e.from, e.to)
-                } else {
-                    (e.to, e.from)
-                };
-                for _ in 0..m.unsigned_abs() {
-                    per_patch[patch as usize].extend(side(from, to));
-                }
+        for (patch, from, to, count) in sil.patch_sides() {
+            for _ in 0..count {
+                per_patch[patch as usize].extend(side(from, to));
             }
         }
         for tris in per_patch {

@@ -55,6 +55,15 @@ const NO_FACE: EdgeFace = EdgeFace {
     triangle: u32::MAX,
 };
 
+/// The two faces the pre-test reads of edge `e`: its own where it has two, [`NO_FACE`] twice
+/// otherwise.
+fn two_faces<'a>(edges: &'a PotentialEdges, e: &PotentialEdge) -> [&'a EdgeFace; 2] {
+    match edges.faces_of(e) {
+        [f0, f1] => [f0, f1],
+        _ => [&NO_FACE, &NO_FACE],
+    }
+}
+
 /// The pre-test's margin, relative to `|n_k| sqrt(|P - a|^2 + R^2)` with `R` the largest
 /// light-space coordinate: a hundred times the rounding of the `f32` products.
 const MARGIN: f32 = 1e-5;
@@ -68,11 +77,7 @@ impl Candidates {
 
     pub(crate) fn push(&mut self, edges: &PotentialEdges, ei: u32) {
         let e = &edges.edges[ei as usize];
-        let faces = edges.faces_of(e);
-        let (n0, n1) = match faces {
-            [f0, f1] => (f0, f1),
-            _ => (&NO_FACE, &NO_FACE),
-        };
+        let [n0, n1] = two_faces(edges, e);
         self.ids.push(ei);
         self.edges.push((*e, [*n0, *n1]));
         self.lanes.push(e, n0, n1);
@@ -154,10 +159,8 @@ impl Lanes {
     /// Appends the potential edge `ei` of `edges`.
     pub(crate) fn push_edge(&mut self, edges: &PotentialEdges, ei: u32) {
         let e = &edges.edges[ei as usize];
-        match edges.faces_of(e) {
-            [f0, f1] => self.push(e, f0, f1),
-            _ => self.push(e, &NO_FACE, &NO_FACE),
-        }
+        let [n0, n1] = two_faces(edges, e);
+        self.push(e, n0, n1);
     }
 
     /// Into `keep`, one flag for each edge of `range`: whether it may change a count seen from

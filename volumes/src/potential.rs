@@ -145,6 +145,14 @@ fn may_fold(a: DVec3, b: DVec3, w0: DVec3, w1: DVec3) -> bool {
     !(opposite(s0, s1) || opposite(s1, s0))
 }
 
+/// The third vertex of the face of half-edge `h`, which lies on the edge `ends`: the apex of
+/// the face's plane through the edge ([`EdgeFace`]); its first vertex for a degenerate face
+/// that repeats one of the edge's.
+pub(crate) fn apex(mesh: &HalfEdgeMesh, h: u32, [ia, ib]: [u32; 2]) -> u32 {
+    let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
+    f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0])
+}
+
 /// Edges a task of [`PotentialEdges::build_moved`] tests.
 const EDGE_RUN: usize = 1 << 14;
 
@@ -170,13 +178,12 @@ fn potential_in(
         if a.z <= 0.0 && b.z <= 0.0 {
             continue;
         }
-        let apex = |h: u32| {
-            let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
-            let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
-            pos[w as usize]
-        };
         apices.clear();
-        apices.extend(e.half_edges.iter().map(|&h| apex(h)));
+        apices.extend(
+            e.half_edges
+                .iter()
+                .map(|&h| pos[apex(mesh, h, [ia, ib]) as usize]),
+        );
         if apices.len() == 2 && !may_fold(a, b, apices[0], apices[1]) {
             continue;
         }

@@ -73,6 +73,34 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 }
 
 impl Silhouette {
+    /// Each face that casts: its index in the mesh, its vertices as they face the light (its
+    /// light cap) and its patch, in face order.
+    pub fn caster_faces(&self) -> impl Iterator<Item = (usize, [u32; 3], u32)> + '_ {
+        let faces = self.is_caster.iter().enumerate().filter(|(_, c)| **c);
+        faces
+            .zip(&self.casters)
+            .map(|((f, _), &caster)| (f, caster, self.patch[f]))
+    }
+
+    /// The side quads of each patch's shadow volume, in the silhouette edges' order: for each
+    /// patch an edge bounds, the patch, the edge `from -> to` as that patch's casters run it,
+    /// and how many times its side counts (the patch's own multiplicity there).
+    pub fn patch_sides(&self) -> impl Iterator<Item = (u32, u32, u32, u32)> + '_ {
+        self.edges
+            .iter()
+            .zip(&self.edge_patches)
+            .flat_map(|(e, patches)| {
+                patches.iter().map(move |&(patch, m)| {
+                    let (from, to) = if m > 0 {
+                        (e.from, e.to)
+                    } else {
+                        (e.to, e.from)
+                    };
+                    (patch, from, to, m.unsigned_abs())
+                })
+            })
+    }
+
     /// Finds the silhouette of `mesh` as seen from the light centre `c`.
     pub fn build(mesh: &HalfEdgeMesh, c: DVec3) -> Self {
         Self::build_as(mesh, c, mesh.is_closed())

@@ -24,7 +24,7 @@ use penumbra_geom::{
 use rayon::prelude::*;
 
 use crate::depth_complexity::DepthComplexity;
-use crate::potential::PotentialEdges;
+use crate::potential::{PotentialEdges, apex};
 use crate::samples::SamplePattern;
 
 /// What renders of one scene under a distant light share (see the module's documentation).
@@ -79,8 +79,7 @@ fn face_normals(mesh: &HalfEdgeMesh) -> Vec<FaceNormals> {
             let [ia, ib] = e.vertices;
             let (a, b) = (pos[ia as usize], pos[ib as usize]);
             let normal = |h: u32| {
-                let f = mesh.faces[HalfEdgeMesh::face(h) as usize];
-                let w = f.into_iter().find(|&v| v != ia && v != ib).unwrap_or(f[0]);
+                let w = apex(mesh, h, [ia, ib]);
                 let n = (b - a).cross(pos[w as usize] - a);
                 let len = n.length();
                 match len > 0.0 && len.is_finite() {

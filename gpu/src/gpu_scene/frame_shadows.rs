@@ -1,6 +1,6 @@
-//! Which volumes and wedges a frame of `hard` or `wedges` draws: those the GPU built
-//! ([`Built`]) or those the CPU built and uploaded ([`Shadows`]), as the stencil and wedge passes
-//! take them.
+//! Which volumes and wedges a frame of `hard`, `wedges` or the tiled `wedges-blend` draws:
+//! those the GPU built ([`Built`]) or those the CPU built and uploaded ([`Shadows`]), as the
+//! stencil and wedge passes take them.
 
 use std::ops::Range;
 

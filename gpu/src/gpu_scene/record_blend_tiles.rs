@@ -24,24 +24,18 @@ impl GpuScene {
         timer: &Timer,
     ) -> bool {
         let device = &self.ctx.device;
-        let max_binding = device.limits().max_storage_buffer_binding_size;
         let shadows = self.shadows.as_ref().expect("built by record");
-        if FrameShadows::Uploaded(shadows).tiled(max_binding).is_none() {
+        let Some((parts, _)) =
+            FrameShadows::Uploaded(shadows).tiled(device.limits().max_storage_buffer_binding_size)
+        else {
             return false;
-        }
-        // Each unit's count at the eye, which every pixel's count starts from.
-        let mut counts = shadows
+        };
+        // Each unit's count at the eye, which every pixel's count starts from (`buffer` gives
+        // a scene without units the one element a binding needs).
+        let counts = shadows
             .units
             .eye_counts(camera.eye, self.light.rect().center);
-        if counts.is_empty() {
-            counts.push(0);
-        }
-        self.uploads.frame += std::mem::size_of_val(counts.as_slice()) as u64;
         let eye_counts = buffer(device, "eye counts", &counts, wgpu::BufferUsages::STORAGE);
-        let shadows = self.shadows.as_ref().expect("built by record");
-        let (parts, _) = FrameShadows::Uploaded(shadows)
-            .tiled(max_binding)
-            .expect("checked above");
         let p = &self.pipelines;
         let (_, final_buffer) = self
             .scratch
@@ -83,6 +77,7 @@ impl GpuScene {
             ),
         );
         self.record_blended_resolve(encoder, gbuffer, final_buffer, target, timer);
+        self.uploads.frame += std::mem::size_of_val(counts.as_slice()) as u64;
         true
     }
 }

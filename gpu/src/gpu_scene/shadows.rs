@@ -53,22 +53,11 @@ impl Shadows {
         let (vol, ranges) = volume_vertices(volumes, &stored);
         let (instances, instance_ranges) = wedge_instances(light, world, volumes);
         let units = BlendUnits::new(volumes, &stored, &instance_ranges);
-        // A binding holds one element at least.
-        let items = match units.items.is_empty() {
-            true => vec![[0u32; 2]],
-            false => units.items.clone(),
-        };
-        let quads = match units.quads.is_empty() {
-            true => vec![bytemuck::Zeroable::zeroed()],
-            false => units.quads.clone(),
-        };
-        let mut triangle_units = units.triangle_units.clone();
-        triangle_units.push(crate::blend_units::NO_UNIT);
         let bytes = (std::mem::size_of_val(vol.as_slice())
             + std::mem::size_of_val(instances.as_slice())
-            + std::mem::size_of_val(items.as_slice())
-            + std::mem::size_of_val(quads.as_slice())
-            + std::mem::size_of_val(triangle_units.as_slice())) as u64;
+            + std::mem::size_of_val(units.items.as_slice())
+            + std::mem::size_of_val(units.quads.as_slice())
+            + std::mem::size_of_val(units.triangle_units.as_slice())) as u64;
         let shadows = Shadows {
             volume: buffer(device, "volume triangles", &vol, wgpu::BufferUsages::VERTEX),
             volume_ranges: ranges,
@@ -95,15 +84,26 @@ impl Shadows {
             nearest: nearest_edges(volumes),
             clusters: ReceiverClusters::new(light, world),
             wedges: volumes.wedges.len(),
-            units,
-            items: buffer(device, "blend items", &items, wgpu::BufferUsages::STORAGE),
-            quads: buffer(device, "blend quads", &quads, wgpu::BufferUsages::STORAGE),
+            // `buffer` gives an empty list the one element a binding needs.
+            items: buffer(
+                device,
+                "blend items",
+                &units.items,
+                wgpu::BufferUsages::STORAGE,
+            ),
+            quads: buffer(
+                device,
+                "blend quads",
+                &units.quads,
+                wgpu::BufferUsages::STORAGE,
+            ),
             triangle_units: buffer(
                 device,
                 "triangle units",
-                &triangle_units,
+                &units.triangle_units,
                 wgpu::BufferUsages::STORAGE,
             ),
+            units,
         };
         (shadows, bytes)
     }
